@@ -1,0 +1,70 @@
+!-----------------------------------------------------------------------
+!  sph_force: internal force (Liu's int_force, thesis 4-33..4-38 with
+!  the sign decision of THESIS.md s.2), sigma = -p delta + tau:
+!     dv_i^a/dt = sum_j m_j (sig_i^ab/rho_i^2 + sig_j^ab/rho_j^2) dW_ij/dx_i^b
+!     de_i/dt   = 1/2 sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2) (v_i - v_j).grad_i W_ij
+!  The deviatoric work tau:epsdot/rho is added by the strength module.
+!  ntau = 0: fluids, pressure only; ntau = ntotal: tau(6, ntotal) in the
+!  order xx, yy, zz, xy, xz, yz.
+!-----------------------------------------------------------------------
+module sph_force
+  use iso_c_binding, only: c_int, c_double
+  use sph_param
+  implicit none
+  private
+  public :: sph_force_internal
+
+  integer, parameter :: iv(3, 3) = reshape([1, 4, 5, 4, 2, 6, 5, 6, 3], [3, 3])
+
+contains
+
+  subroutine sph_force_internal(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, p, v, &
+      ntau, tau, dvdt, dedt) bind(C, name="sph_force_internal")
+    integer(c_int), value :: dim, ntotal, npair, ntau
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), p(ntotal), &
+                                  v(dim, ntotal), tau(nstr, max(ntau, 1))
+    real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
+    integer :: i, j, k, a, b
+    real(c_double) :: pr, vd, f, de, ri2, rj2, s
+
+    dvdt = 0.0d0
+    dedt = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      ri2 = rho(i)*rho(i)
+      rj2 = rho(j)*rho(j)
+      pr = p(i)/ri2 + p(j)/rj2
+      vd = 0.0d0
+      do a = 1, dim
+        vd = vd + (v(a, i) - v(a, j))*dwdx(a, k)
+      end do
+      if (ntau == 0) then
+        do a = 1, dim
+          f = pr*dwdx(a, k)
+          dvdt(a, i) = dvdt(a, i) - mass(j)*f
+          dvdt(a, j) = dvdt(a, j) + mass(i)*f
+        end do
+      else
+        do a = 1, dim
+          f = 0.0d0
+          do b = 1, dim
+            if (a == b) then
+              s = (tau(iv(a, b), i) - p(i))/ri2 + (tau(iv(a, b), j) - p(j))/rj2
+            else
+              s = tau(iv(a, b), i)/ri2 + tau(iv(a, b), j)/rj2
+            end if
+            f = f + s*dwdx(b, k)
+          end do
+          dvdt(a, i) = dvdt(a, i) + mass(j)*f
+          dvdt(a, j) = dvdt(a, j) - mass(i)*f
+        end do
+      end if
+      de = 0.5d0*pr*vd
+      dedt(i) = dedt(i) + mass(j)*de
+      dedt(j) = dedt(j) + mass(i)*de
+    end do
+  end subroutine sph_force_internal
+
+end module sph_force

@@ -1,0 +1,156 @@
+!-----------------------------------------------------------------------
+!  sph_integrator: leapfrog as in Liu's time_integration (thesis
+!  2-17..2-27), generalised to a variable step.  The staggered
+!  variables u = rho (continuity), e, v, tau live at half steps.
+!   predict (steps after the first), with the rates of the last step:
+!       u_min = u ;  u(t_n) = u_min + dt_prev/2 * du
+!   advance, first step:  u(t_1/2) = u(t_0) + dt/2 * du(t_0)
+!            later steps: u(t_n+1/2) = u_min + (dt_prev + dt)/2 * du(t_n)
+!            then x(t_n+1) = x(t_n) + dt * (v(t_n+1/2) + av)
+!  For a fixed step (dt_prev = dt) this is Liu's scheme exactly.
+!  sum_rates adds the acceleration terms in a fixed order, then gravity.
+!  cfl: dt = C min_i min( h_i/(c_i + |v_i|), sqrt(h_i/|a_i|) ).
+!-----------------------------------------------------------------------
+module sph_integrator
+  use iso_c_binding, only: c_int, c_double
+  use sph_param, only: nstr
+  implicit none
+  private
+  public :: sph_integrator_sum_rates, sph_integrator_predict, sph_integrator_advance, &
+            sph_integrator_cfl
+
+contains
+
+  ! dv(d,i) = acc_1(d,i) + ... + acc_nterm(d,i) + grav(d); term t of the
+  ! stacked array holds (d,i) at acc(d + dim*(i-1), t)
+  subroutine sph_integrator_sum_rates(dim, n, lda, nterm, acc, grav, dv) &
+      bind(C, name="sph_integrator_sum_rates")
+    integer(c_int), value :: dim, n, lda, nterm
+    real(c_double), intent(in) :: acc(lda, max(nterm, 1)), grav(dim)
+    real(c_double), intent(out) :: dv(dim, n)
+    integer :: i, d, t, l
+    real(c_double) :: s
+
+    do i = 1, n
+      do d = 1, dim
+        l = d + dim*(i - 1)
+        s = 0.0d0
+        if (nterm > 0) s = acc(l, 1)
+        do t = 2, nterm
+          s = s + acc(l, t)
+        end do
+        dv(d, i) = s + grav(d)
+      end do
+    end do
+  end subroutine sph_integrator_sum_rates
+
+  subroutine sph_integrator_predict(dim, n, ntau, dt_prev, cont, rho, drho, e, de, v, dv, tau, &
+      dtau, rho_min, e_min, v_min, tau_min) bind(C, name="sph_integrator_predict")
+    integer(c_int), value :: dim, n, ntau, cont
+    real(c_double), value :: dt_prev
+    real(c_double), intent(inout) :: rho(n), e(n), v(dim, n), tau(nstr, max(ntau, 1))
+    real(c_double), intent(in) :: drho(n), de(n), dv(dim, n), dtau(nstr, max(ntau, 1))
+    real(c_double), intent(out) :: rho_min(n), e_min(n), v_min(dim, n), tau_min(nstr, max(ntau, 1))
+    integer :: i, d
+    real(c_double) :: half
+
+    half = 0.5d0*dt_prev
+    do i = 1, n
+      e_min(i) = e(i)
+      e(i) = e(i) + half*de(i)
+      if (cont /= 0) then
+        rho_min(i) = rho(i)
+        rho(i) = rho(i) + half*drho(i)
+      end if
+      do d = 1, dim
+        v_min(d, i) = v(d, i)
+        v(d, i) = v(d, i) + half*dv(d, i)
+      end do
+    end do
+    do i = 1, ntau
+      do d = 1, nstr
+        tau_min(d, i) = tau(d, i)
+        tau(d, i) = tau(d, i) + half*dtau(d, i)
+      end do
+    end do
+  end subroutine sph_integrator_predict
+
+  subroutine sph_integrator_advance(dim, n, ntau, first, dt_prev, dt, cont, rho, drho, e, de, &
+      v, dv, tau, dtau, rho_min, e_min, v_min, tau_min, nav, av, x) &
+      bind(C, name="sph_integrator_advance")
+    integer(c_int), value :: dim, n, ntau, first, cont, nav
+    real(c_double), value :: dt_prev, dt
+    real(c_double), intent(inout) :: rho(n), e(n), v(dim, n), tau(nstr, max(ntau, 1)), x(dim, n)
+    real(c_double), intent(in) :: drho(n), de(n), dv(dim, n), dtau(nstr, max(ntau, 1)), &
+                                  rho_min(n), e_min(n), v_min(dim, n), tau_min(nstr, max(ntau, 1)), &
+                                  av(dim, max(nav, 1))
+    integer :: i, d
+    real(c_double) :: s
+
+    if (first /= 0) then
+      s = 0.5d0*dt
+      do i = 1, n
+        e(i) = e(i) + s*de(i)
+        if (cont /= 0) rho(i) = rho(i) + s*drho(i)
+        do d = 1, dim
+          v(d, i) = v(d, i) + s*dv(d, i)
+        end do
+      end do
+      do i = 1, ntau
+        do d = 1, nstr
+          tau(d, i) = tau(d, i) + s*dtau(d, i)
+        end do
+      end do
+    else
+      s = 0.5d0*(dt_prev + dt)
+      do i = 1, n
+        e(i) = e_min(i) + s*de(i)
+        if (cont /= 0) rho(i) = rho_min(i) + s*drho(i)
+        do d = 1, dim
+          v(d, i) = v_min(d, i) + s*dv(d, i)
+        end do
+      end do
+      do i = 1, ntau
+        do d = 1, nstr
+          tau(d, i) = tau_min(d, i) + s*dtau(d, i)
+        end do
+      end do
+    end if
+    do i = 1, n
+      do d = 1, dim
+        if (nav > 0) then
+          x(d, i) = x(d, i) + dt*(v(d, i) + av(d, i))
+        else
+          x(d, i) = x(d, i) + dt*v(d, i)
+        end if
+      end do
+    end do
+  end subroutine sph_integrator_advance
+
+  subroutine sph_integrator_cfl(dim, n, cfl, h, c, v, dv, dt) bind(C, name="sph_integrator_cfl")
+    integer(c_int), value :: dim, n
+    real(c_double), value :: cfl
+    real(c_double), intent(in) :: h(n), c(n), v(dim, n), dv(dim, n)
+    real(c_double), intent(out) :: dt
+    integer :: i, d
+    real(c_double) :: vv, aa, tc, tf
+
+    dt = huge(1.0d0)
+    do i = 1, n
+      vv = 0.0d0
+      aa = 0.0d0
+      do d = 1, dim
+        vv = vv + v(d, i)*v(d, i)
+        aa = aa + dv(d, i)*dv(d, i)
+      end do
+      tc = h(i)/(c(i) + sqrt(vv))
+      dt = min(dt, tc)
+      if (aa > 0.0d0) then
+        tf = sqrt(h(i)/sqrt(aa))
+        dt = min(dt, tf)
+      end if
+    end do
+    dt = cfl*dt
+  end subroutine sph_integrator_cfl
+
+end module sph_integrator

@@ -1,0 +1,61 @@
+!-----------------------------------------------------------------------
+!  sph_viscosity: Monaghan artificial viscosity (Liu's art_visc,
+!  thesis 4-47, 4-48), applied to approaching pairs (v_ij.x_ij < 0):
+!     mu_ij = h_ij v_ij.x_ij / (|x_ij|^2 + phi^2),  phi = etq h_ij
+!     Pi_ij = (beta mu_ij - alpha c_ij) mu_ij / rho_ij   (pair means)
+!     dv_i/dt -= sum_j m_j Pi_ij grad_i W_ij
+!     de_i/dt += 1/2 sum_j m_j Pi_ij v_ij.grad_i W_ij
+!-----------------------------------------------------------------------
+module sph_viscosity
+  use iso_c_binding, only: c_int, c_double
+  implicit none
+  private
+  public :: sph_viscosity_monaghan
+
+contains
+
+  subroutine sph_viscosity_monaghan(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, h, rho, c, &
+      mass, alpha, beta, etq, dvdt, dedt) bind(C, name="sph_viscosity_monaghan")
+    integer(c_int), value :: dim, ntotal, npair
+    real(c_double), value :: alpha, beta, etq
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), h(ntotal), &
+                                  rho(ntotal), c(ntotal), mass(ntotal)
+    real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
+    integer :: i, j, k, d
+    real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de
+
+    dvdt = 0.0d0
+    dedt = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      vr = 0.0d0
+      r2 = 0.0d0
+      do d = 1, dim
+        dv(d) = v(d, i) - v(d, j)
+        dx(d) = x(d, i) - x(d, j)
+        vr = vr + dv(d)*dx(d)
+        r2 = r2 + dx(d)*dx(d)
+      end do
+      if (vr < 0.0d0) then
+        hij = 0.5d0*(h(i) + h(j))
+        muv = hij*vr/(r2 + (etq*hij)*(etq*hij))
+        mc = 0.5d0*(c(i) + c(j))
+        mrho = 0.5d0*(rho(i) + rho(j))
+        piv = (beta*muv - alpha*mc)*muv/mrho
+        vd = 0.0d0
+        do d = 1, dim
+          f = piv*dwdx(d, k)
+          dvdt(d, i) = dvdt(d, i) - mass(j)*f
+          dvdt(d, j) = dvdt(d, j) + mass(i)*f
+          vd = vd + dv(d)*dwdx(d, k)
+        end do
+        de = 0.5d0*piv*vd
+        dedt(i) = dedt(i) + mass(j)*de
+        dedt(j) = dedt(j) + mass(i)*de
+      end if
+    end do
+  end subroutine sph_viscosity_monaghan
+
+end module sph_viscosity

@@ -1,0 +1,353 @@
+//! The command line (DESIGN.md contracts): `run`, `dual`, `check`, `report`.
+
+use crate::case;
+use crate::dual::Comparator;
+use crate::error::{Result, SphError, input};
+use crate::modules::{Backend, Module};
+use crate::runner::{self, RunOptions};
+use crate::sim::{Overrides, Sim};
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "blastsph",
+    version,
+    about = "SPH hydrocode for explosions in soil and water (Fortran legacy core + Rust twin)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub cmd: Cmd,
+}
+
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CaseArgs {
+    /// Override a case key: --set sph.nnps=cell, --set material.loose_sand.pmin_pa=0
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Implementation of every module
+    #[arg(long, value_name = "fortran|rust")]
+    pub backend: Option<String>,
+    /// Modules to run in Rust (comma-separated)
+    #[arg(long, value_delimiter = ',', value_name = "M,..")]
+    pub rust: Vec<String>,
+    /// Modules to run in Fortran (comma-separated)
+    #[arg(long, value_delimiter = ',', value_name = "M,..")]
+    pub fortran: Vec<String>,
+    /// Neighbour search
+    #[arg(long, value_name = "direct|cell")]
+    pub nnps: Option<String>,
+    /// Stop at this time (s) instead of the case's end time
+    #[arg(long = "end-time", value_name = "SECONDS")]
+    pub end_time: Option<f64>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Cmd {
+    /// Run a case into a run directory (particles.h5, summary.json, gauges.csv)
+    Run {
+        case: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        args: CaseArgs,
+        /// Worker threads of the Rust modules
+        #[arg(long)]
+        threads: Option<usize>,
+        /// No progress bar
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Run both implementations of every module at every step and compare them
+    Dual {
+        case: PathBuf,
+        /// Steps to run (default 100)
+        #[arg(long)]
+        steps: Option<u64>,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Free-running mode: an all-Fortran and an all-Rust run from the same start
+        #[arg(long)]
+        free: bool,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        #[arg(long, value_name = "direct|cell")]
+        nnps: Option<String>,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
+    /// Validate a case, print the module plan and the particle count
+    Check {
+        case: PathBuf,
+        #[command(flatten)]
+        args: CaseArgs,
+    },
+    /// Measurements and plots of a finished run directory
+    Report { dir: PathBuf },
+}
+
+fn overrides(a: &CaseArgs) -> Result<Overrides> {
+    let backend = match &a.backend {
+        Some(b) => Some(
+            Backend::parse(b)
+                .ok_or_else(|| input(format!("--backend {b}: must be fortran or rust")))?,
+        ),
+        None => None,
+    };
+    Ok(Overrides {
+        backend,
+        rust: a.rust.clone(),
+        fortran: a.fortran.clone(),
+        nnps: a.nnps.clone(),
+        end_time: a.end_time,
+    })
+}
+
+fn threads(n: Option<usize>) -> Result<()> {
+    if let Some(n) = n {
+        if n == 0 {
+            return Err(input("--threads 0: need at least one thread"));
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| input(format!("--threads: {e}")))?;
+    }
+    Ok(())
+}
+
+/// Entry point; returns the exit status.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return code;
+        }
+    };
+    match dispatch(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            e.exit_code()
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<i32> {
+    match cli.cmd {
+        Cmd::Run {
+            case,
+            out,
+            args,
+            threads: th,
+            quiet,
+        } => {
+            threads(th)?;
+            let opts = RunOptions {
+                out,
+                sets: args.sets.clone(),
+                ov: overrides(&args)?,
+                quiet,
+                threads: th,
+            };
+            let r = runner::run(&case, &opts)?;
+            let s = &r.summary;
+            println!(
+                "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s wall ({} backend), output in {}",
+                s["case"].as_str().unwrap_or("?"),
+                s["particles"],
+                s["steps"],
+                s["time"].as_f64().unwrap_or(0.0),
+                s["wall_seconds"].as_f64().unwrap_or(0.0),
+                s["backend"].as_str().unwrap_or("?"),
+                r.dir.display()
+            );
+            Ok(0)
+        }
+        Cmd::Check { case, args } => {
+            let c = case::load(&case, &args.sets)?;
+            let sim = Sim::new(c, &overrides(&args)?)?;
+            print!("{}", check_text(&sim));
+            Ok(0)
+        }
+        Cmd::Report { dir } => {
+            crate::report::report(&dir)?;
+            Ok(0)
+        }
+        Cmd::Dual {
+            case,
+            steps,
+            out,
+            free,
+            sets,
+            nnps,
+            threads: th,
+        } => {
+            threads(th)?;
+            let c = case::load(&case, &sets)?;
+            let ov = Overrides {
+                nnps,
+                ..Default::default()
+            };
+            let dir =
+                out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
+            std::fs::create_dir_all(&dir)
+                .map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
+            if free {
+                let rep = free_run(c, &ov, steps.unwrap_or(100), &dir)?;
+                println!("{rep}");
+                Ok(0)
+            } else {
+                dual_run(c, &ov, steps.unwrap_or(100), &dir)
+            }
+        }
+    }
+}
+
+/// The text of `blastsph check`.
+pub fn check_text(sim: &Sim) -> String {
+    let c = &sim.case;
+    let mut s = format!(
+        "case {}: dim {}, {} particles",
+        c.name(),
+        c.dim,
+        sim.p.nreal
+    );
+    let mut by_mat = vec![0usize; c.materials.len()];
+    for &m in &sim.p.mat[..sim.p.nreal] {
+        by_mat[m as usize] += 1;
+    }
+    let parts: Vec<String> = c
+        .materials
+        .iter()
+        .zip(&by_mat)
+        .map(|(m, k)| format!("{} {k}", m.name))
+        .collect();
+    s += &format!(" ({})\n", parts.join(", "));
+    s += &format!(
+        "time: end {:e} s, {:?} step{}, output every {:e} s\n",
+        c.time.end_s,
+        c.time.step,
+        match c.time.step {
+            case::StepRule::Fixed => format!(" dt = {:e} s", c.time.dt_s.unwrap_or(0.0)),
+            case::StepRule::Cfl => format!(" C = {}", c.time.cfl),
+        },
+        c.time.output_interval_s
+    );
+    s += "module plan:\n";
+    for m in Module::ALL {
+        let k = Module::ALL.iter().position(|x| *x == m).unwrap_or(0);
+        if sim.plan.is_active(m) {
+            s += &format!(
+                "  {:<11} {:<8} {}  [{}]\n",
+                m.name(),
+                sim.plan.backend(m).name(),
+                sim.plan.why[k],
+                m.what()
+            );
+        } else {
+            s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", sim.plan.why[k]);
+        }
+    }
+    s
+}
+
+/// `blastsph dual`: returns exit 0 when every module is within tolerance, 4 otherwise.
+pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<i32> {
+    let mut sim = Sim::new(c, ov)?;
+    sim.enable_dual(Comparator::new(sim.cfg.dim));
+    let mut done = 0;
+    let mut diag = None;
+    while done < steps && sim.t < sim.cfg.end * (1.0 - 1e-12) {
+        if let Err(e) = sim.step() {
+            diag = Some(e.to_string());
+            break;
+        }
+        done += 1;
+    }
+    let cmp = sim.cmp.take().unwrap_or_default();
+    print!("{}", cmp.table());
+    let ok = cmp.ok();
+    let rep = serde_json::json!({
+        "case": sim.case.name(),
+        "steps": done,
+        "time": sim.t,
+        "within_tolerance": ok,
+        "diagnostic": diag,
+        "rows": cmp.rows(),
+    });
+    let path = dir.join("dual_report.json");
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&rep).unwrap_or_default(),
+    )
+    .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    println!(
+        "{} steps compared; {}; report {}",
+        done,
+        if ok {
+            "every module within tolerance"
+        } else {
+            "MODULES OUT OF TOLERANCE"
+        },
+        path.display()
+    );
+    Ok(if ok { 0 } else { 4 })
+}
+
+/// Free-running mode: separation of an all-Fortran and an all-Rust run over time.
+pub fn free_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<String> {
+    let mut ovf = ov.clone();
+    ovf.backend = Some(Backend::Fortran);
+    let mut ovr = ov.clone();
+    ovr.backend = Some(Backend::Rust);
+    let mut a = Sim::new(c.clone(), &ovf)?;
+    let mut b = Sim::new(c, &ovr)?;
+    let mut rows = Vec::new();
+    let mut first_diff: Option<u64> = None;
+    for _ in 0..steps {
+        if a.t >= a.cfg.end * (1.0 - 1e-12) {
+            break;
+        }
+        a.step()?;
+        b.step()?;
+        let n = a.p.nreal;
+        let dim = a.cfg.dim;
+        let dx = (0..dim * n)
+            .map(|l| (a.p.x[l] - b.p.x[l]).abs())
+            .fold(0.0, f64::max);
+        let drho = (0..n)
+            .map(|i| ((a.p.rho[i] - b.p.rho[i]) / a.p.rho[i]).abs())
+            .fold(0.0, f64::max);
+        let dv = (0..dim * n)
+            .map(|l| (a.p.v[l] - b.p.v[l]).abs())
+            .fold(0.0, f64::max);
+        let bitwise =
+            a.p.x == b.p.x && a.p.v == b.p.v && a.p.rho == b.p.rho && a.p.e == b.p.e && a.t == b.t;
+        if !bitwise && first_diff.is_none() {
+            first_diff = Some(a.nstep);
+        }
+        rows.push(serde_json::json!({"step": a.nstep, "t_fortran": a.t, "t_rust": b.t, "max_dx_m": dx, "max_drho_rel": drho, "max_dv_ms": dv, "bitwise_equal": bitwise}));
+    }
+    let rep = serde_json::json!({"case": a.case.name(), "steps": a.nstep, "first_difference_step": first_diff, "rows": rows});
+    let path = dir.join("dual_free.json");
+    std::fs::write(
+        &path,
+        serde_json::to_string_pretty(&rep).unwrap_or_default(),
+    )
+    .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    Ok(match first_diff {
+        None => format!(
+            "free run: {} steps, Fortran and Rust states bitwise identical at every step; {}",
+            a.nstep,
+            path.display()
+        ),
+        Some(s) => format!(
+            "free run: {} steps, first difference at step {s}; {}",
+            a.nstep,
+            path.display()
+        ),
+    })
+}

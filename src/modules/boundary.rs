@@ -1,0 +1,299 @@
+//! Boundaries (thesis 4-6-1, after Liu's virt_part and ext_force).
+//!
+//! Walls are segments `seg(3·dim, nseg)`: start a, end b, inward unit normal n (a point in 1D).
+//! Type I: wall particles at a + k·ds·t (k = 0..nk, the end node only where `endnode`), and the
+//! force per unit mass D[(r0/r)^{n1} − (r0/r)^{n2}] x_ij/r² (m/s²) on a real particle within r0.
+//! Type II: mirror images of the real particles within κh of a wall (and images of those in a
+//! second wall, for corners), rebuilt every step after the real particles: ρ, p, c, e, h, m, mat
+//! copied; x, v (free slip or no slip) and τ (M τ M, M = I − 2 n nᵀ) reflected.
+//! Rust twin: same order, 0 ULP.
+
+use super::Backend;
+use crate::legacy::{self, MirrorArrays, NSTR, Segments};
+use rayon::prelude::*;
+
+const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
+
+/// Tangent, length and normal of segment s.
+fn frame(dim: usize, sg: &[f64]) -> ([f64; 3], f64, [f64; 3]) {
+    let mut t = [0.0; 3];
+    let mut nrm = [0.0; 3];
+    let mut el = 0.0;
+    for d in 0..dim {
+        t[d] = sg[dim + d] - sg[d];
+        el += t[d] * t[d];
+        nrm[d] = sg[2 * dim + d];
+    }
+    let el = f64::sqrt(el);
+    if el > 0.0 {
+        for v in t.iter_mut().take(dim) {
+            *v /= el;
+        }
+    }
+    (t, el, nrm)
+}
+
+#[inline]
+fn ipow(x: f64, n: i32) -> f64 {
+    let mut y = 1.0;
+    for _ in 0..n {
+        y *= x;
+    }
+    y
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn wall_force(
+    b: Backend,
+    dim: usize,
+    x: &[f64],
+    segs: &Segments,
+    spacing: f64,
+    r0: f64,
+    dcoef: f64,
+    n1: i32,
+    n2: i32,
+    dvdt: &mut [f64],
+) {
+    match b {
+        Backend::Fortran => legacy::wall_force(dim, x, segs, spacing, r0, dcoef, n1, n2, dvdt),
+        Backend::Rust => {
+            let frames: Vec<_> = (0..segs.len())
+                .map(|s| frame(dim, &segs.seg[3 * dim * s..3 * dim * (s + 1)]))
+                .collect();
+            dvdt.par_chunks_mut(dim).enumerate().for_each(|(i, acc)| {
+                acc.iter_mut().for_each(|v| *v = 0.0);
+                for (s, (t, el, _)) in frames.iter().enumerate() {
+                    let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+                    let nk = ((el / spacing).round() as i64).max(1);
+                    let ds = el / nk as f64;
+                    let mut tp = 0.0;
+                    for d in 0..dim {
+                        tp += (x[d + dim * i] - sg[d]) * t[d];
+                    }
+                    let (klo, khi) = if *el > 0.0 {
+                        let klo = (((tp - r0) / ds).ceil() as i64).max(0);
+                        let khi = ((tp + r0) / ds).floor() as i64;
+                        let khi = if segs.endnode[s] != 0 {
+                            khi.min(nk)
+                        } else {
+                            khi.min(nk - 1)
+                        };
+                        (klo, khi)
+                    } else {
+                        (0, 0)
+                    };
+                    for k in klo..=khi {
+                        let mut dx = [0.0; 3];
+                        let mut r2 = 0.0;
+                        for d in 0..dim {
+                            dx[d] = x[d + dim * i] - (sg[d] + k as f64 * ds * t[d]);
+                            r2 += dx[d] * dx[d];
+                        }
+                        if r2 < r0 * r0 {
+                            let q = r0 / r2.sqrt();
+                            let f = dcoef * (ipow(q, n1) - ipow(q, n2)) / r2;
+                            for d in 0..dim {
+                                acc[d] += f * dx[d];
+                            }
+                        }
+                    }
+                }
+            });
+        }
+    }
+}
+
+fn in_band(dim: usize, sg: &[f64], y: &[f64], band: f64) -> bool {
+    let (t, el, nrm) = frame(dim, sg);
+    let mut dn = 0.0;
+    let mut tp = 0.0;
+    for d in 0..dim {
+        dn += (y[d] - sg[d]) * nrm[d];
+        tp += (y[d] - sg[d]) * t[d];
+    }
+    dn >= 0.0 && dn < band && tp >= -band && tp <= el + band
+}
+
+fn reflect(dim: usize, sg: &[f64], y: &mut [f64]) {
+    let mut dn = 0.0;
+    for d in 0..dim {
+        dn += (y[d] - sg[d]) * sg[2 * dim + d];
+    }
+    for d in 0..dim {
+        y[d] -= 2.0 * dn * sg[2 * dim + d];
+    }
+}
+
+/// Lists the mirrors of the `h.len()` real particles into `gsrc`, `gseg` (resized).
+pub fn mirror_make(
+    b: Backend,
+    dim: usize,
+    x: &[f64],
+    h: &[f64],
+    kappa: f64,
+    segs: &Segments,
+    gsrc: &mut Vec<i32>,
+    gseg: &mut Vec<i32>,
+) {
+    match b {
+        Backend::Fortran => {
+            let mut cap = gsrc.capacity().max(64);
+            loop {
+                gsrc.resize(cap, 0);
+                gseg.resize(2 * cap, 0);
+                let ng = legacy::mirror_make(dim, x, h, kappa, segs, gsrc, gseg);
+                if ng <= cap {
+                    gsrc.truncate(ng);
+                    gseg.truncate(2 * ng);
+                    break;
+                }
+                cap = ng + ng / 4;
+            }
+        }
+        Backend::Rust => {
+            let n = h.len();
+            let ns = segs.len();
+            let sg = |s: usize| &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+            gsrc.clear();
+            gseg.clear();
+            for i in 0..n {
+                for s in 0..ns {
+                    if in_band(dim, sg(s), &x[dim * i..dim * i + dim], kappa * h[i]) {
+                        gsrc.push(i as i32);
+                        gseg.extend_from_slice(&[s as i32, -1]);
+                    }
+                }
+            }
+            let ng1 = gsrc.len();
+            for g in 0..ng1 {
+                let i = gsrc[g] as usize;
+                let s = gseg[2 * g] as usize;
+                let mut y = [0.0; 3];
+                y[..dim].copy_from_slice(&x[dim * i..dim * i + dim]);
+                reflect(dim, sg(s), &mut y[..dim]);
+                for t in s + 1..ns {
+                    if in_band(dim, sg(t), &y[..dim], kappa * h[i]) {
+                        gsrc.push(i as i32);
+                        gseg.extend_from_slice(&[s as i32, t as i32]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Fills the mirror slots `n..n+ng` of the arrays.
+pub fn mirror_fill(
+    b: Backend,
+    dim: usize,
+    n: usize,
+    gsrc: &[i32],
+    gseg: &[i32],
+    segs: &Segments,
+    noslip: bool,
+    a: MirrorArrays,
+) {
+    match b {
+        Backend::Fortran => legacy::mirror_fill(dim, n, gsrc, gseg, segs, noslip, a),
+        Backend::Rust => {
+            let with_tau = !a.tau.is_empty();
+            for (g, &src) in gsrc.iter().enumerate() {
+                let i = src as usize;
+                let m = n + g;
+                for d in 0..dim {
+                    a.x[d + dim * m] = a.x[d + dim * i];
+                    a.v[d + dim * m] = a.v[d + dim * i];
+                }
+                a.rho[m] = a.rho[i];
+                a.p[m] = a.p[i];
+                a.c[m] = a.c[i];
+                a.e[m] = a.e[i];
+                a.h[m] = a.h[i];
+                a.mass[m] = a.mass[i];
+                a.mat[m] = a.mat[i];
+                let mut t3 = [[0.0f64; 3]; 3];
+                if with_tau {
+                    for al in 0..3 {
+                        for be in 0..3 {
+                            t3[al][be] = a.tau[IV[al][be] + NSTR * i];
+                        }
+                    }
+                }
+                for l in 0..2 {
+                    let s = gseg[l + 2 * g];
+                    if s < 0 {
+                        continue;
+                    }
+                    let sg = &segs.seg[3 * dim * s as usize..3 * dim * (s as usize + 1)];
+                    reflect(dim, sg, &mut a.x[dim * m..dim * m + dim]);
+                    let mut nrm = [0.0; 3];
+                    nrm[..dim].copy_from_slice(&sg[2 * dim..3 * dim]);
+                    if !noslip {
+                        let mut vn = 0.0;
+                        for d in 0..dim {
+                            vn += a.v[d + dim * m] * nrm[d];
+                        }
+                        for d in 0..dim {
+                            a.v[d + dim * m] -= 2.0 * vn * nrm[d];
+                        }
+                    }
+                    if with_tau {
+                        let mut rm = [[0.0f64; 3]; 3];
+                        for al in 0..3 {
+                            for be in 0..3 {
+                                rm[al][be] = -2.0 * nrm[al] * nrm[be];
+                                if al == be {
+                                    rm[al][be] += 1.0;
+                                }
+                            }
+                        }
+                        let mut u3 = [[0.0f64; 3]; 3];
+                        for al in 0..3 {
+                            for be in 0..3 {
+                                let mut sm = 0.0;
+                                for q in 0..3 {
+                                    sm += t3[al][q] * rm[q][be];
+                                }
+                                u3[al][be] = sm;
+                            }
+                        }
+                        for al in 0..3 {
+                            for be in 0..3 {
+                                let mut sm = 0.0;
+                                for q in 0..3 {
+                                    sm += rm[al][q] * u3[q][be];
+                                }
+                                t3[al][be] = sm;
+                            }
+                        }
+                    }
+                }
+                if noslip {
+                    for d in 0..dim {
+                        a.v[d + dim * m] = -a.v[d + dim * i];
+                    }
+                }
+                if with_tau {
+                    for al in 0..3 {
+                        for be in al..3 {
+                            a.tau[IV[al][be] + NSTR * m] = t3[al][be];
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// f[n+g] = f[source of g].
+pub fn mirror_copy(b: Backend, n: usize, gsrc: &[i32], f: &mut [f64]) {
+    match b {
+        Backend::Fortran => legacy::mirror_copy(n, gsrc, f),
+        Backend::Rust => {
+            for (g, &s) in gsrc.iter().enumerate() {
+                f[n + g] = f[s as usize];
+            }
+        }
+    }
+}

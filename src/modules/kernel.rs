@@ -1,0 +1,159 @@
+//! Smoothing kernel W(r, h) and ∇W (thesis (5-1); Liu & Liu ch. 3). Units: W in m^-d, ∇W in
+//! m^-(d+1). Cubic spline (support 2h), Gauss (3h), quintic spline (Morris 1996, 3h; the book's
+//! gradient for q ≤ 1 is wrong and not reproduced), Wendland C2 (2h).
+//!
+//! ∇_i W_ij is written α g(q) (x_i − x_j)/h², so r = 0 is harmless. The Rust twin evaluates every
+//! expression in the Fortran's order: 0 ULP.
+
+use super::{Backend, nnps::PairList};
+use crate::case::KernelKind;
+use crate::legacy;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
+    match kind {
+        KernelKind::Cubic => match dim {
+            1 => 1.0 / h,
+            2 => 15.0 / (7.0 * PI * h * h),
+            _ => 3.0 / (2.0 * PI * h * h * h),
+        },
+        KernelKind::Gauss => match dim {
+            1 => 1.0 / (PI.sqrt() * h),
+            2 => 1.0 / (PI * h * h),
+            _ => 1.0 / (PI * PI.sqrt() * h * h * h),
+        },
+        KernelKind::Quintic => match dim {
+            1 => 1.0 / (120.0 * h),
+            2 => 7.0 / (478.0 * PI * h * h),
+            _ => 3.0 / (359.0 * PI * h * h * h),
+        },
+        KernelKind::Wendland => match dim {
+            1 => 5.0 / (8.0 * h),
+            2 => 7.0 / (4.0 * PI * h * h),
+            _ => 21.0 / (16.0 * PI * h * h * h),
+        },
+    }
+}
+
+/// W and ∇W for the separation `dx` (length `dim`) at distance `r`; writes ∇W into `dwdx`.
+#[inline]
+pub fn w_dw(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, dwdx: &mut [f64]) -> f64 {
+    let q = r / h;
+    let al = alpha(dim, kind, h);
+    let mut w = 0.0;
+    let mut g = 0.0;
+    match kind {
+        KernelKind::Cubic => {
+            if q < 1.0 {
+                w = al * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+                g = al * (-2.0 + 1.5 * q);
+            } else if q < 2.0 {
+                let a = 2.0 - q;
+                w = al * (a * a * a / 6.0);
+                g = -al * 0.5 * a * a / q;
+            }
+        }
+        KernelKind::Gauss => {
+            if q < 3.0 {
+                let a = (-q * q).exp();
+                w = al * a;
+                g = -2.0 * al * a;
+            }
+        }
+        KernelKind::Quintic => {
+            if q < 3.0 {
+                let a = 3.0 - q;
+                let a2 = a * a;
+                w = a2 * a2 * a;
+                g = -5.0 * a2 * a2;
+                if q < 2.0 {
+                    let b = 2.0 - q;
+                    let b2 = b * b;
+                    w -= 6.0 * b2 * b2 * b;
+                    g += 30.0 * b2 * b2;
+                    if q < 1.0 {
+                        let c = 1.0 - q;
+                        let c2 = c * c;
+                        w += 15.0 * c2 * c2 * c;
+                        g = -120.0 + 120.0 * q * q - 50.0 * q * q * q;
+                    } else {
+                        g /= q;
+                    }
+                } else {
+                    g /= q;
+                }
+                w *= al;
+                g *= al;
+            }
+        }
+        KernelKind::Wendland => {
+            if q < 2.0 {
+                let a = 1.0 - 0.5 * q;
+                if dim == 1 {
+                    w = al * a * a * a * (1.5 * q + 1.0);
+                    g = -3.0 * al * a * a;
+                } else {
+                    w = al * a * a * a * a * (2.0 * q + 1.0);
+                    g = -5.0 * al * a * a * a;
+                }
+            }
+        }
+    }
+    for d in 0..dim {
+        dwdx[d] = g * dx[d] / (h * h);
+    }
+    w
+}
+
+/// W_ij and ∇_i W_ij of every pair, h_ij = (h_i + h_j)/2.
+pub fn pairs(
+    b: Backend,
+    dim: usize,
+    kind: KernelKind,
+    pl: &PairList,
+    x: &[f64],
+    h: &[f64],
+    w: &mut [f64],
+    dwdx: &mut [f64],
+) {
+    match b {
+        Backend::Fortran => legacy::kernel_pairs(dim, kind.skf(), &pl.i, &pl.j, x, h, w, dwdx),
+        Backend::Rust => {
+            let np = pl.len();
+            w[..np]
+                .par_iter_mut()
+                .zip(dwdx[..dim * np].par_chunks_mut(dim))
+                .enumerate()
+                .for_each(|(k, (wk, g))| {
+                    let i = pl.i[k] as usize;
+                    let j = pl.j[k] as usize;
+                    let mut dx = [0.0; 3];
+                    let mut r2 = 0.0;
+                    for d in 0..dim {
+                        dx[d] = x[d + dim * i] - x[d + dim * j];
+                        r2 += dx[d] * dx[d];
+                    }
+                    let hij = 0.5 * (h[i] + h[j]);
+                    *wk = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
+                });
+        }
+    }
+}
+
+/// The self-contribution W(0, h_i) of each particle.
+pub fn self_w(b: Backend, dim: usize, kind: KernelKind, h: &[f64], w0: &mut [f64]) {
+    match b {
+        Backend::Fortran => legacy::kernel_self(dim, kind.skf(), h, w0),
+        Backend::Rust => {
+            let dx = [0.0; 3];
+            w0[..h.len()]
+                .par_iter_mut()
+                .zip(h.par_iter())
+                .for_each(|(w, &hi)| {
+                    let mut g = [0.0; 3];
+                    *w = w_dw(dim, kind, 0.0, &dx[..dim], hi, &mut g[..dim]);
+                });
+        }
+    }
+}

@@ -1,0 +1,173 @@
+//! The module interface (DESIGN.md "The module interface").
+//!
+//! A *module* is one physics or numerics routine family with one interface and two
+//! implementations: the legacy Fortran routine (through [`crate::legacy`]) and its Rust twin.
+//! Each file here holds the dispatch functions of one module — they take a [`Backend`] and whole
+//! arrays, so one foreign call is made per module per step — and the Rust twin.
+//!
+//! Rust twins gather: every particle sums over the pairs that touch it, in ascending pair order
+//! (the incidence lists of [`nnps::PairList`]). That is the order in which the Fortran pair loops
+//! scatter into the same particle, and each pair term is computed with the same operations in the
+//! same order, so the sums agree bit for bit and results do not depend on the thread count.
+
+pub mod boundary;
+pub mod density;
+pub mod detonation;
+pub mod eos;
+pub mod force;
+pub mod integrator;
+pub mod kernel;
+pub mod nnps;
+pub mod penalty;
+pub mod smoothing;
+pub mod strength;
+pub mod viscosity;
+pub mod xsph;
+
+use serde::Serialize;
+
+/// Which implementation runs a module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Backend {
+    Fortran,
+    Rust,
+}
+
+impl Backend {
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Fortran => "fortran",
+            Backend::Rust => "rust",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Backend> {
+        match s {
+            "fortran" => Some(Backend::Fortran),
+            "rust" => Some(Backend::Rust),
+            _ => None,
+        }
+    }
+}
+
+/// The modules of DESIGN.md's table (plus detonation and XSPH).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Module {
+    Boundary,
+    Nnps,
+    Kernel,
+    Density,
+    Detonation,
+    Eos,
+    Strength,
+    Force,
+    Viscosity,
+    Penalty,
+    Xsph,
+    Smoothing,
+    Integrator,
+}
+
+impl Module {
+    /// In the order a step calls them.
+    pub const ALL: [Module; 13] = [
+        Module::Boundary,
+        Module::Nnps,
+        Module::Kernel,
+        Module::Density,
+        Module::Detonation,
+        Module::Eos,
+        Module::Strength,
+        Module::Force,
+        Module::Viscosity,
+        Module::Penalty,
+        Module::Xsph,
+        Module::Smoothing,
+        Module::Integrator,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Module::Boundary => "boundary",
+            Module::Nnps => "nnps",
+            Module::Kernel => "kernel",
+            Module::Density => "density",
+            Module::Detonation => "detonation",
+            Module::Eos => "eos",
+            Module::Strength => "strength",
+            Module::Force => "force",
+            Module::Viscosity => "viscosity",
+            Module::Penalty => "penalty",
+            Module::Xsph => "xsph",
+            Module::Smoothing => "smoothing",
+            Module::Integrator => "integrator",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Module> {
+        Module::ALL.iter().copied().find(|m| m.name() == s)
+    }
+
+    pub fn names() -> String {
+        Module::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// What the module computes, for `blastsph check`.
+    pub fn what(self) -> &'static str {
+        match self {
+            Module::Boundary => "virtual particles: type I wall force, type II mirrors",
+            Module::Nnps => "neighbour pairs within the kernel support",
+            Module::Kernel => "W_ij and grad W_ij per pair (5-1)",
+            Module::Density => "summation density or continuity rate (Table 4-1)",
+            Module::Detonation => "programmed burn: lighting times and burn fraction",
+            Module::Eos => "p and c per material (4-39..4-46)",
+            Module::Strength => "strain/rotation rates, Jaumann rate, Drucker-Prager (4-29..4-32)",
+            Module::Force => "momentum and energy rates from the stress (4-33..4-38)",
+            Module::Viscosity => "Monaghan artificial viscosity (4-47, 4-48)",
+            Module::Penalty => "penalty force between materials (4-53, 4-54)",
+            Module::Xsph => "averaged velocity (XSPH)",
+            Module::Smoothing => "smoothing-length evolution (2-15, 2-16)",
+            Module::Integrator => "leapfrog, rate sums, CFL step (2-17..2-27)",
+        }
+    }
+}
+
+/// One choice of implementation per module.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Choice {
+    pub backend: [Backend; 13],
+}
+
+impl Choice {
+    pub fn all(b: Backend) -> Choice {
+        Choice { backend: [b; 13] }
+    }
+    pub fn get(&self, m: Module) -> Backend {
+        self.backend[Module::ALL.iter().position(|x| *x == m).unwrap_or(0)]
+    }
+    pub fn set(&mut self, m: Module, b: Backend) {
+        if let Some(k) = Module::ALL.iter().position(|x| *x == m) {
+            self.backend[k] = b;
+        }
+    }
+}
+
+/// Runs `f(a, row)` in parallel over the rows of `out` (row `a` = particle `a`, `width` values):
+/// each worker writes only its own particle's slot.
+pub(crate) fn par_rows<F>(out: &mut [f64], width: usize, f: F)
+where
+    F: Fn(usize, &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    if width == 0 {
+        return;
+    }
+    out.par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(a, row)| f(a, row));
+}

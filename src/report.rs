@@ -1,0 +1,225 @@
+//! `blastsph report DIR`: measurements and plots of a finished run.
+
+use crate::analysis::riemann::{Riemann, Side};
+use crate::case::{self, AnalysisKind, Case, EosCfg};
+use crate::error::{Result, SphError, input};
+use crate::output::{Frame, read_frames};
+use crate::plot;
+use serde_json::{Value, json};
+use std::path::Path;
+
+/// L1 errors of a 1D Riemann run against the exact solution.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct L1 {
+    pub rho: f64,
+    pub v: f64,
+    pub p: f64,
+    pub e: f64,
+    /// Particles in the window.
+    pub n: usize,
+}
+
+/// Loads the case of a run directory (case.toml with the run's --set overrides).
+pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
+    let sp = dir.join("summary.json");
+    let summary: Value = serde_json::from_str(
+        &std::fs::read_to_string(&sp)
+            .map_err(|e| input(format!("{}: {e} (is this a run directory?)", sp.display())))?,
+    )
+    .map_err(|e| input(format!("{}: {e}", sp.display())))?;
+    let sets: Vec<String> = summary["sets"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|v| v.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    let cp = dir.join("case.toml");
+    let text = std::fs::read_to_string(&cp).map_err(|e| input(format!("{}: {e}", cp.display())))?;
+    let name = summary["case"].as_str().map(String::from);
+    let case = case::parse(&text, &cp.display().to_string(), &sets, name.as_deref())?;
+    Ok((case, summary))
+}
+
+/// The exact problem of a Riemann case: left and right states from its regions.
+pub fn riemann_of(case: &Case) -> Result<(Riemann, f64)> {
+    let x0 = case
+        .analysis
+        .diaphragm_m
+        .ok_or_else(|| input("analysis.diaphragm_m missing"))?;
+    let mut left = None;
+    let mut right = None;
+    let mut gamma = None;
+    for r in &case.regions {
+        let m = &case.materials[case.material_index(&r.material).unwrap_or(0)];
+        let g = match m.eos {
+            EosCfg::IdealGas { gamma, .. } => gamma,
+            _ => return Err(input("analysis.kind = \"riemann\" needs ideal-gas regions")),
+        };
+        gamma = Some(g);
+        let rho = r.rho_kgm3.or(m.eos.rho0()).unwrap_or(1.0);
+        let e = r.e_jkg.or(m.e0_jkg).unwrap_or(0.0);
+        let u = r.velocity_ms.as_ref().map(|v| v[0]).unwrap_or(0.0);
+        let side = Side {
+            rho,
+            u,
+            p: (g - 1.0) * rho * e,
+        };
+        let xs = r
+            .origin_m
+            .as_ref()
+            .or(r.lo_m.as_ref())
+            .map(|v| v[0])
+            .unwrap_or(0.0);
+        if xs < x0 {
+            left = Some(side)
+        } else {
+            right = Some(side)
+        }
+    }
+    let (l, r, g) = (
+        left.ok_or_else(|| input("riemann: no region left of the diaphragm"))?,
+        right.ok_or_else(|| input("riemann: no region right of the diaphragm"))?,
+        gamma.unwrap_or(1.4),
+    );
+    let rs = Riemann::solve(l, r, g)
+        .ok_or_else(|| input("riemann: the exact solver found no solution (vacuum?)"))?;
+    Ok((rs, x0))
+}
+
+/// Volume-weighted L1 errors over `window`: Σ V_i |q_i − q(x_i)| / Σ V_i, V_i = m_i/ρ_i.
+pub fn l1_errors(f: &Frame, rs: &Riemann, x0: f64, window: (f64, f64)) -> L1 {
+    let (mut er, mut ev, mut ep, mut ee, mut vol) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let mut n = 0;
+    for i in 0..f.x.len() {
+        let x = f.x[i];
+        if x < window.0 || x > window.1 {
+            continue;
+        }
+        let s = rs.sample((x - x0) / f.time);
+        let vi = f.mass[i] / f.rho[i];
+        er += vi * (f.rho[i] - s.rho).abs();
+        ev += vi * (f.vx[i] - s.u).abs();
+        ep += vi * (f.p[i] - s.p).abs();
+        ee += vi * (f.e[i] - s.e).abs();
+        vol += vi;
+        n += 1;
+    }
+    let v = vol.max(1e-300);
+    L1 {
+        rho: er / v,
+        v: ev / v,
+        p: ep / v,
+        e: ee / v,
+        n,
+    }
+}
+
+fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
+    let (rs, x0) = riemann_of(case)?;
+    let last = frames
+        .last()
+        .ok_or_else(|| SphError::Io("particles.h5 holds no step".into()))?;
+    let w = case
+        .analysis
+        .window_m
+        .clone()
+        .unwrap_or(vec![f64::NEG_INFINITY, f64::INFINITY]);
+    let l1 = l1_errors(last, &rs, x0, (w[0], w[1]));
+    let (xa, xb) = (
+        last.x.iter().cloned().fold(f64::INFINITY, f64::min),
+        last.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let exact: Vec<(f64, crate::analysis::riemann::State)> = (0..=2000)
+        .map(|k| {
+            let x = xa + (xb - xa) * k as f64 / 2000.0;
+            (x, rs.sample((x - x0) / last.time))
+        })
+        .collect();
+    let mk = |title: &str,
+              unit: &str,
+              q: &dyn Fn(usize) -> f64,
+              qe: &dyn Fn(&crate::analysis::riemann::State) -> f64| plot::Panel {
+        title: title.into(),
+        xlabel: "x (m)".into(),
+        ylabel: unit.into(),
+        points: (0..last.x.len()).map(|i| (last.x[i], q(i))).collect(),
+        curve: exact.iter().map(|(x, s)| (*x, qe(s))).collect(),
+        curve_label: "exact".into(),
+        points_label: "SPH".into(),
+    };
+    let panels = [
+        mk("density", "rho (kg/m3)", &|i| last.rho[i], &|s| s.rho),
+        mk("velocity", "v (m/s)", &|i| last.vx[i], &|s| s.u),
+        mk("pressure", "p (Pa)", &|i| last.p[i], &|s| s.p),
+        mk("internal energy", "e (J/kg)", &|i| last.e[i], &|s| s.e),
+    ];
+    let png = dir.join("profiles.png");
+    plot::panels(&png, &panels, 2, (1200, 900))?;
+    let (rl, rr) = rs.rho_star();
+    println!(
+        "exact: p* = {:.6}, u* = {:.6}, rho*L = {:.6}, rho*R = {:.6}, shock speed {:.5}",
+        rs.p_star,
+        rs.u_star,
+        rl,
+        rr,
+        rs.right_shock_speed()
+    );
+    println!(
+        "L1 errors at t = {:.4} s over [{}, {}] m ({} particles): rho {:.4e}  v {:.4e}  p {:.4e}  e {:.4e}",
+        last.time, w[0], w[1], l1.n, l1.rho, l1.v, l1.p, l1.e
+    );
+    println!("plot: {}", png.display());
+    Ok(json!({
+        "exact": { "p_star": rs.p_star, "u_star": rs.u_star, "rho_star_left": rl, "rho_star_right": rr, "shock_speed": rs.right_shock_speed() },
+        "time": last.time,
+        "window_m": w,
+        "l1": l1,
+        "plot": "profiles.png",
+    }))
+}
+
+pub fn report(dir: &Path) -> Result<Value> {
+    let (case, summary) = load_case(dir)?;
+    let frames = read_frames(&dir.join("particles.h5"))?;
+    println!(
+        "{}: {} particles, {} steps to t = {:.4e} s in {:.2} s ({}, status {})",
+        summary["case"].as_str().unwrap_or("?"),
+        summary["particles"],
+        summary["steps"],
+        summary["time"].as_f64().unwrap_or(0.0),
+        summary["wall_seconds"].as_f64().unwrap_or(0.0),
+        summary["backend"].as_str().unwrap_or("?"),
+        summary["status"].as_str().unwrap_or("?")
+    );
+    let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
+    let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
+    println!(
+        "mass: initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}",
+        (m1 - m0) / m0.abs().max(1e-300)
+    );
+    let en = &summary["energy"];
+    println!(
+        "energy (J): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}; balance residual {:.3e} ({:.3e} relative)",
+        en["initial"]["total"].as_f64().unwrap_or(0.0),
+        en["final"]["total"].as_f64().unwrap_or(0.0),
+        en["final"]["kinetic"].as_f64().unwrap_or(0.0),
+        en["final"]["internal"].as_f64().unwrap_or(0.0),
+        en["final"]["elastic"].as_f64().unwrap_or(0.0),
+        en["work_wall"].as_f64().unwrap_or(0.0),
+        en["work_penalty"].as_f64().unwrap_or(0.0),
+        en["work_gravity"].as_f64().unwrap_or(0.0),
+        en["balance_residual"].as_f64().unwrap_or(0.0),
+        en["balance_residual_relative"].as_f64().unwrap_or(0.0)
+    );
+    let out = match case.analysis.kind {
+        AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
+        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames)?,
+        AnalysisKind::None => json!({}),
+    };
+    let text = serde_json::to_string_pretty(&out).unwrap_or_default();
+    std::fs::write(dir.join("report.json"), text)
+        .map_err(|e| SphError::Io(format!("report.json: {e}")))?;
+    Ok(out)
+}

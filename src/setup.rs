@@ -1,0 +1,324 @@
+//! Builds the initial particles of a case: lattices per region, cut-outs, overlap checks, masses,
+//! smoothing lengths, the material table and the wall segments.
+
+use crate::case::{BurnMode, Case, EosCfg, Shape, WallKind};
+use crate::error::{Result, input};
+use crate::legacy::{
+    MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments,
+};
+
+/// Particles as generated, before the solver takes them.
+#[derive(Debug, Clone, Default)]
+pub struct Initial {
+    pub x: Vec<f64>,
+    pub v: Vec<f64>,
+    pub rho: Vec<f64>,
+    pub e: Vec<f64>,
+    pub h: Vec<f64>,
+    pub mass: Vec<f64>,
+    pub mat: Vec<i32>,
+    /// Region index of each particle.
+    pub region: Vec<u32>,
+    /// Per region: number of particles.
+    pub counts: Vec<usize>,
+    /// Finest initial spacing (m).
+    pub dx_min: f64,
+}
+
+/// The material table of the legacy interface, built from the case's materials.
+pub fn material_table(case: &Case) -> MatTable {
+    let nm = case.materials.len();
+    let mut mtype = vec![0i32; nm];
+    let mut mpar = vec![0.0f64; NPAR * nm];
+    let mut groups: Vec<String> = Vec::new();
+    let mut group = vec![0i32; nm];
+    for (m, mc) in case.materials.iter().enumerate() {
+        let col = &mut mpar[NPAR * m..NPAR * (m + 1)];
+        match &mc.eos {
+            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                mtype[m] = SPH_EOS_IDEAL_GAS as i32;
+                col[0] = rho0_kgm3.unwrap_or(1.0);
+                col[1] = *gamma;
+            }
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+            } => {
+                mtype[m] = SPH_EOS_JWL as i32;
+                col[0] = *rho0_kgm3;
+                col[1..7].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
+            }
+            EosCfg::Water {
+                rho0_kgm3,
+                a1_pa,
+                a2_pa,
+                a3_pa,
+                b0,
+                b1,
+                c0_ms,
+            } => {
+                mtype[m] = SPH_EOS_WATER as i32;
+                col[0] = *rho0_kgm3;
+                col[1..7].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
+            }
+            EosCfg::Soil {
+                rho0_kgm3,
+                c_ms,
+                s,
+                gamma,
+            } => {
+                mtype[m] = SPH_EOS_SOIL as i32;
+                col[0] = *rho0_kgm3;
+                col[1..4].copy_from_slice(&[*c_ms, *s, *gamma]);
+            }
+        }
+        col[7] = mc.pmin_pa.unwrap_or(-f64::MAX);
+        if let Some(s) = &mc.strength {
+            col[8] = s.shear_modulus_pa;
+            col[9] = s.alpha_phi;
+            col[10] = s.cohesion_pa;
+        }
+        let gname = mc
+            .penalty_group
+            .clone()
+            .unwrap_or_else(|| format!("\u{0}{}", mc.name));
+        group[m] = match groups.iter().position(|g| *g == gname) {
+            Some(k) => k as i32,
+            None => {
+                groups.push(gname);
+                (groups.len() - 1) as i32
+            }
+        };
+    }
+    MatTable { mtype, mpar, group }
+}
+
+fn point_in_polygon(p: &[f64], poly: &[Vec<f64>]) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    let mut j = n - 1;
+    for i in 0..n {
+        let (xi, yi) = (poly[i][0], poly[i][1]);
+        let (xj, yj) = (poly[j][0], poly[j][1]);
+        if (yi > p[1]) != (yj > p[1]) && p[0] < (xj - xi) * (p[1] - yi) / (yj - yi) + xi {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Is point `p` inside the shape of region `r`?
+fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
+    let rc = &case.regions[r];
+    let d = case.dim;
+    match rc.shape {
+        Shape::Box => {
+            let (lo, hi) = (rc.lo_m.as_ref().unwrap(), rc.hi_m.as_ref().unwrap());
+            (0..d).all(|a| p[a] >= lo[a] && p[a] < hi[a])
+        }
+        Shape::Polygon => point_in_polygon(p, rc.vertices_m.as_ref().unwrap()),
+        Shape::Lattice => {
+            let (o, c) = (rc.origin_m.as_ref().unwrap(), rc.count.as_ref().unwrap());
+            (0..d).all(|a| {
+                p[a] >= o[a] - 0.5 * rc.spacing_m
+                    && p[a] < o[a] + (c[a] as f64 - 0.5) * rc.spacing_m
+            })
+        }
+    }
+}
+
+fn lattice_points(case: &Case, r: usize) -> Vec<[f64; 3]> {
+    let rc = &case.regions[r];
+    let d = case.dim;
+    let dx = rc.spacing_m;
+    let (org, cnt): ([f64; 3], [usize; 3]) = match rc.shape {
+        Shape::Box => {
+            let (lo, hi) = (rc.lo_m.as_ref().unwrap(), rc.hi_m.as_ref().unwrap());
+            let mut o = [0.0; 3];
+            let mut c = [1usize; 3];
+            for a in 0..d {
+                o[a] = lo[a] + 0.5 * dx;
+                c[a] = ((hi[a] - lo[a]) / dx + 1e-9).floor() as usize;
+            }
+            (o, c)
+        }
+        Shape::Polygon => {
+            let v = rc.vertices_m.as_ref().unwrap();
+            let mut lo = [f64::INFINITY; 3];
+            let mut hi = [f64::NEG_INFINITY; 3];
+            for p in v {
+                for a in 0..2 {
+                    lo[a] = lo[a].min(p[a]);
+                    hi[a] = hi[a].max(p[a]);
+                }
+            }
+            let mut o = [0.0; 3];
+            let mut c = [1usize; 3];
+            for a in 0..2 {
+                o[a] = lo[a] + 0.5 * dx;
+                c[a] = ((hi[a] - lo[a]) / dx + 1e-9).floor() as usize;
+            }
+            (o, c)
+        }
+        Shape::Lattice => {
+            let (o0, c0) = (rc.origin_m.as_ref().unwrap(), rc.count.as_ref().unwrap());
+            let mut o = [0.0; 3];
+            let mut c = [1usize; 3];
+            o[..d].copy_from_slice(&o0[..d]);
+            c[..d].copy_from_slice(&c0[..d]);
+            (o, c)
+        }
+    };
+    let mut pts = Vec::with_capacity(cnt[0] * cnt[1] * cnt[2]);
+    for k in 0..cnt[2] {
+        for j in 0..cnt[1] {
+            for i in 0..cnt[0] {
+                let idx = [i, j, k];
+                let mut p = [0.0; 3];
+                for a in 0..d {
+                    p[a] = org[a] + idx[a] as f64 * dx;
+                }
+                if rc.shape == Shape::Polygon && !inside(case, r, &p) {
+                    continue;
+                }
+                pts.push(p);
+            }
+        }
+    }
+    pts
+}
+
+/// Generates the particles of every region; refuses overlapping or empty regions.
+pub fn particles(case: &Case) -> Result<Initial> {
+    let d = case.dim;
+    let nr = case.regions.len();
+    let mut init = Initial {
+        dx_min: f64::INFINITY,
+        ..Default::default()
+    };
+    let mut all: Vec<Vec<[f64; 3]>> = Vec::with_capacity(nr);
+    for r in 0..nr {
+        let rc = &case.regions[r];
+        let cut: Vec<usize> = rc
+            .subtract
+            .iter()
+            .filter_map(|s| case.regions.iter().position(|q| &q.name == s))
+            .collect();
+        let pts: Vec<[f64; 3]> = lattice_points(case, r)
+            .into_iter()
+            .filter(|p| !cut.iter().any(|&c| inside(case, c, p)))
+            .collect();
+        if pts.is_empty() {
+            return Err(input(format!(
+                "region[{r}] ({}): holds no particles (is spacing_m = {} larger than the region, or is it all cut out?)",
+                rc.name, rc.spacing_m
+            )));
+        }
+        all.push(pts);
+    }
+    for a in 0..nr {
+        for b in 0..nr {
+            if a == b {
+                continue;
+            }
+            let (ra, rb) = (&case.regions[a], &case.regions[b]);
+            if ra.subtract.contains(&rb.name) || rb.subtract.contains(&ra.name) {
+                continue;
+            }
+            if let Some(p) = all[a].iter().find(|p| inside(case, b, &p[..])) {
+                return Err(input(format!(
+                    "region[{a}] ({}) overlaps region[{b}] ({}) at {:?} m: cut one out of the other with subtract = [\"{}\"]",
+                    ra.name,
+                    rb.name,
+                    &p[..d],
+                    ra.name
+                )));
+            }
+        }
+    }
+    for (r, pts) in all.iter().enumerate() {
+        let rc = &case.regions[r];
+        let m = case.material_index(&rc.material).unwrap();
+        let mc = &case.materials[m];
+        let rho = rc.rho_kgm3.or(mc.eos.rho0()).unwrap_or(1.0);
+        let e = rc.e_jkg.or(mc.e0_jkg).unwrap_or(0.0);
+        let mass = rc.mass_kg.unwrap_or(rho * rc.spacing_m.powi(d as i32));
+        let h = rc.h_m.unwrap_or(case.sph.h_over_dx * rc.spacing_m);
+        init.dx_min = init.dx_min.min(rc.spacing_m);
+        for p in pts {
+            init.x.extend_from_slice(&p[..d]);
+            match &rc.velocity_ms {
+                Some(v) => init.v.extend_from_slice(v),
+                None => init.v.extend(std::iter::repeat_n(0.0, d)),
+            }
+            init.rho.push(rho);
+            init.e.push(e);
+            init.h.push(h);
+            init.mass.push(mass);
+            init.mat.push(m as i32);
+            init.region.push(r as u32);
+        }
+        init.counts.push(pts.len());
+    }
+    Ok(init)
+}
+
+/// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and
+/// end-node flags (an end that is the start of another wall is not counted twice).
+pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segments {
+    let d = case.dim;
+    let n = x.len() / d;
+    let mut cen = [0.0; 3];
+    for i in 0..n {
+        for a in 0..d {
+            cen[a] += x[a + d * i] / n as f64;
+        }
+    }
+    let mut segs = Segments::default();
+    let walls: Vec<_> = case.walls.iter().filter(|w| keep(w.kind)).collect();
+    for w in &walls {
+        let a = &w.from_m;
+        let b = &w.to_m;
+        let mut nrm = [0.0; 3];
+        if d == 1 {
+            nrm[0] = if cen[0] >= a[0] { 1.0 } else { -1.0 };
+        } else {
+            let (tx, ty) = (b[0] - a[0], b[1] - a[1]);
+            let l = (tx * tx + ty * ty).sqrt();
+            let (nx, ny) = (-ty / l, tx / l);
+            let side = (cen[0] - a[0]) * nx + (cen[1] - a[1]) * ny;
+            let sgn = if side >= 0.0 { 1.0 } else { -1.0 };
+            nrm[0] = sgn * nx;
+            nrm[1] = sgn * ny;
+        }
+        segs.seg.extend_from_slice(&a[..d]);
+        segs.seg.extend_from_slice(&b[..d]);
+        segs.seg.extend_from_slice(&nrm[..d]);
+        let shared = walls
+            .iter()
+            .any(|o| o.from_m.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-12));
+        segs.endnode.push(if d == 1 || !shared { 1 } else { 0 });
+    }
+    segs
+}
+
+/// Is the charge lit by a programmed burn?
+pub fn programmed(case: &Case) -> bool {
+    matches!(&case.detonation, Some(d) if d.mode == BurnMode::Programmed)
+}
+
+/// Does any material carry strength?
+pub fn has_strength(case: &Case) -> bool {
+    case.materials.iter().any(|m| m.strength.is_some())
+}
+
+/// Is any JWL material used?
+pub fn has_jwl(mt: &MatTable) -> bool {
+    mt.mtype.contains(&(SPH_EOS_JWL as i32))
+}

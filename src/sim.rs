@@ -1,0 +1,1255 @@
+//! The solver: owns the state and the time loop, and calls each module through its dispatch
+//! function with the implementation the plan chose. In a dual run ([`crate::dual`]) every module
+//! call runs both implementations on identical inputs, compares their outputs, and continues with
+//! the Fortran result.
+
+use crate::case::{Case, DensityKind, NnpsKind, SmoothingKind, StepRule, WallKind};
+use crate::dual::Comparator;
+use crate::error::{Result, SphError, input};
+use crate::legacy::{MatTable, MirrorArrays, NSTR, Segments};
+use crate::modules::{self as md, Backend, Choice, Module};
+use crate::setup;
+use crate::state::{Particles, Work};
+
+/// What runs: one flag and one implementation per module, and why.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub active: [bool; 13],
+    pub why: [String; 13],
+    pub choice: Choice,
+}
+
+impl Plan {
+    pub fn is_active(&self, m: Module) -> bool {
+        self.active[idx(m)]
+    }
+    pub fn backend(&self, m: Module) -> Backend {
+        self.choice.get(m)
+    }
+    /// "fortran", "rust" or "mixed" over the active modules.
+    pub fn label(&self) -> &'static str {
+        let mut f = false;
+        let mut r = false;
+        for m in Module::ALL {
+            if self.is_active(m) {
+                match self.backend(m) {
+                    Backend::Fortran => f = true,
+                    Backend::Rust => r = true,
+                }
+            }
+        }
+        match (f, r) {
+            (true, false) => "fortran",
+            (false, true) => "rust",
+            _ => "mixed",
+        }
+    }
+}
+
+fn idx(m: Module) -> usize {
+    Module::ALL.iter().position(|x| *x == m).unwrap_or(0)
+}
+
+/// Terms of the acceleration sum, in the order they are added.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AccTerm {
+    Force,
+    Viscosity,
+    Penalty,
+    Wall,
+}
+
+/// Terms of the energy-rate sum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DeTerm {
+    Force,
+    Viscosity,
+    Strength,
+}
+
+/// Everything the step needs from the case, resolved once.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub dim: usize,
+    pub kernel: crate::case::KernelKind,
+    pub kappa: f64,
+    pub cell: bool,
+    pub summation: bool,
+    pub smoothing: SmoothingKind,
+    pub theta: f64,
+    pub xsph_eps: f64,
+    pub visc: (f64, f64, f64),
+    pub penalty: (f64, i32, i32),
+    pub mt: MatTable,
+    pub mirror_segs: Segments,
+    pub wall_segs: Segments,
+    pub all_segs: Segments,
+    pub wall: (f64, f64, f64, i32, i32),
+    pub noslip: bool,
+    pub grav: Vec<f64>,
+    pub step: StepRule,
+    pub dt_fixed: f64,
+    pub cfl: f64,
+    pub dt_max: f64,
+    pub end: f64,
+    pub out_interval: f64,
+    pub det_point: Vec<f64>,
+    pub det_width: f64,
+    pub acc_terms: Vec<AccTerm>,
+    pub de_terms: Vec<DeTerm>,
+    pub dx_min: f64,
+    pub need_drho: bool,
+    pub max_steps: u64,
+}
+
+impl Config {
+    pub fn acc_slot(&self, t: AccTerm) -> usize {
+        self.acc_terms
+            .iter()
+            .position(|x| *x == t)
+            .unwrap_or(usize::MAX)
+    }
+    pub fn de_slot(&self, t: DeTerm) -> usize {
+        self.de_terms
+            .iter()
+            .position(|x| *x == t)
+            .unwrap_or(usize::MAX)
+    }
+}
+
+/// Energy book-keeping (J; per metre of depth in 2D).
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Book {
+    /// Work done on the particles by the type I wall force.
+    pub work_wall: f64,
+    /// Work done by the penalty force.
+    pub work_penalty: f64,
+    /// Work done by gravity.
+    pub work_gravity: f64,
+}
+
+/// Health of the run, reported in summary.json.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Stability {
+    /// Deepest position of a real particle behind a wall line (m; 0 = none crossed).
+    pub max_wall_penetration_m: f64,
+    /// Particles counted outside [domain] (if the case has one).
+    pub left_domain: usize,
+    /// Smallest and largest h/h_initial seen.
+    pub h_ratio_min: f64,
+    pub h_ratio_max: f64,
+    /// Closest approach of particles of different penalty groups, in units of the finest initial
+    /// spacing (checked at every output).
+    pub min_interface_gap_dx: Option<f64>,
+    /// Most neighbours of one particle at the last output, and the mean.
+    pub max_neighbours: usize,
+    pub mean_neighbours: f64,
+    pub nan: bool,
+}
+
+pub struct Sim {
+    pub case: Case,
+    pub cfg: Config,
+    pub plan: Plan,
+    pub p: Particles,
+    pub w: Work,
+    pub t: f64,
+    pub nstep: u64,
+    pub dt_prev: f64,
+    pub book: Book,
+    pub stab: Stability,
+    /// Initial smoothing length of each real particle.
+    pub h_init: Vec<f64>,
+    /// Region of each real particle.
+    pub region: Vec<u32>,
+    /// Initial positions of the real particles (m).
+    pub x_init: Vec<f64>,
+    /// Set in a dual run.
+    pub cmp: Option<Comparator>,
+    need_incidence: bool,
+}
+
+/// Backend choices from the CLI, applied over the case's [backend] table.
+#[derive(Debug, Clone, Default)]
+pub struct Overrides {
+    pub backend: Option<Backend>,
+    pub rust: Vec<String>,
+    pub fortran: Vec<String>,
+    pub nnps: Option<String>,
+    pub end_time: Option<f64>,
+}
+
+pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
+    let mut choice = Choice::all(Backend::Fortran);
+    if let Some(d) = &case.backend.default {
+        choice = Choice::all(Backend::parse(d).unwrap_or(Backend::Fortran));
+    }
+    for m in &case.backend.rust {
+        choice.set(
+            Module::parse(m).ok_or_else(|| input(format!("backend.rust: unknown module `{m}`")))?,
+            Backend::Rust,
+        );
+    }
+    for m in &case.backend.fortran {
+        choice.set(
+            Module::parse(m)
+                .ok_or_else(|| input(format!("backend.fortran: unknown module `{m}`")))?,
+            Backend::Fortran,
+        );
+    }
+    if let Some(b) = ov.backend {
+        choice = Choice::all(b);
+    }
+    for (list, b, flag) in [
+        (&ov.rust, Backend::Rust, "--rust"),
+        (&ov.fortran, Backend::Fortran, "--fortran"),
+    ] {
+        for m in list {
+            let m = m.trim();
+            let mm = Module::parse(m).ok_or_else(|| {
+                input(format!(
+                    "{flag}: unknown module `{m}` (modules: {})",
+                    Module::names()
+                ))
+            })?;
+            choice.set(mm, b);
+        }
+    }
+    let mut active = [true; 13];
+    let mut why: [String; 13] = Default::default();
+    let set = |active: &mut [bool; 13], why: &mut [String; 13], m: Module, on: bool, w: String| {
+        active[idx(m)] = on;
+        why[idx(m)] = w;
+    };
+    let mirrors = case.walls.iter().any(|w| w.kind != WallKind::Repulsive);
+    let rep = case.walls.iter().any(|w| w.kind != WallKind::Mirror);
+    set(
+        &mut active,
+        &mut why,
+        Module::Boundary,
+        !case.walls.is_empty(),
+        match (mirrors, rep) {
+            (true, true) => "walls: type I force and type II mirrors".into(),
+            (true, false) => "walls: type II mirrors".into(),
+            (false, true) => "walls: type I force".into(),
+            _ => "no walls".into(),
+        },
+    );
+    set(
+        &mut active,
+        &mut why,
+        Module::Nnps,
+        true,
+        format!("{:?} search", case.sph.nnps).to_lowercase(),
+    );
+    set(
+        &mut active,
+        &mut why,
+        Module::Kernel,
+        true,
+        format!(
+            "{} kernel, support {}h",
+            case.sph.kernel.name(),
+            case.sph.kernel.support()
+        ),
+    );
+    set(
+        &mut active,
+        &mut why,
+        Module::Density,
+        true,
+        format!("{:?}", case.sph.density).to_lowercase(),
+    );
+    let prog = setup::programmed(case);
+    set(
+        &mut active,
+        &mut why,
+        Module::Detonation,
+        prog,
+        if prog {
+            "programmed burn".into()
+        } else if case.detonation.is_some() {
+            "instantaneous burn: nothing to run".into()
+        } else {
+            "no charge lit".into()
+        },
+    );
+    let kinds: Vec<&str> = case.materials.iter().map(|m| m.eos.kind()).collect();
+    set(&mut active, &mut why, Module::Eos, true, kinds.join(", "));
+    let st = setup::has_strength(case);
+    set(
+        &mut active,
+        &mut why,
+        Module::Strength,
+        st,
+        if st {
+            "materials with strength present".into()
+        } else {
+            "fluids only: no stress arrays".into()
+        },
+    );
+    set(
+        &mut active,
+        &mut why,
+        Module::Force,
+        true,
+        if st {
+            "sigma = -p I + tau".into()
+        } else {
+            "pressure only".into()
+        },
+    );
+    let visc = case.viscosity.alpha > 0.0 || case.viscosity.beta > 0.0;
+    set(
+        &mut active,
+        &mut why,
+        Module::Viscosity,
+        visc,
+        format!(
+            "alpha = {}, beta = {}",
+            case.viscosity.alpha, case.viscosity.beta
+        ),
+    );
+    let mt = setup::material_table(case);
+    let used: std::collections::BTreeSet<i32> = case
+        .regions
+        .iter()
+        .filter_map(|r| case.material_index(&r.material))
+        .map(|m| mt.group[m])
+        .collect();
+    let pen = case.penalty.is_some() && used.len() > 1;
+    set(
+        &mut active,
+        &mut why,
+        Module::Penalty,
+        pen,
+        if pen {
+            format!("{} penalty groups", used.len())
+        } else if case.penalty.is_some() {
+            "one material group: nothing to push apart".into()
+        } else {
+            "no [penalty]".into()
+        },
+    );
+    let xs = case.sph.xsph_eps > 0.0;
+    set(
+        &mut active,
+        &mut why,
+        Module::Xsph,
+        xs,
+        format!("eps = {}", case.sph.xsph_eps),
+    );
+    let sm = case.sph.smoothing != SmoothingKind::Constant;
+    set(
+        &mut active,
+        &mut why,
+        Module::Smoothing,
+        sm,
+        format!("{:?}", case.sph.smoothing).to_lowercase(),
+    );
+    set(
+        &mut active,
+        &mut why,
+        Module::Integrator,
+        true,
+        format!("leapfrog, {:?} step", case.time.step).to_lowercase(),
+    );
+    Ok(Plan {
+        active,
+        why,
+        choice,
+    })
+}
+
+impl Sim {
+    pub fn new(case: Case, ov: &Overrides) -> Result<Sim> {
+        let mut case = case;
+        if let Some(t) = ov.end_time {
+            if t.is_nan() || t <= 0.0 {
+                return Err(input(format!("--end-time {t}: must be positive")));
+            }
+            case.time.end_s = t;
+        }
+        if let Some(n) = &ov.nnps {
+            case.sph.nnps = match n.as_str() {
+                "direct" => NnpsKind::Direct,
+                "cell" => NnpsKind::Cell,
+                _ => return Err(input(format!("--nnps {n}: must be direct or cell"))),
+            };
+        }
+        let plan = plan(&case, ov)?;
+        let init = setup::particles(&case)?;
+        let dim = case.dim;
+        let n = init.mass.len();
+        let mt = setup::material_table(&case);
+        let mirror_segs = setup::segments(&case, &init.x, |k| k != WallKind::Repulsive);
+        let wall_segs = setup::segments(&case, &init.x, |k| k != WallKind::Mirror);
+        let all_segs = setup::segments(&case, &init.x, |_| true);
+        let strength = plan.is_active(Module::Strength);
+        let mut acc_terms = vec![AccTerm::Force];
+        let mut de_terms = vec![DeTerm::Force];
+        if plan.is_active(Module::Viscosity) {
+            acc_terms.push(AccTerm::Viscosity);
+            de_terms.push(DeTerm::Viscosity);
+        }
+        if strength {
+            de_terms.push(DeTerm::Strength);
+        }
+        if plan.is_active(Module::Penalty) {
+            acc_terms.push(AccTerm::Penalty);
+        }
+        if !wall_segs.is_empty() {
+            acc_terms.push(AccTerm::Wall);
+        }
+        let b = &case.boundary;
+        let pen = case
+            .penalty
+            .as_ref()
+            .map(|p| (p.pbar, p.n1, p.n2))
+            .unwrap_or((0.0, 12, 6));
+        let cfg = Config {
+            dim,
+            kernel: case.sph.kernel,
+            kappa: case.sph.kernel.support(),
+            cell: case.sph.nnps == NnpsKind::Cell,
+            summation: case.sph.density == DensityKind::Summation,
+            smoothing: case.sph.smoothing,
+            theta: case.sph.theta,
+            xsph_eps: case.sph.xsph_eps,
+            visc: (
+                case.viscosity.alpha,
+                case.viscosity.beta,
+                case.viscosity.phi_over_h,
+            ),
+            penalty: pen,
+            mt,
+            mirror_segs,
+            wall_segs,
+            all_segs,
+            wall: (
+                b.wall_spacing_m.unwrap_or(0.25 * init.dx_min),
+                b.r0_m.unwrap_or(0.5 * init.dx_min),
+                b.d_m2s2,
+                b.n1,
+                b.n2,
+            ),
+            noslip: b.noslip,
+            grav: case
+                .physics
+                .gravity_ms2
+                .clone()
+                .unwrap_or_else(|| vec![0.0; dim]),
+            step: case.time.step,
+            dt_fixed: case.time.dt_s.unwrap_or(0.0),
+            cfl: case.time.cfl,
+            dt_max: case.time.dt_max_s.unwrap_or(f64::INFINITY),
+            end: case.time.end_s,
+            out_interval: case.time.output_interval_s,
+            det_point: case
+                .detonation
+                .as_ref()
+                .and_then(|d| d.point_m.clone())
+                .unwrap_or_default(),
+            det_width: case.detonation.as_ref().map(|d| d.width_h).unwrap_or(0.0),
+            acc_terms,
+            de_terms,
+            dx_min: init.dx_min,
+            need_drho: case.sph.density == DensityKind::Continuity
+                || case.sph.smoothing == SmoothingKind::Rate,
+            max_steps: case.time.max_steps,
+        };
+        let mut p = Particles {
+            dim,
+            nreal: n,
+            ntotal: n,
+            x: init.x,
+            v: init.v,
+            rho: init.rho,
+            p: vec![0.0; n],
+            c: vec![0.0; n],
+            e: init.e,
+            h: init.h,
+            mass: init.mass,
+            mat: init.mat,
+            id: (0..n as i64).collect(),
+            ..Default::default()
+        };
+        if strength {
+            p.tau = vec![0.0; NSTR * n];
+        }
+        if cfg.smoothing == SmoothingKind::Density {
+            p.h0 = p.h.clone();
+            p.rho0 = p.rho.clone();
+        }
+        let need_incidence = Module::ALL
+            .iter()
+            .any(|m| plan.is_active(*m) && plan.backend(*m) == Backend::Rust);
+        let h_init = p.h.clone();
+        let p_x_init = p.x.clone();
+        let mut sim = Sim {
+            case,
+            cfg,
+            plan,
+            p,
+            w: Work::default(),
+            t: 0.0,
+            nstep: 0,
+            dt_prev: 0.0,
+            book: Book::default(),
+            stab: Stability {
+                h_ratio_min: 1.0,
+                h_ratio_max: 1.0,
+                ..Default::default()
+            },
+            h_init,
+            x_init: p_x_init,
+            region: init.region,
+            cmp: None,
+            need_incidence,
+        };
+        if sim.plan.is_active(Module::Detonation) {
+            sim.p.tlight = vec![0.0; n];
+            sim.p.burn = vec![0.0; n];
+            let b = sim.plan.backend(Module::Detonation);
+            let dim = sim.cfg.dim;
+            md::detonation::light(
+                b,
+                dim,
+                &sim.p.x,
+                &sim.p.mat,
+                &sim.cfg.mt,
+                &sim.cfg.det_point,
+                &mut sim.p.tlight,
+            );
+            md::detonation::burn(
+                b,
+                0.0,
+                &sim.p.mat,
+                &sim.cfg.mt,
+                &sim.p.tlight,
+                &sim.p.h,
+                sim.cfg.det_width,
+                &mut sim.p.burn,
+            );
+        }
+        let b = sim.plan.backend(Module::Eos);
+        md::eos::eval(
+            b,
+            &sim.cfg.mt,
+            &sim.p.mat,
+            &sim.p.burn,
+            &sim.p.rho,
+            &sim.p.e,
+            &mut sim.p.p,
+            &mut sim.p.c,
+        );
+        Ok(sim)
+    }
+
+    /// Turns on the dual run: every module call runs both implementations.
+    pub fn enable_dual(&mut self, cmp: Comparator) {
+        self.cmp = Some(cmp);
+        self.need_incidence = true;
+    }
+
+    /// Runs module `m` through `f`. In a dual run, `f` runs twice (Rust, then Fortran on the same
+    /// inputs) and the fields `outs` are compared; the Fortran result is kept.
+    fn exec<F>(&mut self, m: Module, outs: &[crate::dual::Field], f: F)
+    where
+        F: Fn(Backend, &mut Particles, &mut Work, &Config),
+    {
+        match self.cmp.as_mut() {
+            None => f(self.plan.choice.get(m), &mut self.p, &mut self.w, &self.cfg),
+            Some(cmp) => {
+                let before = crate::dual::snapshot(&self.p, &self.w, outs);
+                f(Backend::Rust, &mut self.p, &mut self.w, &self.cfg);
+                let rust = crate::dual::snapshot(&self.p, &self.w, outs);
+                crate::dual::restore(&mut self.p, &mut self.w, outs, before);
+                f(Backend::Fortran, &mut self.p, &mut self.w, &self.cfg);
+                cmp.compare(self.nstep, m, outs, &rust, &self.p, &self.w);
+            }
+        }
+    }
+
+    /// Evaluates every rate at the current time (Liu's single_step).
+    pub fn rates(&mut self) {
+        use crate::dual::Field as F;
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        // 1. mirrors
+        if self.plan.is_active(Module::Boundary) && !self.cfg.mirror_segs.is_empty() {
+            self.exec(Module::Boundary, &[F::Gsrc, F::Gseg], |b, p, w, c| {
+                md::boundary::mirror_make(
+                    b,
+                    dim,
+                    &p.x[..dim * n],
+                    &p.h[..n],
+                    c.kappa,
+                    &c.mirror_segs,
+                    &mut w.gsrc,
+                    &mut w.gseg,
+                );
+            });
+            let nt = n + self.w.gsrc.len();
+            self.p.set_ntotal(nt);
+            self.exec(
+                Module::Boundary,
+                &[
+                    F::X,
+                    F::V,
+                    F::Rho,
+                    F::P,
+                    F::C,
+                    F::E,
+                    F::H,
+                    F::Mass,
+                    F::Mat,
+                    F::Tau,
+                ],
+                |b, p, w, c| {
+                    let a = MirrorArrays {
+                        x: &mut p.x,
+                        v: &mut p.v,
+                        rho: &mut p.rho,
+                        p: &mut p.p,
+                        c: &mut p.c,
+                        e: &mut p.e,
+                        h: &mut p.h,
+                        mass: &mut p.mass,
+                        mat: &mut p.mat,
+                        tau: &mut p.tau,
+                    };
+                    md::boundary::mirror_fill(
+                        b,
+                        dim,
+                        n,
+                        &w.gsrc,
+                        &w.gseg,
+                        &c.mirror_segs,
+                        c.noslip,
+                        a,
+                    );
+                },
+            );
+        }
+        let nt = self.p.ntotal;
+        // 2. neighbours
+        self.exec(Module::Nnps, &[F::PairI, F::PairJ], |b, p, w, c| {
+            md::nnps::search(
+                b,
+                c.cell,
+                dim,
+                n,
+                &p.x[..dim * nt],
+                &p.h[..nt],
+                c.kappa,
+                &mut w.pairs,
+            );
+        });
+        let np = self.w.pairs.len();
+        if self.need_incidence {
+            self.w.pairs.build_incidence(nt);
+        }
+        self.w.w.resize(np, 0.0);
+        self.w.dwdx.resize(dim * np, 0.0);
+        // 3. kernel
+        self.exec(Module::Kernel, &[F::W, F::Dwdx], |b, p, w, c| {
+            md::kernel::pairs(
+                b,
+                dim,
+                c.kernel,
+                &w.pairs,
+                &p.x[..dim * nt],
+                &p.h[..nt],
+                &mut w.w,
+                &mut w.dwdx,
+            );
+        });
+        // 4. density
+        if self.cfg.summation {
+            self.w.w0.resize(nt, 0.0);
+            self.exec(Module::Kernel, &[F::W0], |b, p, w, c| {
+                md::kernel::self_w(b, dim, c.kernel, &p.h[..nt], &mut w.w0)
+            });
+            self.exec(Module::Density, &[F::Rho], |b, p, w, _| {
+                md::density::summation(b, &w.pairs, &w.w, &w.w0, &p.mass[..nt], &mut p.rho[..nt]);
+            });
+            if nt > n {
+                self.exec(Module::Boundary, &[F::Rho], |b, p, w, _| {
+                    md::boundary::mirror_copy(b, n, &w.gsrc, &mut p.rho)
+                });
+            }
+        }
+        if self.cfg.need_drho {
+            self.w.drho.resize(nt, 0.0);
+            self.exec(Module::Density, &[F::Drho], |b, p, w, _| {
+                md::density::rate(
+                    b,
+                    dim,
+                    &w.pairs,
+                    &w.dwdx,
+                    &p.mass[..nt],
+                    &p.v[..dim * nt],
+                    &mut w.drho,
+                );
+            });
+        }
+        if self.cfg.smoothing == SmoothingKind::Density && self.plan.is_active(Module::Smoothing) {
+            self.exec(Module::Smoothing, &[F::H], |b, p, _, _| {
+                md::smoothing::from_density(b, dim, &p.rho[..n], &p.h0, &p.rho0, &mut p.h[..n]);
+            });
+        }
+        // 5. detonation
+        if self.plan.is_active(Module::Detonation) {
+            let t = self.t;
+            self.exec(Module::Detonation, &[F::Burn], |b, p, _, c| {
+                md::detonation::burn(
+                    b,
+                    t,
+                    &p.mat[..n],
+                    &c.mt,
+                    &p.tlight,
+                    &p.h[..n],
+                    c.det_width,
+                    &mut p.burn,
+                );
+            });
+        }
+        // 6. equation of state
+        self.exec(Module::Eos, &[F::P, F::C], |b, p, _, c| {
+            let (pp, cc) = (&mut p.p, &mut p.c);
+            md::eos::eval(
+                b,
+                &c.mt,
+                &p.mat[..n],
+                &p.burn,
+                &p.rho[..n],
+                &p.e[..n],
+                &mut pp[..n],
+                &mut cc[..n],
+            );
+        });
+        if nt > n {
+            self.exec(Module::Boundary, &[F::P, F::C], |b, p, w, _| {
+                md::boundary::mirror_copy(b, n, &w.gsrc, &mut p.p);
+                md::boundary::mirror_copy(b, n, &w.gsrc, &mut p.c);
+            });
+        }
+        // 7..11: the rate terms
+        let lda = dim * nt;
+        let nacc = self.cfg.acc_terms.len();
+        let nde = self.cfg.de_terms.len();
+        self.w.acc.resize(nacc * lda, 0.0);
+        self.w.dde.resize(nde * nt, 0.0);
+        if self.plan.is_active(Module::Strength) {
+            self.w.eps.resize(NSTR * nt, 0.0);
+            self.w.rot.resize(3 * nt, 0.0);
+            self.w.dtau.resize(NSTR * n, 0.0);
+            let s = self.cfg.de_slot(DeTerm::Strength);
+            self.exec(
+                Module::Strength,
+                &[F::Eps, F::Rot, F::Dtau, F::Dde],
+                |b, p, w, c| {
+                    let out = md::strength::StrengthOut {
+                        eps: &mut w.eps,
+                        rot: &mut w.rot,
+                        dtau: &mut w.dtau,
+                        dedt: &mut w.dde[s * nt..s * nt + n],
+                    };
+                    md::strength::rates(
+                        b,
+                        dim,
+                        n,
+                        &w.pairs,
+                        &w.dwdx,
+                        &p.mass[..nt],
+                        &p.rho[..nt],
+                        &p.v[..dim * nt],
+                        &p.mat[..nt],
+                        &c.mt,
+                        &p.tau,
+                        out,
+                    );
+                },
+            );
+        }
+        let (sa, sd) = (
+            self.cfg.acc_slot(AccTerm::Force),
+            self.cfg.de_slot(DeTerm::Force),
+        );
+        self.exec(Module::Force, &[F::Acc, F::Dde], |b, p, w, _| {
+            let (acc, dde) = (
+                &mut w.acc[sa * lda..(sa + 1) * lda],
+                &mut w.dde[sd * nt..(sd + 1) * nt],
+            );
+            md::force::internal(
+                b,
+                dim,
+                &w.pairs,
+                &w.dwdx,
+                &p.mass[..nt],
+                &p.rho[..nt],
+                &p.p[..nt],
+                &p.v[..dim * nt],
+                &p.tau,
+                acc,
+                dde,
+            );
+        });
+        if self.plan.is_active(Module::Viscosity) {
+            let (sa, sd) = (
+                self.cfg.acc_slot(AccTerm::Viscosity),
+                self.cfg.de_slot(DeTerm::Viscosity),
+            );
+            self.exec(Module::Viscosity, &[F::Acc, F::Dde], |b, p, w, c| {
+                let (acc, dde) = (
+                    &mut w.acc[sa * lda..(sa + 1) * lda],
+                    &mut w.dde[sd * nt..(sd + 1) * nt],
+                );
+                md::viscosity::monaghan(
+                    b,
+                    dim,
+                    &w.pairs,
+                    &w.dwdx,
+                    &p.x[..dim * nt],
+                    &p.v[..dim * nt],
+                    &p.h[..nt],
+                    &p.rho[..nt],
+                    &p.c[..nt],
+                    &p.mass[..nt],
+                    c.visc,
+                    acc,
+                    dde,
+                );
+            });
+        }
+        if self.plan.is_active(Module::Penalty) {
+            let sa = self.cfg.acc_slot(AccTerm::Penalty);
+            self.exec(Module::Penalty, &[F::Acc], |b, p, w, c| {
+                let acc = &mut w.acc[sa * lda..(sa + 1) * lda];
+                let (pb, n1, n2) = c.penalty;
+                md::penalty::force(
+                    b,
+                    dim,
+                    &w.pairs,
+                    &p.x[..dim * nt],
+                    &p.h[..nt],
+                    &p.mass[..nt],
+                    &p.mat[..nt],
+                    &c.mt,
+                    pb,
+                    n1,
+                    n2,
+                    acc,
+                );
+            });
+        }
+        if !self.cfg.wall_segs.is_empty() {
+            let sa = self.cfg.acc_slot(AccTerm::Wall);
+            self.exec(Module::Boundary, &[F::Acc], |b, p, w, c| {
+                let acc = &mut w.acc[sa * lda..sa * lda + dim * n];
+                let (sp, r0, dc, n1, n2) = c.wall;
+                md::boundary::wall_force(
+                    b,
+                    dim,
+                    &p.x[..dim * n],
+                    &c.wall_segs,
+                    sp,
+                    r0,
+                    dc,
+                    n1,
+                    n2,
+                    acc,
+                );
+            });
+        }
+        if self.plan.is_active(Module::Xsph) {
+            self.w.av.resize(dim * nt, 0.0);
+            self.exec(Module::Xsph, &[F::Av], |b, p, w, c| {
+                md::xsph::average(
+                    b,
+                    dim,
+                    &w.pairs,
+                    &w.w,
+                    &p.mass[..nt],
+                    &p.rho[..nt],
+                    &p.v[..dim * nt],
+                    c.xsph_eps,
+                    &mut w.av,
+                );
+            });
+        }
+        if self.cfg.smoothing == SmoothingKind::Rate && self.plan.is_active(Module::Smoothing) {
+            self.w.dhdt.resize(n, 0.0);
+            self.exec(Module::Smoothing, &[F::Dhdt], |b, p, w, _| {
+                md::smoothing::rate(b, dim, &p.rho[..n], &p.h[..n], &w.drho[..n], &mut w.dhdt);
+            });
+        }
+        // 12. sums
+        self.w.dv.resize(dim * n, 0.0);
+        self.w.de.resize(n, 0.0);
+        self.exec(Module::Integrator, &[F::Dv, F::De], |b, _, w, c| {
+            md::integrator::sum_rates(b, dim, n, lda, nacc, &w.acc, &c.grav, &mut w.dv);
+            md::integrator::sum_rates(b, 1, n, nt, nde, &w.dde, &[0.0], &mut w.de);
+        });
+    }
+
+    /// One leapfrog step (Liu's time_integration loop body).
+    pub fn step(&mut self) -> Result<f64> {
+        use crate::dual::Field as F;
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let first = self.nstep == 0;
+        let cont = !self.cfg.summation;
+        let ntau = if self.p.tau.is_empty() { 0 } else { NSTR * n };
+        if first {
+            self.w.rho_min.resize(n, 0.0);
+            self.w.e_min.resize(n, 0.0);
+            self.w.v_min.resize(dim * n, 0.0);
+            self.w.tau_min.resize(ntau, 0.0);
+            self.w.drho.resize(self.p.ntotal.max(n), 0.0);
+        } else {
+            let dtp = self.dt_prev;
+            self.exec(
+                Module::Integrator,
+                &[
+                    F::Rho,
+                    F::E,
+                    F::V,
+                    F::Tau,
+                    F::RhoMin,
+                    F::EMin,
+                    F::VMin,
+                    F::TauMin,
+                ],
+                |b, p, w, _| {
+                    let s = crate::legacy::Leapfrog {
+                        rho: &mut p.rho[..n],
+                        e: &mut p.e[..n],
+                        v: &mut p.v[..dim * n],
+                        tau: &mut p.tau[..ntau],
+                        rho_min: &mut w.rho_min,
+                        e_min: &mut w.e_min,
+                        v_min: &mut w.v_min,
+                        tau_min: &mut w.tau_min,
+                    };
+                    let r = crate::legacy::Rates {
+                        drho: &w.drho[..n],
+                        de: &w.de,
+                        dv: &w.dv,
+                        dtau: &w.dtau[..ntau],
+                    };
+                    md::integrator::predict(b, dim, n, dtp, cont, s, r);
+                },
+            );
+        }
+        self.rates();
+        let dt = match self.cfg.step {
+            StepRule::Fixed => self.cfg.dt_fixed,
+            StepRule::Cfl => {
+                self.w.dt_cfl.resize(1, 0.0);
+                self.exec(Module::Integrator, &[F::DtCfl], |b, p, w, c| {
+                    w.dt_cfl[0] = md::integrator::cfl(
+                        b,
+                        dim,
+                        c.cfl,
+                        &p.h[..n],
+                        &p.c[..n],
+                        &p.v[..dim * n],
+                        &w.dv,
+                    );
+                });
+                let mut dt = self.w.dt_cfl[0].min(self.cfg.dt_max);
+                let left = self.cfg.end - self.t;
+                if dt > left {
+                    dt = left;
+                }
+                dt
+            }
+        };
+        if dt.is_nan() || dt <= 0.0 || !dt.is_finite() {
+            return Err(SphError::Unstable(format!(
+                "step {}: time step dt = {dt:e} s (the CFL rule found no valid step)",
+                self.nstep
+            )));
+        }
+        self.account(dt);
+        let dtp = self.dt_prev;
+        self.exec(
+            Module::Integrator,
+            &[F::Rho, F::E, F::V, F::Tau, F::X],
+            |b, p, w, _| {
+                let s = crate::legacy::Leapfrog {
+                    rho: &mut p.rho[..n],
+                    e: &mut p.e[..n],
+                    v: &mut p.v[..dim * n],
+                    tau: &mut p.tau[..ntau],
+                    rho_min: &mut w.rho_min,
+                    e_min: &mut w.e_min,
+                    v_min: &mut w.v_min,
+                    tau_min: &mut w.tau_min,
+                };
+                let r = crate::legacy::Rates {
+                    drho: &w.drho[..n],
+                    de: &w.de,
+                    dv: &w.dv,
+                    dtau: &w.dtau[..ntau],
+                };
+                let av: &[f64] = if w.av.is_empty() {
+                    &[]
+                } else {
+                    &w.av[..dim * n]
+                };
+                md::integrator::advance(
+                    b,
+                    dim,
+                    n,
+                    first,
+                    dtp,
+                    dt,
+                    cont,
+                    s,
+                    r,
+                    av,
+                    &mut p.x[..dim * n],
+                );
+            },
+        );
+        if self.plan.is_active(Module::Strength) {
+            self.exec(Module::Strength, &[F::Tau], |b, p, _, c| {
+                md::strength::yield_return(b, &p.mat[..n], &c.mt, &p.p[..n], &mut p.tau[..ntau]);
+            });
+        }
+        if self.cfg.smoothing == SmoothingKind::Rate && self.plan.is_active(Module::Smoothing) {
+            self.exec(Module::Smoothing, &[F::H], |b, p, w, c| {
+                md::smoothing::advance(b, dt, c.theta, &w.dhdt, &mut p.h[..n])
+            });
+        }
+        self.t += dt;
+        self.dt_prev = dt;
+        self.nstep += 1;
+        self.check()?;
+        Ok(dt)
+    }
+
+    /// Work of the wall, penalty and gravity forces over the step (v at t).
+    fn account(&mut self, dt: f64) {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let nt = self.p.ntotal;
+        let lda = dim * nt;
+        let power = |slot: usize| -> f64 {
+            if slot == usize::MAX {
+                return 0.0;
+            }
+            let a = &self.w.acc[slot * lda..slot * lda + dim * n];
+            (0..n)
+                .map(|i| {
+                    self.p.mass[i]
+                        * (0..dim)
+                            .map(|d| a[d + dim * i] * self.p.v[d + dim * i])
+                            .sum::<f64>()
+                })
+                .sum()
+        };
+        self.book.work_wall += dt * power(self.cfg.acc_slot(AccTerm::Wall));
+        self.book.work_penalty += dt * power(self.cfg.acc_slot(AccTerm::Penalty));
+        let g = &self.cfg.grav;
+        let pg: f64 = (0..n)
+            .map(|i| self.p.mass[i] * (0..dim).map(|d| g[d] * self.p.v[d + dim * i]).sum::<f64>())
+            .sum();
+        self.book.work_gravity += dt * pg;
+    }
+
+    /// Stops a run that went unstable, naming the step, the particle and the quantity.
+    fn check(&mut self) -> Result<()> {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let step = self.nstep;
+        let p = &self.p;
+        let bad = |what: &str, i: usize, v: f64| -> SphError {
+            SphError::Unstable(format!(
+                "step {step} (t = {:.6e} s): particle {} (material {}) has {what} = {v:e}",
+                self.t, p.id[i], self.case.materials[p.mat[i] as usize].name
+            ))
+        };
+        for i in 0..n {
+            for d in 0..dim {
+                if !p.x[d + dim * i].is_finite() {
+                    self.stab.nan = true;
+                    return Err(bad(&format!("x[{d}]"), i, p.x[d + dim * i]));
+                }
+                if !p.v[d + dim * i].is_finite() {
+                    self.stab.nan = true;
+                    return Err(bad(&format!("v[{d}]"), i, p.v[d + dim * i]));
+                }
+            }
+            if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
+                self.stab.nan |= !p.rho[i].is_finite();
+                return Err(bad("density", i, p.rho[i]));
+            }
+            if !p.e[i].is_finite() {
+                self.stab.nan = true;
+                return Err(bad("internal energy", i, p.e[i]));
+            }
+            if !p.p[i].is_finite() {
+                self.stab.nan = true;
+                return Err(bad("pressure", i, p.p[i]));
+            }
+            let r = p.h[i] / self.h_init[i];
+            if !r.is_finite() || r < 1e-3 {
+                return Err(bad("h/h0 (smoothing length collapsed)", i, r));
+            }
+            if r < self.stab.h_ratio_min {
+                self.stab.h_ratio_min = r;
+            }
+            if r > self.stab.h_ratio_max {
+                self.stab.h_ratio_max = r;
+            }
+        }
+        // wall crossing: a particle behind a wall line, within the wall's extent
+        let segs = &self.cfg.all_segs;
+        for s in 0..segs.len() {
+            let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+            let mut t = [0.0; 3];
+            let mut el = 0.0;
+            for d in 0..dim {
+                t[d] = sg[dim + d] - sg[d];
+                el += t[d] * t[d];
+            }
+            let el = el.sqrt();
+            for i in 0..n {
+                let mut dn = 0.0;
+                let mut tp = 0.0;
+                for d in 0..dim {
+                    let r = p.x[d + dim * i] - sg[d];
+                    dn += r * sg[2 * dim + d];
+                    if el > 0.0 {
+                        tp += r * t[d] / el;
+                    }
+                }
+                if tp >= 0.0 && tp <= el && dn < 0.0 {
+                    let depth = -dn;
+                    if depth > self.stab.max_wall_penetration_m {
+                        self.stab.max_wall_penetration_m = depth;
+                    }
+                    if depth > 0.5 * self.cfg.dx_min {
+                        let pos: Vec<String> = (0..dim)
+                            .map(|d| format!("{:.5}", p.x[d + dim * i]))
+                            .collect();
+                        return Err(SphError::Unstable(format!(
+                            "step {step} (t = {:.6e} s): particle {} crossed wall {s} by {depth:.3e} m (x = [{}] m)",
+                            self.t,
+                            p.id[i],
+                            pos.join(", ")
+                        )));
+                    }
+                }
+            }
+        }
+        if let Some(dm) = &self.case.domain {
+            let out = (0..n)
+                .filter(|&i| {
+                    (0..dim).any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d])
+                })
+                .count();
+            if out > 0 && dm.stop_on_exit {
+                let i = (0..n)
+                    .find(|&i| {
+                        (0..dim)
+                            .any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d])
+                    })
+                    .unwrap_or(0);
+                return Err(bad("a position outside [domain]; x[0]", i, p.x[dim * i]));
+            }
+            self.stab.left_domain = self.stab.left_domain.max(out);
+        }
+        if self.nstep >= self.cfg.max_steps && self.t < self.cfg.end {
+            return Err(SphError::Unstable(format!(
+                "step {step}: time.max_steps reached at t = {:.6e} s before the end time",
+                self.t
+            )));
+        }
+        Ok(())
+    }
+
+    /// Closest approach of particles of different penalty groups (in units of the finest spacing),
+    /// and neighbour counts, from the current pair list.
+    pub fn interface_stats(&mut self) {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let pl = &self.w.pairs;
+        let mut cnt = vec![0usize; self.p.ntotal.max(n)];
+        let mut gap = f64::INFINITY;
+        let multi = self
+            .cfg
+            .mt
+            .group
+            .iter()
+            .collect::<std::collections::BTreeSet<_>>()
+            .len()
+            > 1;
+        for k in 0..pl.len() {
+            let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
+            if i < cnt.len() {
+                cnt[i] += 1;
+            }
+            if j < cnt.len() {
+                cnt[j] += 1;
+            }
+            if multi
+                && j < n
+                && self.cfg.mt.group[self.p.mat[i] as usize]
+                    != self.cfg.mt.group[self.p.mat[j] as usize]
+            {
+                let mut r2 = 0.0;
+                for d in 0..dim {
+                    let dx = self.p.x[d + dim * i] - self.p.x[d + dim * j];
+                    r2 += dx * dx;
+                }
+                gap = gap.min(r2.sqrt());
+            }
+        }
+        self.stab.max_neighbours = cnt[..n].iter().copied().max().unwrap_or(0);
+        self.stab.mean_neighbours = cnt[..n].iter().sum::<usize>() as f64 / n.max(1) as f64;
+        if gap.is_finite() {
+            let g = gap / self.cfg.dx_min;
+            self.stab.min_interface_gap_dx =
+                Some(self.stab.min_interface_gap_dx.map_or(g, |x: f64| x.min(g)));
+        }
+    }
+
+    /// Kinetic, internal and elastic energy of the real particles (J; per metre of depth in 2D).
+    pub fn energies(&self) -> (f64, f64, f64) {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let mut ke = 0.0;
+        let mut ie = 0.0;
+        let mut el = 0.0;
+        let shear = crate::legacy::SPH_MP_SHEAR as usize - 1;
+        for i in 0..n {
+            let m = self.p.mass[i];
+            let v2: f64 = (0..dim)
+                .map(|d| self.p.v[d + dim * i] * self.p.v[d + dim * i])
+                .sum();
+            ke += 0.5 * m * v2;
+            ie += m * self.p.e[i];
+            if !self.p.tau.is_empty() {
+                let g = self.cfg.mt.mpar[shear + crate::legacy::NPAR * self.p.mat[i] as usize];
+                if g > 0.0 {
+                    let t = &self.p.tau[NSTR * i..NSTR * i + NSTR];
+                    let tt = t[0] * t[0]
+                        + t[1] * t[1]
+                        + t[2] * t[2]
+                        + 2.0 * (t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
+                    el += m / self.p.rho[i] * tt / (4.0 * g);
+                }
+            }
+        }
+        (ke, ie, el)
+    }
+
+    pub fn total_mass(&self) -> f64 {
+        self.p.mass[..self.p.nreal].iter().sum()
+    }
+}
