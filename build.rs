@@ -30,7 +30,5 @@ fn main() {
         .generate()
         .expect("bindgen could not read fortran/include/blastsph_legacy.h");
     let out = PathBuf::from(env::var("OUT_DIR").expect("OUT_DIR"));
-    bindings
-        .write_to_file(out.join("legacy_bindings.rs"))
-        .expect("could not write the generated bindings");
+    bindings.write_to_file(out.join("legacy_bindings.rs")).expect("could not write the generated bindings");
 }

@@ -1,18 +1,236 @@
-//! The blast part of `blastsph report`: gauges, crater, snapshots (filled in by the blast work).
+//! The blast part of `blastsph report`: crater growth and profile, ejecta, gauge pressure–time
+//! curves, peak pressure against distance, and particle snapshots coloured by material and by
+//! pressure. Thesis values (analysis.thesis_crater_m) are printed beside ours.
 
+use crate::analysis::crater::{Crater, measure_xy, soil_mask};
 use crate::case::Case;
-use crate::error::Result;
+use crate::error::{Result, SphError};
 use crate::output::Frame;
+use crate::plot;
+use plotters::style::RGBColor;
 use serde_json::{Value, json};
+use std::collections::HashMap;
 use std::path::Path;
 
-pub fn report(_dir: &Path, _case: &Case, summary: &Value, _frames: &[Frame]) -> Result<Value> {
-    if let Some(c) = summary.get("crater") {
+/// Soil positions of a frame, and the initial positions of the same particles (matched by id).
+fn soil_xy(
+    f: &Frame,
+    f0: &Frame,
+    soil: &[bool],
+    idx0: &HashMap<i64, usize>,
+) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let (mut x0, mut y0, mut x1, mut y1) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for i in 0..f.x.len() {
+        if !soil.get(f.mat[i] as usize).copied().unwrap_or(false) {
+            continue;
+        }
+        if let Some(&k) = idx0.get(&f.id[i]) {
+            x0.push(f0.x[k]);
+            y0.push(f0.y[k]);
+            x1.push(f.x[i]);
+            y1.push(f.y[i]);
+        }
+    }
+    (x0, y0, x1, y1)
+}
+
+/// Crater of every frame.
+pub fn crater_history(case: &Case, frames: &[Frame], dx: f64) -> Vec<(f64, Crater)> {
+    let soil = soil_mask(case);
+    let f0 = &frames[0];
+    let idx0: HashMap<i64, usize> = f0.id.iter().enumerate().map(|(k, id)| (*id, k)).collect();
+    frames
+        .iter()
+        .map(|f| {
+            let (x0, y0, x1, y1) = soil_xy(f, f0, &soil, &idx0);
+            (f.time, measure_xy(&x0, &y0, &x1, &y1, dx))
+        })
+        .collect()
+}
+
+fn read_gauges(path: &Path) -> Result<(Vec<String>, Vec<Vec<(f64, f64)>>)> {
+    let text = std::fs::read_to_string(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    let mut lines = text.lines();
+    let head: Vec<String> =
+        lines.next().unwrap_or("").split(',').skip(1).map(|s| s.trim_end_matches("_p_pa").to_string()).collect();
+    let mut series = vec![Vec::new(); head.len()];
+    for l in lines {
+        if l.starts_with('#') {
+            continue;
+        }
+        let v: Vec<f64> = l.split(',').filter_map(|s| s.parse().ok()).collect();
+        if v.len() == head.len() + 1 {
+            for k in 0..head.len() {
+                series[k].push((v[0], v[k + 1]));
+            }
+        }
+    }
+    Ok((head, series))
+}
+
+fn colour_mat(m: i32) -> RGBColor {
+    const C: [RGBColor; 6] = [
+        RGBColor(200, 30, 30),
+        RGBColor(194, 160, 90),
+        RGBColor(40, 90, 200),
+        RGBColor(120, 90, 50),
+        RGBColor(60, 160, 60),
+        RGBColor(120, 120, 120),
+    ];
+    C[(m.max(0) as usize) % C.len()]
+}
+
+pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Result<Value> {
+    if frames.is_empty() || case.dim != 2 {
+        return Ok(json!({}));
+    }
+    let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
+    let hist = crater_history(case, frames, dx);
+    let last = &hist.last().map(|h| h.1.clone()).unwrap_or_default();
+    // crater growth
+    let us = |t: f64| t * 1e6;
+    let grow = vec![
+        ("diameter (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect::<Vec<_>>()),
+        ("depth (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
+        ("ejecta height (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect()),
+    ];
+    plot::lines(
+        &dir.join("crater_growth.png"),
+        &format!("{}: crater and ejecta", case.name()),
+        "t (us)",
+        "cm",
+        &grow,
+        false,
+    )?;
+    // crater profile at a few times
+    let picks: Vec<usize> = {
+        let n = hist.len();
+        let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
+        v.dedup();
+        v
+    };
+    let mut prof = vec![(
+        "t = 0".to_string(),
+        last.columns_m
+            .iter()
+            .zip(&last.surface0_m)
+            .filter(|p| p.1.is_finite())
+            .map(|(x, y)| (*x, *y))
+            .collect::<Vec<_>>(),
+    )];
+    for &k in picks.iter().skip(1) {
+        let c = &hist[k].1;
+        prof.push((
+            format!("t = {:.0} us", us(hist[k].0)),
+            c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
+        ));
+    }
+    plot::lines(
+        &dir.join("crater_profile.png"),
+        &format!("{}: ground surface", case.name()),
+        "x (m)",
+        "surface height (m)",
+        &prof,
+        false,
+    )?;
+    // gauges
+    let gpath = dir.join("gauges.csv");
+    let mut peaks = Vec::new();
+    if gpath.exists() {
+        let (names, series) = read_gauges(&gpath)?;
+        let s: Vec<(String, Vec<(f64, f64)>)> = names
+            .iter()
+            .zip(&series)
+            .map(|(n, v)| (format!("gauge {n}"), v.iter().map(|(t, p)| (us(*t), p / 1e6)).collect()))
+            .collect();
+        plot::lines(
+            &dir.join("gauges.png"),
+            &format!("{}: pressure at the gauges", case.name()),
+            "t (us)",
+            "p (MPa)",
+            &s,
+            false,
+        )?;
+        let centre: Vec<f64> =
+            case.detonation.as_ref().and_then(|d| d.point_m.clone()).unwrap_or_else(|| vec![0.5, 1.0]);
+        if let Some(g) = summary["gauges"].as_array() {
+            for gg in g {
+                let pt: Vec<f64> =
+                    gg["point_m"].as_array().map(|a| a.iter().filter_map(|v| v.as_f64()).collect()).unwrap_or_default();
+                let r = pt.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+                peaks.push((100.0 * r, gg["peak_pa"].as_f64().unwrap_or(0.0) / 1e6));
+            }
+            plot::lines(
+                &dir.join("peaks.png"),
+                &format!("{}: peak pressure against distance", case.name()),
+                "distance from the charge centre (cm)",
+                "peak p (MPa)",
+                &[("SPH".to_string(), peaks.clone())],
+                true,
+            )?;
+        }
+    }
+    // snapshots
+    let f0 = &frames[0];
+    let (xlo, xhi) =
+        (f0.x.iter().cloned().fold(f64::INFINITY, f64::min), f0.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let (ylo, yhi) =
+        (f0.y.iter().cloned().fold(f64::INFINITY, f64::min), f0.y.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let w = xhi - xlo;
+    let bounds = ((xlo - 0.05 * w, xhi + 0.05 * w), (ylo - 0.05 * w, yhi + 0.5 * w));
+    let mut snaps = Vec::new();
+    for &k in &picks {
+        let f = &frames[k];
+        let tag = format!("{:05.0}us", us(f.time));
+        let pm = dir.join(format!("snap_material_{tag}.png"));
+        plot::snapshot(
+            &pm,
+            &format!("{} t = {:.0} us, by material", case.name(), us(f.time)),
+            &f.x,
+            &f.y,
+            &|i| colour_mat(f.mat[i]),
+            bounds,
+        )?;
+        let pp = dir.join(format!("snap_pressure_{tag}.png"));
+        plot::snapshot(
+            &pp,
+            &format!("{} t = {:.0} us, pressure: log10(p/0.1 MPa) on [0, 5] (blue to red)", case.name(), us(f.time)),
+            &f.x,
+            &f.y,
+            &|i| plot::heat((f.p[i].max(1e5) / 1e5).log10() / 5.0),
+            bounds,
+        )?;
+        snaps.push(pm.file_name().map(|s| s.to_string_lossy().to_string()));
+        snaps.push(pp.file_name().map(|s| s.to_string_lossy().to_string()));
+    }
+    println!(
+        "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm, ejecta height {:.1} cm",
+        us(hist.last().map(|h| h.0).unwrap_or(0.0)),
+        100.0 * last.diameter_m,
+        100.0 * last.depth_m,
+        100.0 * last.ejecta_height_m
+    );
+    if let Some(th) = &case.analysis.thesis_crater_m
+        && th.len() == 2
+    {
         println!(
-            "crater: diameter {:.3} m, depth {:.3} m",
-            c["diameter_m"].as_f64().unwrap_or(0.0),
-            c["depth_m"].as_f64().unwrap_or(0.0)
+            "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours/thesis: diameter {:.2}, depth {:.2}",
+            100.0 * th[0],
+            100.0 * th[1],
+            last.diameter_m / th[0],
+            last.depth_m / th[1]
         );
     }
-    Ok(json!({}))
+    for (r, p) in &peaks {
+        println!("gauge at {r:.0} cm: peak {p:.2} MPa");
+    }
+    Ok(json!({
+        "crater": { "diameter_m": last.diameter_m, "depth_m": last.depth_m, "ejecta_height_m": last.ejecta_height_m },
+        "thesis_crater_m": case.analysis.thesis_crater_m,
+        "history": hist.iter().map(|(t, c)| json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m})).collect::<Vec<_>>(),
+        "profile": { "x_m": last.columns_m, "surface0_m": last.surface0_m, "surface_m": last.surface_m },
+        "peaks_cm_mpa": peaks,
+        "plots": ["crater_growth.png", "crater_profile.png", "gauges.png", "peaks.png"],
+        "snapshots": snaps,
+    }))
 }

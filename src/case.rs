@@ -138,6 +138,17 @@ pub enum DensityKind {
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
+pub enum ContinuityForm {
+    Mass,
+    Volume,
+}
+
+fn default_cform() -> ContinuityForm {
+    ContinuityForm::Mass
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
 pub enum SmoothingKind {
     /// h fixed at its initial value.
     Constant,
@@ -159,6 +170,10 @@ pub struct SphCfg {
     pub nnps: NnpsKind,
     #[serde(default = "default_density")]
     pub density: DensityKind,
+    /// Form of the continuity equation: "mass" (Σ m_j v_ij·∇W, thesis Table 4-1) or "volume"
+    /// (ρ_i Σ (m_j/ρ_j) v_ij·∇W, for large density ratios).
+    #[serde(default = "default_cform")]
+    pub continuity_form: ContinuityForm,
     #[serde(default = "default_smoothing")]
     pub smoothing: SmoothingKind,
     /// θ of the h update (2-16).
@@ -192,6 +207,7 @@ impl Default for SphCfg {
             h_over_dx: 1.0,
             nnps: default_nnps(),
             density: default_density(),
+            continuity_form: default_cform(),
             smoothing: default_smoothing(),
             theta: 1.0,
             xsph_eps: 0.0,
@@ -222,11 +238,7 @@ fn default_phi() -> f64 {
 
 impl Default for ViscCfg {
     fn default() -> Self {
-        ViscCfg {
-            alpha: 1.0,
-            beta: 10.0,
-            phi_over_h: 0.1,
-        }
+        ViscCfg { alpha: 1.0, beta: 10.0, phi_over_h: 0.1 }
     }
 }
 
@@ -281,14 +293,7 @@ fn default_wall_n2() -> i32 {
 
 impl Default for BoundaryCfg {
     fn default() -> Self {
-        BoundaryCfg {
-            wall_spacing_m: None,
-            r0_m: None,
-            d_m2s2: 1e4,
-            n1: 12,
-            n2: 4,
-            noslip: false,
-        }
+        BoundaryCfg { wall_spacing_m: None, r0_m: None, d_m2s2: 1e4, n1: 12, n2: 4, noslip: false }
     }
 }
 
@@ -321,41 +326,20 @@ pub enum EosCfg {
     /// Ideal gas p = (γ−1)ρe.
     IdealGas { gamma: f64, rho0_kgm3: Option<f64> },
     /// JWL (4-39).
-    Jwl {
-        rho0_kgm3: f64,
-        a_pa: f64,
-        b_pa: f64,
-        r1: f64,
-        r2: f64,
-        omega: f64,
-        d_ms: f64,
-    },
+    Jwl { rho0_kgm3: f64, a_pa: f64, b_pa: f64, r1: f64, r2: f64, omega: f64, d_ms: f64 },
     /// Water polynomial (4-40, 4-41).
-    Water {
-        rho0_kgm3: f64,
-        a1_pa: f64,
-        a2_pa: f64,
-        a3_pa: f64,
-        b0: f64,
-        b1: f64,
-        c0_ms: f64,
-    },
+    Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
     /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
-    Soil {
-        rho0_kgm3: f64,
-        c_ms: f64,
-        s: f64,
-        gamma: f64,
-    },
+    Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
 }
 
 impl EosCfg {
     pub fn rho0(&self) -> Option<f64> {
         match self {
             EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
-            EosCfg::Jwl { rho0_kgm3, .. }
-            | EosCfg::Water { rho0_kgm3, .. }
-            | EosCfg::Soil { rho0_kgm3, .. } => Some(*rho0_kgm3),
+            EosCfg::Jwl { rho0_kgm3, .. } | EosCfg::Water { rho0_kgm3, .. } | EosCfg::Soil { rho0_kgm3, .. } => {
+                Some(*rho0_kgm3)
+            }
         }
     }
     pub fn kind(&self) -> &'static str {
@@ -525,33 +509,19 @@ pub struct DomainCfg {
 
 /// Reads a case file, applies `key=value` overrides, and parses it.
 pub fn load(path: &Path, sets: &[String]) -> Result<Case> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        input(format!(
-            "{}: cannot read the case file: {e}",
-            path.display()
-        ))
-    })?;
-    parse(
-        &text,
-        &path.display().to_string(),
-        sets,
-        path.file_stem().and_then(|s| s.to_str()),
-    )
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| input(format!("{}: cannot read the case file: {e}", path.display())))?;
+    parse(&text, &path.display().to_string(), sets, path.file_stem().and_then(|s| s.to_str()))
 }
 
 /// Parses case text; `origin` names it in error messages.
 pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> Result<Case> {
-    let mut value: toml::Table = text
-        .parse::<toml::Table>()
-        .map_err(|e| toml_error(origin, text, &e))?;
+    let mut value: toml::Table = text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
     for s in sets {
         apply_set(&mut value, s)?;
     }
-    let text2 = if sets.is_empty() {
-        text.to_string()
-    } else {
-        toml::to_string(&value).map_err(|e| input(e.to_string()))?
-    };
+    let text2 =
+        if sets.is_empty() { text.to_string() } else { toml::to_string(&value).map_err(|e| input(e.to_string()))? };
     let mut case: Case = toml::from_str(&text2).map_err(|e| {
         if sets.is_empty() {
             toml_error(origin, text, &e)
@@ -567,9 +537,7 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
 }
 
 fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::SphError {
-    let line = e
-        .span()
-        .map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+    let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
     let msg = e.message().replace('\n', " ");
     match line {
         Some(l) => input(format!("{origin}:{l}: {msg}")),
@@ -580,13 +548,9 @@ fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::Sp
 /// Applies one `--set a.b.c=value` override (value parsed as TOML, else taken as a string).
 /// Arrays of tables are indexed by number or by their `name`: `material.loose_sand.pmin_pa=0`.
 fn apply_set(root: &mut toml::Table, s: &str) -> Result<()> {
-    let (key, val) = s
-        .split_once('=')
-        .ok_or_else(|| input(format!("--set {s}: expected key=value")))?;
+    let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {s}: expected key=value")))?;
     let parsed: toml::Value = match format!("v = {val}").parse::<toml::Table>() {
-        Ok(mut t) => t
-            .remove("v")
-            .unwrap_or(toml::Value::String(val.to_string())),
+        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(val.to_string())),
         Err(_) => toml::Value::String(val.to_string()),
     };
     let mut whole = toml::Value::Table(std::mem::take(root));
@@ -608,8 +572,7 @@ fn set_path(whole: &mut toml::Value, key: &str, parsed: toml::Value) -> Result<(
                     t.insert(part.to_string(), parsed);
                     return Ok(());
                 }
-                t.entry(part.to_string())
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+                t.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()))
             }
             toml::Value::Array(a) => {
                 let idx = match part.parse::<usize>() {
@@ -620,11 +583,9 @@ fn set_path(whole: &mut toml::Value, key: &str, parsed: toml::Value) -> Result<(
                         .ok_or_else(|| input(format!("--set {key}: no entry named `{part}`")))?,
                 };
                 let len = a.len();
-                let slot = a.get_mut(idx).ok_or_else(|| {
-                    input(format!(
-                        "--set {key}: index {idx} out of range ({len} entries)"
-                    ))
-                })?;
+                let slot = a
+                    .get_mut(idx)
+                    .ok_or_else(|| input(format!("--set {key}: index {idx} out of range ({len} entries)")))?;
                 if last {
                     *slot = parsed;
                     return Ok(());
@@ -632,9 +593,7 @@ fn set_path(whole: &mut toml::Value, key: &str, parsed: toml::Value) -> Result<(
                 slot
             }
             _ => {
-                return Err(input(format!(
-                    "--set {key}: `{part}` is not inside a table"
-                )));
+                return Err(input(format!("--set {key}: `{part}` is not inside a table")));
             }
         };
     }
@@ -662,11 +621,9 @@ impl Case {
             return Err(input("time.output_interval_s: must be zero or positive"));
         }
         match t.step {
-            StepRule::Fixed => pos(
-                "time.dt_s",
-                t.dt_s
-                    .ok_or_else(|| input("time.dt_s: required when time.step = \"fixed\""))?,
-            )?,
+            StepRule::Fixed => {
+                pos("time.dt_s", t.dt_s.ok_or_else(|| input("time.dt_s: required when time.step = \"fixed\""))?)?
+            }
             StepRule::Cfl => {
                 pos("time.cfl", t.cfl)?;
                 if t.cfl > 1.0 {
@@ -688,10 +645,7 @@ impl Case {
         if let Some(p) = &self.penalty {
             pos("penalty.pbar", p.pbar)?;
             if p.n1 <= p.n2 || p.n2 < 1 {
-                return Err(input(format!(
-                    "penalty: need n1 > n2 >= 1 (got n1 = {}, n2 = {})",
-                    p.n1, p.n2
-                )));
+                return Err(input(format!("penalty: need n1 > n2 >= 1 (got n1 = {}, n2 = {})", p.n1, p.n2)));
             }
         }
         let b = &self.boundary;
@@ -703,19 +657,14 @@ impl Case {
         }
         nonneg("boundary.d_m2s2", b.d_m2s2)?;
         if b.n1 <= b.n2 || b.n2 < 1 {
-            return Err(input(format!(
-                "boundary: need n1 > n2 >= 1 (got n1 = {}, n2 = {})",
-                b.n1, b.n2
-            )));
+            return Err(input(format!("boundary: need n1 > n2 >= 1 (got n1 = {}, n2 = {})", b.n1, b.n2)));
         }
         if let Some(g) = &self.physics.gravity_ms2 {
             vecd("physics.gravity_ms2", g, d)?;
         }
 
         if self.materials.is_empty() {
-            return Err(input(
-                "no [[material]]: a case needs at least one material with an eos",
-            ));
+            return Err(input("no [[material]]: a case needs at least one material with an eos"));
         }
         let mut names = std::collections::BTreeSet::new();
         for (k, m) in self.materials.iter().enumerate() {
@@ -732,15 +681,7 @@ impl Case {
                         pos(&format!("{key}.eos.rho0_kgm3"), *r)?;
                     }
                 }
-                EosCfg::Jwl {
-                    rho0_kgm3,
-                    a_pa,
-                    b_pa,
-                    r1,
-                    r2,
-                    omega,
-                    d_ms,
-                } => {
+                EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
                     pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
                     nonneg(&format!("{key}.eos.a_pa"), *a_pa)?;
                     nonneg(&format!("{key}.eos.b_pa"), *b_pa)?;
@@ -749,22 +690,12 @@ impl Case {
                     pos(&format!("{key}.eos.omega"), *omega)?;
                     pos(&format!("{key}.eos.d_ms"), *d_ms)?;
                 }
-                EosCfg::Water {
-                    rho0_kgm3,
-                    a1_pa,
-                    c0_ms,
-                    ..
-                } => {
+                EosCfg::Water { rho0_kgm3, a1_pa, c0_ms, .. } => {
                     pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
                     pos(&format!("{key}.eos.a1_pa"), *a1_pa)?;
                     pos(&format!("{key}.eos.c0_ms"), *c0_ms)?;
                 }
-                EosCfg::Soil {
-                    rho0_kgm3,
-                    c_ms,
-                    s,
-                    gamma,
-                } => {
+                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
                     pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
                     pos(&format!("{key}.eos.c_ms"), *c_ms)?;
                     pos(&format!("{key}.eos.s"), *s)?;
@@ -772,10 +703,7 @@ impl Case {
                 }
             }
             if let Some(s) = &m.strength {
-                pos(
-                    &format!("{key}.strength.shear_modulus_pa"),
-                    s.shear_modulus_pa,
-                )?;
+                pos(&format!("{key}.strength.shear_modulus_pa"), s.shear_modulus_pa)?;
                 nonneg(&format!("{key}.strength.alpha_phi"), s.alpha_phi)?;
                 nonneg(&format!("{key}.strength.cohesion_pa"), s.cohesion_pa)?;
             }
@@ -785,9 +713,7 @@ impl Case {
         }
 
         if self.regions.is_empty() {
-            return Err(input(
-                "no [[region]]: a case needs at least one region of particles",
-            ));
+            return Err(input("no [[region]]: a case needs at least one region of particles"));
         }
         let mut rnames = std::collections::BTreeSet::new();
         for (k, r) in self.regions.iter().enumerate() {
@@ -795,18 +721,19 @@ impl Case {
             if !rnames.insert(r.name.as_str()) {
                 return Err(input(format!("{key}: the name is used twice")));
             }
-            let mi = self
-                .material_index(&r.material)
-                .ok_or_else(|| input(format!("{key}.material = \"{}\": no [[material]] of that name (a material needs an eos)", r.material)))?;
+            let mi = self.material_index(&r.material).ok_or_else(|| {
+                input(format!(
+                    "{key}.material = \"{}\": no [[material]] of that name (a material needs an eos)",
+                    r.material
+                ))
+            })?;
             pos(&format!("{key}.spacing_m"), r.spacing_m)?;
             match r.shape {
                 Shape::Box => {
-                    let lo = r.lo_m.as_ref().ok_or_else(|| {
-                        input(format!("{key}.lo_m: required for shape = \"box\""))
-                    })?;
-                    let hi = r.hi_m.as_ref().ok_or_else(|| {
-                        input(format!("{key}.hi_m: required for shape = \"box\""))
-                    })?;
+                    let lo =
+                        r.lo_m.as_ref().ok_or_else(|| input(format!("{key}.lo_m: required for shape = \"box\"")))?;
+                    let hi =
+                        r.hi_m.as_ref().ok_or_else(|| input(format!("{key}.hi_m: required for shape = \"box\"")))?;
                     vecd(&format!("{key}.lo_m"), lo, d)?;
                     vecd(&format!("{key}.hi_m"), hi, d)?;
                     for a in 0..d {
@@ -822,28 +749,27 @@ impl Case {
                     if d != 2 {
                         return Err(input(format!("{key}: shape = \"polygon\" needs dim = 2")));
                     }
-                    let v = r.vertices_m.as_ref().ok_or_else(|| {
-                        input(format!(
-                            "{key}.vertices_m: required for shape = \"polygon\""
-                        ))
-                    })?;
+                    let v = r
+                        .vertices_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{key}.vertices_m: required for shape = \"polygon\"")))?;
                     if v.len() < 3 {
-                        return Err(input(format!(
-                            "{key}.vertices_m: a polygon needs at least 3 vertices"
-                        )));
+                        return Err(input(format!("{key}.vertices_m: a polygon needs at least 3 vertices")));
                     }
                     for (q, p) in v.iter().enumerate() {
                         vecd(&format!("{key}.vertices_m[{q}]"), p, 2)?;
                     }
                 }
                 Shape::Lattice => {
-                    let o = r.origin_m.as_ref().ok_or_else(|| {
-                        input(format!("{key}.origin_m: required for shape = \"lattice\""))
-                    })?;
+                    let o = r
+                        .origin_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{key}.origin_m: required for shape = \"lattice\"")))?;
                     vecd(&format!("{key}.origin_m"), o, d)?;
-                    let c = r.count.as_ref().ok_or_else(|| {
-                        input(format!("{key}.count: required for shape = \"lattice\""))
-                    })?;
+                    let c = r
+                        .count
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{key}.count: required for shape = \"lattice\"")))?;
                     if c.len() != d || c.contains(&0) {
                         return Err(input(format!("{key}.count: need {d} positive counts")));
                     }
@@ -852,10 +778,7 @@ impl Case {
             if let Some(rho) = r.rho_kgm3 {
                 pos(&format!("{key}.rho_kgm3"), rho)?;
             } else if self.materials[mi].eos.rho0().is_none() {
-                return Err(input(format!(
-                    "{key}.rho_kgm3: required (material `{}` has no rho0_kgm3)",
-                    r.material
-                )));
+                return Err(input(format!("{key}.rho_kgm3: required (material `{}` has no rho0_kgm3)", r.material)));
             }
             if let Some(e) = r.e_jkg {
                 finite(&format!("{key}.e_jkg"), e)?;
@@ -871,9 +794,7 @@ impl Case {
             }
             for s in &r.subtract {
                 if !self.regions.iter().any(|q| &q.name == s) || s == &r.name {
-                    return Err(input(format!(
-                        "{key}.subtract: no other region named `{s}`"
-                    )));
+                    return Err(input(format!("{key}.subtract: no other region named `{s}`")));
                 }
             }
         }
@@ -882,9 +803,7 @@ impl Case {
             vecd(&format!("wall[{k}].from_m"), &w.from_m, d)?;
             vecd(&format!("wall[{k}].to_m"), &w.to_m, d)?;
             if d == 3 {
-                return Err(input(format!(
-                    "wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet"
-                )));
+                return Err(input(format!("wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet")));
             }
             if d == 2 && w.from_m == w.to_m {
                 return Err(input(format!("wall[{k}]: from_m and to_m coincide")));
@@ -892,17 +811,14 @@ impl Case {
         }
         if let Some(det) = &self.detonation {
             if det.mode == BurnMode::Programmed {
-                let p = det.point_m.as_ref().ok_or_else(|| {
-                    input("detonation.point_m: required for mode = \"programmed\"")
-                })?;
+                let p = det
+                    .point_m
+                    .as_ref()
+                    .ok_or_else(|| input("detonation.point_m: required for mode = \"programmed\""))?;
                 vecd("detonation.point_m", p, d)?;
             }
             nonneg("detonation.width_h", det.width_h)?;
-            if !self
-                .materials
-                .iter()
-                .any(|m| matches!(m.eos, EosCfg::Jwl { .. }))
-            {
+            if !self.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. })) {
                 return Err(input("detonation: no material has eos kind = \"jwl\""));
             }
         }
@@ -910,10 +826,7 @@ impl Case {
         for (k, g) in self.gauges.iter().enumerate() {
             vecd(&format!("gauge[{k}].point_m"), &g.point_m, d)?;
             if !gnames.insert(g.name.as_str()) {
-                return Err(input(format!(
-                    "gauge[{k}] ({}): the name is used twice",
-                    g.name
-                )));
+                return Err(input(format!("gauge[{k}] ({}): the name is used twice", g.name)));
             }
         }
         if self.analysis.kind == AnalysisKind::Riemann {
@@ -921,9 +834,7 @@ impl Case {
                 return Err(input("analysis.kind = \"riemann\" needs dim = 1"));
             }
             if self.analysis.diaphragm_m.is_none() {
-                return Err(input(
-                    "analysis.diaphragm_m: required for kind = \"riemann\"",
-                ));
+                return Err(input("analysis.diaphragm_m: required for kind = \"riemann\""));
             }
             if let Some(w) = &self.analysis.window_m
                 && (w.len() != 2 || w[1] <= w[0])
@@ -934,9 +845,7 @@ impl Case {
         if let Some(sm) = &self.analysis.soil_materials {
             for s in sm {
                 if self.material_index(s).is_none() {
-                    return Err(input(format!(
-                        "analysis.soil_materials: no material named `{s}`"
-                    )));
+                    return Err(input(format!("analysis.soil_materials: no material named `{s}`")));
                 }
             }
         }
@@ -944,14 +853,8 @@ impl Case {
             vecd("domain.lo_m", &dm.lo_m, d)?;
             vecd("domain.hi_m", &dm.hi_m, d)?;
         }
-        let mods: BTreeMap<&str, ()> = crate::modules::Module::ALL
-            .iter()
-            .map(|m| (m.name(), ()))
-            .collect();
-        for (key, list) in [
-            ("backend.rust", &self.backend.rust),
-            ("backend.fortran", &self.backend.fortran),
-        ] {
+        let mods: BTreeMap<&str, ()> = crate::modules::Module::ALL.iter().map(|m| (m.name(), ())).collect();
+        for (key, list) in [("backend.rust", &self.backend.rust), ("backend.fortran", &self.backend.fortran)] {
             for m in list {
                 if !mods.contains_key(m.as_str()) {
                     return Err(input(format!(
@@ -965,44 +868,27 @@ impl Case {
             && dft != "fortran"
             && dft != "rust"
         {
-            return Err(input(format!(
-                "backend.default = \"{dft}\": must be \"fortran\" or \"rust\""
-            )));
+            return Err(input(format!("backend.default = \"{dft}\": must be \"fortran\" or \"rust\"")));
         }
         Ok(())
     }
 }
 
 fn finite(key: &str, v: f64) -> Result<()> {
-    if v.is_finite() {
-        Ok(())
-    } else {
-        Err(input(format!("{key} = {v}: must be a finite number")))
-    }
+    if v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must be a finite number"))) }
 }
 
 fn pos(key: &str, v: f64) -> Result<()> {
-    if v > 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(input(format!("{key} = {v}: must be positive")))
-    }
+    if v > 0.0 && v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must be positive"))) }
 }
 
 fn nonneg(key: &str, v: f64) -> Result<()> {
-    if v >= 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(input(format!("{key} = {v}: must not be negative")))
-    }
+    if v >= 0.0 && v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must not be negative"))) }
 }
 
 fn vecd(key: &str, v: &[f64], d: usize) -> Result<()> {
     if v.len() != d {
-        return Err(input(format!(
-            "{key}: needs {d} components (dim = {d}), got {}",
-            v.len()
-        )));
+        return Err(input(format!("{key}: needs {d} components (dim = {d}), got {}", v.len())));
     }
     for x in v {
         finite(key, *x)?;

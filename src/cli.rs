@@ -88,10 +88,7 @@ pub enum Cmd {
 
 fn overrides(a: &CaseArgs) -> Result<Overrides> {
     let backend = match &a.backend {
-        Some(b) => Some(
-            Backend::parse(b)
-                .ok_or_else(|| input(format!("--backend {b}: must be fortran or rust")))?,
-        ),
+        Some(b) => Some(Backend::parse(b).ok_or_else(|| input(format!("--backend {b}: must be fortran or rust")))?),
         None => None,
     };
     Ok(Overrides {
@@ -108,10 +105,7 @@ fn threads(n: Option<usize>) -> Result<()> {
         if n == 0 {
             return Err(input("--threads 0: need at least one thread"));
         }
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build_global()
-            .map_err(|e| input(format!("--threads: {e}")))?;
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().map_err(|e| input(format!("--threads: {e}")))?;
     }
     Ok(())
 }
@@ -137,21 +131,9 @@ pub fn main() -> i32 {
 
 fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
-        Cmd::Run {
-            case,
-            out,
-            args,
-            threads: th,
-            quiet,
-        } => {
+        Cmd::Run { case, out, args, threads: th, quiet } => {
             threads(th)?;
-            let opts = RunOptions {
-                out,
-                sets: args.sets.clone(),
-                ov: overrides(&args)?,
-                quiet,
-                threads: th,
-            };
+            let opts = RunOptions { out, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
             let r = runner::run(&case, &opts)?;
             let s = &r.summary;
             println!(
@@ -176,25 +158,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
             crate::report::report(&dir)?;
             Ok(0)
         }
-        Cmd::Dual {
-            case,
-            steps,
-            out,
-            free,
-            sets,
-            nnps,
-            threads: th,
-        } => {
+        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th } => {
             threads(th)?;
             let c = case::load(&case, &sets)?;
-            let ov = Overrides {
-                nnps,
-                ..Default::default()
-            };
-            let dir =
-                out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
-            std::fs::create_dir_all(&dir)
-                .map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
+            let ov = Overrides { nnps, ..Default::default() };
+            let dir = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
+            std::fs::create_dir_all(&dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
             if free {
                 let rep = free_run(c, &ov, steps.unwrap_or(100), &dir)?;
                 println!("{rep}");
@@ -209,22 +178,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
 /// The text of `blastsph check`.
 pub fn check_text(sim: &Sim) -> String {
     let c = &sim.case;
-    let mut s = format!(
-        "case {}: dim {}, {} particles",
-        c.name(),
-        c.dim,
-        sim.p.nreal
-    );
+    let mut s = format!("case {}: dim {}, {} particles", c.name(), c.dim, sim.p.nreal);
     let mut by_mat = vec![0usize; c.materials.len()];
     for &m in &sim.p.mat[..sim.p.nreal] {
         by_mat[m as usize] += 1;
     }
-    let parts: Vec<String> = c
-        .materials
-        .iter()
-        .zip(&by_mat)
-        .map(|(m, k)| format!("{} {k}", m.name))
-        .collect();
+    let parts: Vec<String> = c.materials.iter().zip(&by_mat).map(|(m, k)| format!("{} {k}", m.name)).collect();
     s += &format!(" ({})\n", parts.join(", "));
     s += &format!(
         "time: end {:e} s, {:?} step{}, output every {:e} s\n",
@@ -240,13 +199,7 @@ pub fn check_text(sim: &Sim) -> String {
     for m in Module::ALL {
         let k = Module::ALL.iter().position(|x| *x == m).unwrap_or(0);
         if sim.plan.is_active(m) {
-            s += &format!(
-                "  {:<11} {:<8} {}  [{}]\n",
-                m.name(),
-                sim.plan.backend(m).name(),
-                sim.plan.why[k],
-                m.what()
-            );
+            s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), sim.plan.backend(m).name(), sim.plan.why[k], m.what());
         } else {
             s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", sim.plan.why[k]);
         }
@@ -257,7 +210,7 @@ pub fn check_text(sim: &Sim) -> String {
 /// `blastsph dual`: returns exit 0 when every module is within tolerance, 4 otherwise.
 pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<i32> {
     let mut sim = Sim::new(c, ov)?;
-    sim.enable_dual(Comparator::new(sim.cfg.dim));
+    sim.enable_dual(Comparator::new(sim.cfg.dim, crate::setup::has_jwl(&sim.cfg.mt)));
     let mut done = 0;
     let mut diag = None;
     while done < steps && sim.t < sim.cfg.end * (1.0 - 1e-12) {
@@ -279,19 +232,12 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         "rows": cmp.rows(),
     });
     let path = dir.join("dual_report.json");
-    std::fs::write(
-        &path,
-        serde_json::to_string_pretty(&rep).unwrap_or_default(),
-    )
-    .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    std::fs::write(&path, serde_json::to_string_pretty(&rep).unwrap_or_default())
+        .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     println!(
         "{} steps compared; {}; report {}",
         done,
-        if ok {
-            "every module within tolerance"
-        } else {
-            "MODULES OUT OF TOLERANCE"
-        },
+        if ok { "every module within tolerance" } else { "MODULES OUT OF TOLERANCE" },
         path.display()
     );
     Ok(if ok { 0 } else { 4 })
@@ -315,39 +261,26 @@ pub fn free_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         b.step()?;
         let n = a.p.nreal;
         let dim = a.cfg.dim;
-        let dx = (0..dim * n)
-            .map(|l| (a.p.x[l] - b.p.x[l]).abs())
-            .fold(0.0, f64::max);
-        let drho = (0..n)
-            .map(|i| ((a.p.rho[i] - b.p.rho[i]) / a.p.rho[i]).abs())
-            .fold(0.0, f64::max);
-        let dv = (0..dim * n)
-            .map(|l| (a.p.v[l] - b.p.v[l]).abs())
-            .fold(0.0, f64::max);
-        let bitwise =
-            a.p.x == b.p.x && a.p.v == b.p.v && a.p.rho == b.p.rho && a.p.e == b.p.e && a.t == b.t;
+        let dx = (0..dim * n).map(|l| (a.p.x[l] - b.p.x[l]).abs()).fold(0.0, f64::max);
+        let drho = (0..n).map(|i| ((a.p.rho[i] - b.p.rho[i]) / a.p.rho[i]).abs()).fold(0.0, f64::max);
+        let dv = (0..dim * n).map(|l| (a.p.v[l] - b.p.v[l]).abs()).fold(0.0, f64::max);
+        let bitwise = a.p.x == b.p.x && a.p.v == b.p.v && a.p.rho == b.p.rho && a.p.e == b.p.e && a.t == b.t;
         if !bitwise && first_diff.is_none() {
             first_diff = Some(a.nstep);
         }
         rows.push(serde_json::json!({"step": a.nstep, "t_fortran": a.t, "t_rust": b.t, "max_dx_m": dx, "max_drho_rel": drho, "max_dv_ms": dv, "bitwise_equal": bitwise}));
     }
-    let rep = serde_json::json!({"case": a.case.name(), "steps": a.nstep, "first_difference_step": first_diff, "rows": rows});
+    let rep =
+        serde_json::json!({"case": a.case.name(), "steps": a.nstep, "first_difference_step": first_diff, "rows": rows});
     let path = dir.join("dual_free.json");
-    std::fs::write(
-        &path,
-        serde_json::to_string_pretty(&rep).unwrap_or_default(),
-    )
-    .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    std::fs::write(&path, serde_json::to_string_pretty(&rep).unwrap_or_default())
+        .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     Ok(match first_diff {
         None => format!(
             "free run: {} steps, Fortran and Rust states bitwise identical at every step; {}",
             a.nstep,
             path.display()
         ),
-        Some(s) => format!(
-            "free run: {} steps, first difference at step {s}; {}",
-            a.nstep,
-            path.display()
-        ),
+        Some(s) => format!("free run: {} steps, first difference at step {s}; {}", a.nstep, path.display()),
     })
 }

@@ -7,20 +7,15 @@
 #![allow(unsafe_code)]
 #![allow(clippy::too_many_arguments)]
 
-#[allow(
-    non_upper_case_globals,
-    non_camel_case_types,
-    non_snake_case,
-    dead_code
-)]
+#[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod ffi {
     include!(concat!(env!("OUT_DIR"), "/legacy_bindings.rs"));
 }
 
 pub use ffi::{
-    SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_NONE, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_ALPHA_PHI,
-    SPH_MP_COHESION, SPH_MP_E1, SPH_MP_PMIN, SPH_MP_RHO0, SPH_MP_SHEAR, SPH_NPAR, SPH_NSTR,
-    SPH_SKF_CUBIC, SPH_SKF_GAUSS, SPH_SKF_QUINTIC, SPH_SKF_WENDLAND,
+    SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_NONE, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_ALPHA_PHI, SPH_MP_COHESION,
+    SPH_MP_E1, SPH_MP_PMIN, SPH_MP_RHO0, SPH_MP_SHEAR, SPH_NPAR, SPH_NSTR, SPH_SKF_CUBIC, SPH_SKF_GAUSS,
+    SPH_SKF_QUINTIC, SPH_SKF_WENDLAND,
 };
 
 /// The material table passed to every routine that dispatches per material.
@@ -52,10 +47,7 @@ fn n32(n: usize) -> i32 {
 }
 
 fn chk(name: &str, len: usize, need: usize) {
-    assert!(
-        len >= need,
-        "legacy call: array `{name}` has {len} values, the routine needs {need}"
-    );
+    assert!(len >= need, "legacy call: array `{name}` has {len} values, the routine needs {need}");
 }
 
 /// A pointer to a slice for an argument declared `max(k,1)` long: a dummy when empty.
@@ -130,11 +122,8 @@ pub fn nnps(
     let mut npair: i32 = 0;
     let mut di = 0i32;
     let mut dj = 0i32;
-    let (ip, jp) = if maxpair == 0 {
-        (&mut di as *mut i32, &mut dj as *mut i32)
-    } else {
-        (pi.as_mut_ptr(), pj.as_mut_ptr())
-    };
+    let (ip, jp) =
+        if maxpair == 0 { (&mut di as *mut i32, &mut dj as *mut i32) } else { (pi.as_mut_ptr(), pj.as_mut_ptr()) };
     unsafe {
         if cell {
             ffi::sph_nnps_cell(
@@ -186,15 +175,7 @@ pub fn density_sum(pi: &[i32], pj: &[i32], w: &[f64], w0: &[f64], mass: &[f64], 
     }
 }
 
-pub fn density_rate(
-    dim: usize,
-    pi: &[i32],
-    pj: &[i32],
-    dwdx: &[f64],
-    mass: &[f64],
-    v: &[f64],
-    drho: &mut [f64],
-) {
+pub fn density_rate(dim: usize, pi: &[i32], pj: &[i32], dwdx: &[f64], mass: &[f64], v: &[f64], drho: &mut [f64]) {
     let nt = mass.len();
     chk("dwdx", dwdx.len(), dim * pi.len());
     chk("v", v.len(), dim * nt);
@@ -214,22 +195,40 @@ pub fn density_rate(
     }
 }
 
-pub fn eos_eval(
-    mt: &MatTable,
-    mat: &[i32],
-    burn: &[f64],
+pub fn density_rate_vol(
+    dim: usize,
+    pi: &[i32],
+    pj: &[i32],
+    dwdx: &[f64],
+    mass: &[f64],
     rho: &[f64],
-    e: &[f64],
-    p: &mut [f64],
-    c: &mut [f64],
+    v: &[f64],
+    drho: &mut [f64],
 ) {
+    let nt = mass.len();
+    chk("dwdx", dwdx.len(), dim * pi.len());
+    chk("rho", rho.len(), nt);
+    chk("v", v.len(), dim * nt);
+    chk("drho", drho.len(), nt);
+    unsafe {
+        ffi::sph_density_rate_vol(
+            n32(dim),
+            n32(nt),
+            n32(pi.len()),
+            pi.as_ptr(),
+            pj.as_ptr(),
+            dwdx.as_ptr(),
+            mass.as_ptr(),
+            rho.as_ptr(),
+            v.as_ptr(),
+            drho.as_mut_ptr(),
+        )
+    }
+}
+
+pub fn eos_eval(mt: &MatTable, mat: &[i32], burn: &[f64], rho: &[f64], e: &[f64], p: &mut [f64], c: &mut [f64]) {
     let n = mat.len();
-    for (name, l) in [
-        ("rho", rho.len()),
-        ("e", e.len()),
-        ("p", p.len()),
-        ("c", c.len()),
-    ] {
+    for (name, l) in [("rho", rho.len()), ("e", e.len()), ("p", p.len()), ("c", c.len())] {
         chk(name, l, n);
     }
     let nburn = if burn.is_empty() { 0 } else { n };
@@ -387,14 +386,7 @@ pub fn strength_yield(mat: &[i32], mt: &MatTable, p: &[f64], tau: &mut [f64]) {
     chk("p", p.len(), n);
     chk("tau", tau.len(), NSTR * n);
     unsafe {
-        ffi::sph_strength_yield(
-            n32(n),
-            mat.as_ptr(),
-            n32(mt.nmat()),
-            mt.mpar.as_ptr(),
-            p.as_ptr(),
-            tau.as_mut_ptr(),
-        )
+        ffi::sph_strength_yield(n32(n), mat.as_ptr(), n32(mt.nmat()), mt.mpar.as_ptr(), p.as_ptr(), tau.as_mut_ptr())
     }
 }
 
@@ -475,16 +467,8 @@ pub fn wall_force(
             n32(n),
             x.as_ptr(),
             n32(segs.len()),
-            if segs.is_empty() {
-                &dummy
-            } else {
-                segs.seg.as_ptr()
-            },
-            if segs.is_empty() {
-                &di
-            } else {
-                segs.endnode.as_ptr()
-            },
+            if segs.is_empty() { &dummy } else { segs.seg.as_ptr() },
+            if segs.is_empty() { &di } else { segs.endnode.as_ptr() },
             spacing,
             r0,
             dcoef,
@@ -511,11 +495,7 @@ pub fn mirror_make(
     let mut ng = 0i32;
     let mut d1 = [0i32; 2];
     let mut d2 = [0i32; 2];
-    let (gp, sp) = if maxg == 0 {
-        (d1.as_mut_ptr(), d2.as_mut_ptr())
-    } else {
-        (gsrc.as_mut_ptr(), gseg.as_mut_ptr())
-    };
+    let (gp, sp) = if maxg == 0 { (d1.as_mut_ptr(), d2.as_mut_ptr()) } else { (gsrc.as_mut_ptr(), gseg.as_mut_ptr()) };
     unsafe {
         ffi::sph_boundary_mirror_make(
             n32(dim),
@@ -548,15 +528,7 @@ pub struct MirrorArrays<'a> {
     pub tau: &'a mut [f64],
 }
 
-pub fn mirror_fill(
-    dim: usize,
-    n: usize,
-    gsrc: &[i32],
-    gseg: &[i32],
-    segs: &Segments,
-    noslip: bool,
-    a: MirrorArrays,
-) {
+pub fn mirror_fill(dim: usize, n: usize, gsrc: &[i32], gseg: &[i32], segs: &Segments, noslip: bool, a: MirrorArrays) {
     let ng = gsrc.len();
     let nt = n + ng;
     chk("gseg", gseg.len(), 2 * ng);
@@ -605,15 +577,7 @@ pub fn mirror_fill(
 pub fn mirror_copy(n: usize, gsrc: &[i32], f: &mut [f64]) {
     let nt = n + gsrc.len();
     chk("f", f.len(), nt);
-    unsafe {
-        ffi::sph_boundary_mirror_copy(
-            n32(nt),
-            n32(n),
-            n32(gsrc.len()),
-            gsrc.as_ptr(),
-            f.as_mut_ptr(),
-        )
-    }
+    unsafe { ffi::sph_boundary_mirror_copy(n32(nt), n32(n), n32(gsrc.len()), gsrc.as_ptr(), f.as_mut_ptr()) }
 }
 
 pub fn smoothing_density(dim: usize, rho: &[f64], h0: &[f64], rho0: &[f64], h: &mut [f64]) {
@@ -621,16 +585,7 @@ pub fn smoothing_density(dim: usize, rho: &[f64], h0: &[f64], rho0: &[f64], h: &
     chk("rho", rho.len(), n);
     chk("h0", h0.len(), n);
     chk("rho0", rho0.len(), n);
-    unsafe {
-        ffi::sph_smoothing_density(
-            n32(dim),
-            n32(n),
-            rho.as_ptr(),
-            h0.as_ptr(),
-            rho0.as_ptr(),
-            h.as_mut_ptr(),
-        )
-    }
+    unsafe { ffi::sph_smoothing_density(n32(dim), n32(n), rho.as_ptr(), h0.as_ptr(), rho0.as_ptr(), h.as_mut_ptr()) }
 }
 
 pub fn smoothing_rate(dim: usize, rho: &[f64], h: &[f64], drho: &[f64], dhdt: &mut [f64]) {
@@ -638,16 +593,7 @@ pub fn smoothing_rate(dim: usize, rho: &[f64], h: &[f64], drho: &[f64], dhdt: &m
     chk("rho", rho.len(), n);
     chk("h", h.len(), n);
     chk("drho", drho.len(), n);
-    unsafe {
-        ffi::sph_smoothing_rate(
-            n32(dim),
-            n32(n),
-            rho.as_ptr(),
-            h.as_ptr(),
-            drho.as_ptr(),
-            dhdt.as_mut_ptr(),
-        )
-    }
+    unsafe { ffi::sph_smoothing_rate(n32(dim), n32(n), rho.as_ptr(), h.as_ptr(), drho.as_ptr(), dhdt.as_mut_ptr()) }
 }
 
 pub fn smoothing_advance(dt: f64, theta: f64, dhdt: &[f64], h: &mut [f64]) {
@@ -687,14 +633,7 @@ pub fn xsph_average(
     }
 }
 
-pub fn detonation_light(
-    dim: usize,
-    x: &[f64],
-    mat: &[i32],
-    mt: &MatTable,
-    xdet: &[f64],
-    tlight: &mut [f64],
-) {
+pub fn detonation_light(dim: usize, x: &[f64], mat: &[i32], mt: &MatTable, xdet: &[f64], tlight: &mut [f64]) {
     let n = mat.len();
     chk("x", x.len(), dim * n);
     chk("xdet", xdet.len(), dim);
@@ -714,15 +653,7 @@ pub fn detonation_light(
     }
 }
 
-pub fn detonation_burn(
-    t: f64,
-    mat: &[i32],
-    mt: &MatTable,
-    tlight: &[f64],
-    h: &[f64],
-    width: f64,
-    burn: &mut [f64],
-) {
+pub fn detonation_burn(t: f64, mat: &[i32], mt: &MatTable, tlight: &[f64], h: &[f64], width: f64, burn: &mut [f64]) {
     let n = mat.len();
     chk("tlight", tlight.len(), n);
     chk("h", h.len(), n);
@@ -743,15 +674,7 @@ pub fn detonation_burn(
 }
 
 /// `out(d,i) = sum_t acc_t(d,i) + grav(d)` for `i < n`; `acc` stacks `nterm` arrays of `lda`.
-pub fn sum_rates(
-    dim: usize,
-    n: usize,
-    lda: usize,
-    nterm: usize,
-    acc: &[f64],
-    grav: &[f64],
-    out: &mut [f64],
-) {
+pub fn sum_rates(dim: usize, n: usize, lda: usize, nterm: usize, acc: &[f64], grav: &[f64], out: &mut [f64]) {
     chk("acc", acc.len(), lda * nterm);
     chk("grav", grav.len(), dim);
     chk("out", out.len(), dim * n);
@@ -889,17 +812,6 @@ pub fn integrator_cfl(dim: usize, cfl: f64, h: &[f64], c: &[f64], v: &[f64], dv:
     chk("v", v.len(), dim * n);
     chk("dv", dv.len(), dim * n);
     let mut dt = 0.0;
-    unsafe {
-        ffi::sph_integrator_cfl(
-            n32(dim),
-            n32(n),
-            cfl,
-            h.as_ptr(),
-            c.as_ptr(),
-            v.as_ptr(),
-            dv.as_ptr(),
-            &mut dt,
-        )
-    }
+    unsafe { ffi::sph_integrator_cfl(n32(dim), n32(n), cfl, h.as_ptr(), c.as_ptr(), v.as_ptr(), dv.as_ptr(), &mut dt) }
     dt
 }

@@ -30,23 +30,12 @@ impl H5Part {
         let p = &sim.p;
         let n = p.nreal;
         let dim = p.dim;
-        let g = self
-            .file
-            .create_group(&format!("Step#{}", self.steps))
-            .map_err(h5err)?;
+        let g = self.file.create_group(&format!("Step#{}", self.steps)).map_err(h5err)?;
         let comp = |a: usize, src: &[f64]| -> Vec<f64> {
-            if a < dim {
-                (0..n).map(|i| src[a + dim * i]).collect()
-            } else {
-                vec![0.0; n]
-            }
+            if a < dim { (0..n).map(|i| src[a + dim * i]).collect() } else { vec![0.0; n] }
         };
         let put = |name: &str, data: &[f64]| -> Result<()> {
-            g.new_dataset_builder()
-                .with_data(data)
-                .create(name)
-                .map(|_| ())
-                .map_err(h5err)
+            g.new_dataset_builder().with_data(data).create(name).map(|_| ()).map_err(h5err)
         };
         for (a, name) in ["x", "y", "z"].iter().enumerate() {
             put(name, &comp(a, &p.x))?;
@@ -60,21 +49,13 @@ impl H5Part {
         put("h", &p.h[..n])?;
         put("c", &p.c[..n])?;
         put("mass", &p.mass[..n])?;
-        g.new_dataset_builder()
-            .with_data(&p.mat[..n])
-            .create("mat")
-            .map_err(h5err)?;
-        g.new_dataset_builder()
-            .with_data(&p.id[..n])
-            .create("id")
-            .map_err(h5err)?;
+        g.new_dataset_builder().with_data(&p.mat[..n]).create("mat").map_err(h5err)?;
+        g.new_dataset_builder().with_data(&p.id[..n]).create("id").map_err(h5err)?;
         if !p.tau.is_empty() {
             // total stress sigma = -p I + tau (Pa)
             let names = ["sxx", "syy", "szz", "sxy", "sxz", "syz"];
             for (q, name) in names.iter().enumerate() {
-                let v: Vec<f64> = (0..n)
-                    .map(|i| p.tau[q + NSTR * i] - if q < 3 { p.p[i] } else { 0.0 })
-                    .collect();
+                let v: Vec<f64> = (0..n).map(|i| p.tau[q + NSTR * i] - if q < 3 { p.p[i] } else { 0.0 }).collect();
                 put(name, &v)?;
             }
         }
@@ -113,11 +94,7 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
         .member_names()
         .map_err(h5err)?
         .into_iter()
-        .filter_map(|n| {
-            n.strip_prefix("Step#")
-                .and_then(|k| k.parse().ok())
-                .map(|k| (k, n.clone()))
-        })
+        .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
         .collect();
     names.sort();
     let mut out = Vec::new();
@@ -129,16 +106,9 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
 
 fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
     let g = f.group(name).map_err(h5err)?;
-    let rd = |n: &str| -> Result<Vec<f64>> {
-        g.dataset(n)
-            .and_then(|d| d.read_raw::<f64>())
-            .map_err(h5err)
-    };
+    let rd = |n: &str| -> Result<Vec<f64>> { g.dataset(n).and_then(|d| d.read_raw::<f64>()).map_err(h5err) };
     Ok(Frame {
-        time: g
-            .attr("TimeValue")
-            .and_then(|a| a.read_scalar::<f64>())
-            .map_err(h5err)?,
+        time: g.attr("TimeValue").and_then(|a| a.read_scalar::<f64>()).map_err(h5err)?,
         x: rd("x")?,
         y: rd("y")?,
         vx: rd("vx")?,
@@ -148,14 +118,8 @@ fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
         e: rd("e")?,
         h: rd("h")?,
         mass: rd("mass")?,
-        mat: g
-            .dataset("mat")
-            .and_then(|d| d.read_raw::<i32>())
-            .map_err(h5err)?,
-        id: g
-            .dataset("id")
-            .and_then(|d| d.read_raw::<i64>())
-            .map_err(h5err)?,
+        mat: g.dataset("mat").and_then(|d| d.read_raw::<i32>()).map_err(h5err)?,
+        id: g.dataset("id").and_then(|d| d.read_raw::<i64>()).map_err(h5err)?,
     })
 }
 
@@ -181,9 +145,7 @@ impl Gauges {
         for g in &sim.case.gauges {
             let mut best = (f64::INFINITY, 0usize);
             for i in 0..n {
-                let r2: f64 = (0..dim)
-                    .map(|d| (sim.p.x[d + dim * i] - g.point_m[d]).powi(2))
-                    .sum();
+                let r2: f64 = (0..dim).map(|d| (sim.p.x[d + dim * i] - g.point_m[d]).powi(2)).sum();
                 if r2 < best.0 {
                     best = (r2, i);
                 }
@@ -195,8 +157,7 @@ impl Gauges {
         let file = match path {
             Some(p) if !names.is_empty() => {
                 let mut f = std::io::BufWriter::new(
-                    std::fs::File::create(p)
-                        .map_err(|e| SphError::Io(format!("{}: {e}", p.display())))?,
+                    std::fs::File::create(p).map_err(|e| SphError::Io(format!("{}: {e}", p.display())))?,
                 );
                 let mut head = String::from("time_s");
                 for nme in &names {
@@ -205,9 +166,7 @@ impl Gauges {
                 writeln!(f, "{head}").map_err(|e| SphError::Io(e.to_string()))?;
                 let mut l2 = String::from("# particle");
                 for (k, &i) in particle.iter().enumerate() {
-                    let pos: Vec<String> = (0..dim)
-                        .map(|d| format!("{:.4}", sim.p.x[d + dim * i]))
-                        .collect();
+                    let pos: Vec<String> = (0..dim).map(|d| format!("{:.4}", sim.p.x[d + dim * i])).collect();
                     l2 += &format!(
                         ",{} id {} at [{}] m (gauge point {:?})",
                         names[k],
@@ -260,10 +219,6 @@ impl Gauges {
     /// Arrival time: the first time the pressure exceeds half the gauge's peak (s).
     pub fn arrival(&self, k: usize) -> f64 {
         let half = 0.5 * self.peak[k].0;
-        self.record[k]
-            .iter()
-            .find(|(_, p)| *p >= half && half > 0.0)
-            .map(|(t, _)| *t)
-            .unwrap_or(f64::NAN)
+        self.record[k].iter().find(|(_, p)| *p >= half && half > 0.0).map(|(t, _)| *t).unwrap_or(f64::NAN)
     }
 }

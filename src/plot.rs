@@ -39,18 +39,8 @@ pub fn panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> R
     let rows = panels.len().div_ceil(cols);
     let areas = root.split_evenly((rows, cols));
     for (pn, area) in panels.iter().zip(areas.iter()) {
-        let (x0, x1) = range(
-            pn.points
-                .iter()
-                .map(|p| p.0)
-                .chain(pn.curve.iter().map(|p| p.0)),
-        );
-        let (y0, y1) = range(
-            pn.points
-                .iter()
-                .map(|p| p.1)
-                .chain(pn.curve.iter().map(|p| p.1)),
-        );
+        let (x0, x1) = range(pn.points.iter().map(|p| p.0).chain(pn.curve.iter().map(|p| p.0)));
+        let (y0, y1) = range(pn.points.iter().map(|p| p.1).chain(pn.curve.iter().map(|p| p.1)));
         let mut ch = ChartBuilder::on(area)
             .caption(&pn.title, ("sans-serif", 18))
             .margin(8)
@@ -65,22 +55,15 @@ pub fn panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> R
             .draw()
             .map_err(perr)?;
         if !pn.curve.is_empty() {
-            ch.draw_series(LineSeries::new(
-                pn.curve.iter().copied(),
-                BLACK.stroke_width(2),
-            ))
-            .map_err(perr)?
-            .label(&pn.curve_label)
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
+            ch.draw_series(LineSeries::new(pn.curve.iter().copied(), BLACK.stroke_width(2)))
+                .map_err(perr)?
+                .label(&pn.curve_label)
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK.stroke_width(2)));
         }
-        ch.draw_series(
-            pn.points
-                .iter()
-                .map(|&(x, y)| Circle::new((x, y), 2, BLUE.filled())),
-        )
-        .map_err(perr)?
-        .label(&pn.points_label)
-        .legend(|(x, y)| Circle::new((x + 8, y), 3, BLUE.filled()));
+        ch.draw_series(pn.points.iter().map(|&(x, y)| Circle::new((x, y), 2, BLUE.filled())))
+            .map_err(perr)?
+            .label(&pn.points_label)
+            .legend(|(x, y)| Circle::new((x + 8, y), 3, BLUE.filled()));
         ch.configure_series_labels()
             .background_style(WHITE.mix(0.8))
             .border_style(BLACK)
@@ -105,22 +88,10 @@ pub fn lines(
     root.fill(&WHITE).map_err(perr)?;
     let (x0, x1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.0)));
     let (mut y0, y1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
-    let colours = [
-        BLUE,
-        RED,
-        GREEN,
-        MAGENTA,
-        CYAN,
-        BLACK,
-        RGBColor(255, 140, 0),
-        RGBColor(128, 0, 128),
-    ];
+    let colours = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK, RGBColor(255, 140, 0), RGBColor(128, 0, 128)];
     if log_y {
-        let pos = series
-            .iter()
-            .flat_map(|s| s.1.iter().map(|p| p.1))
-            .filter(|v| *v > 0.0)
-            .fold(f64::INFINITY, f64::min);
+        let pos =
+            series.iter().flat_map(|s| s.1.iter().map(|p| p.1)).filter(|v| *v > 0.0).fold(f64::INFINITY, f64::min);
         y0 = if pos.is_finite() { pos * 0.8 } else { 1e-12 };
         let mut ch = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 20))
@@ -129,32 +100,16 @@ pub fn lines(
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, (y0..y1.max(y0 * 10.0)).log_scale())
             .map_err(perr)?;
-        ch.configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(ylabel)
-            .draw()
-            .map_err(perr)?;
+        ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).draw().map_err(perr)?;
         for (k, (name, pts)) in series.iter().enumerate() {
             let c = colours[k % colours.len()];
-            ch.draw_series(LineSeries::new(
-                pts.iter().copied().filter(|p| p.1 > 0.0),
-                c.stroke_width(2),
-            ))
-            .map_err(perr)?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
-            ch.draw_series(
-                pts.iter()
-                    .filter(|p| p.1 > 0.0)
-                    .map(|&p| Circle::new(p, 3, c.filled())),
-            )
-            .map_err(perr)?;
+            ch.draw_series(LineSeries::new(pts.iter().copied().filter(|p| p.1 > 0.0), c.stroke_width(2)))
+                .map_err(perr)?
+                .label(name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+            ch.draw_series(pts.iter().filter(|p| p.1 > 0.0).map(|&p| Circle::new(p, 3, c.filled()))).map_err(perr)?;
         }
-        ch.configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?;
+        ch.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(perr)?;
     } else {
         let mut ch = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 20))
@@ -163,25 +118,15 @@ pub fn lines(
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(perr)?;
-        ch.configure_mesh()
-            .x_desc(xlabel)
-            .y_desc(ylabel)
-            .draw()
-            .map_err(perr)?;
+        ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).draw().map_err(perr)?;
         for (k, (name, pts)) in series.iter().enumerate() {
             let c = colours[k % colours.len()];
             ch.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))
                 .map_err(perr)?
                 .label(name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2))
-                });
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
         }
-        ch.configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?;
+        ch.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(perr)?;
     }
     root.present().map_err(perr)?;
     Ok(())
@@ -217,14 +162,8 @@ pub fn snapshot(
         .y_label_area_size(50)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(perr)?;
-    ch.configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
-        .disable_mesh()
-        .draw()
-        .map_err(perr)?;
-    ch.draw_series((0..x.len()).map(|i| Circle::new((x[i], y[i]), 2, colour(i).filled())))
-        .map_err(perr)?;
+    ch.configure_mesh().x_desc("x (m)").y_desc("y (m)").disable_mesh().draw().map_err(perr)?;
+    ch.draw_series((0..x.len()).map(|i| Circle::new((x[i], y[i]), 2, colour(i).filled()))).map_err(perr)?;
     root.present().map_err(perr)?;
     Ok(())
 }

@@ -29,11 +29,7 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     .map_err(|e| input(format!("{}: {e}", sp.display())))?;
     let sets: Vec<String> = summary["sets"]
         .as_array()
-        .map(|a| {
-            a.iter()
-                .filter_map(|v| v.as_str().map(String::from))
-                .collect()
-        })
+        .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
         .unwrap_or_default();
     let cp = dir.join("case.toml");
     let text = std::fs::read_to_string(&cp).map_err(|e| input(format!("{}: {e}", cp.display())))?;
@@ -44,10 +40,7 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
 
 /// The exact problem of a Riemann case: left and right states from its regions.
 pub fn riemann_of(case: &Case) -> Result<(Riemann, f64)> {
-    let x0 = case
-        .analysis
-        .diaphragm_m
-        .ok_or_else(|| input("analysis.diaphragm_m missing"))?;
+    let x0 = case.analysis.diaphragm_m.ok_or_else(|| input("analysis.diaphragm_m missing"))?;
     let mut left = None;
     let mut right = None;
     let mut gamma = None;
@@ -61,30 +54,16 @@ pub fn riemann_of(case: &Case) -> Result<(Riemann, f64)> {
         let rho = r.rho_kgm3.or(m.eos.rho0()).unwrap_or(1.0);
         let e = r.e_jkg.or(m.e0_jkg).unwrap_or(0.0);
         let u = r.velocity_ms.as_ref().map(|v| v[0]).unwrap_or(0.0);
-        let side = Side {
-            rho,
-            u,
-            p: (g - 1.0) * rho * e,
-        };
-        let xs = r
-            .origin_m
-            .as_ref()
-            .or(r.lo_m.as_ref())
-            .map(|v| v[0])
-            .unwrap_or(0.0);
-        if xs < x0 {
-            left = Some(side)
-        } else {
-            right = Some(side)
-        }
+        let side = Side { rho, u, p: (g - 1.0) * rho * e };
+        let xs = r.origin_m.as_ref().or(r.lo_m.as_ref()).map(|v| v[0]).unwrap_or(0.0);
+        if xs < x0 { left = Some(side) } else { right = Some(side) }
     }
     let (l, r, g) = (
         left.ok_or_else(|| input("riemann: no region left of the diaphragm"))?,
         right.ok_or_else(|| input("riemann: no region right of the diaphragm"))?,
         gamma.unwrap_or(1.4),
     );
-    let rs = Riemann::solve(l, r, g)
-        .ok_or_else(|| input("riemann: the exact solver found no solution (vacuum?)"))?;
+    let rs = Riemann::solve(l, r, g).ok_or_else(|| input("riemann: the exact solver found no solution (vacuum?)"))?;
     Ok((rs, x0))
 }
 
@@ -107,25 +86,13 @@ pub fn l1_errors(f: &Frame, rs: &Riemann, x0: f64, window: (f64, f64)) -> L1 {
         n += 1;
     }
     let v = vol.max(1e-300);
-    L1 {
-        rho: er / v,
-        v: ev / v,
-        p: ep / v,
-        e: ee / v,
-        n,
-    }
+    L1 { rho: er / v, v: ev / v, p: ep / v, e: ee / v, n }
 }
 
 fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
     let (rs, x0) = riemann_of(case)?;
-    let last = frames
-        .last()
-        .ok_or_else(|| SphError::Io("particles.h5 holds no step".into()))?;
-    let w = case
-        .analysis
-        .window_m
-        .clone()
-        .unwrap_or(vec![f64::NEG_INFINITY, f64::INFINITY]);
+    let last = frames.last().ok_or_else(|| SphError::Io("particles.h5 holds no step".into()))?;
+    let w = case.analysis.window_m.clone().unwrap_or(vec![f64::NEG_INFINITY, f64::INFINITY]);
     let l1 = l1_errors(last, &rs, x0, (w[0], w[1]));
     let (xa, xb) = (
         last.x.iter().cloned().fold(f64::INFINITY, f64::min),
@@ -195,10 +162,7 @@ pub fn report(dir: &Path) -> Result<Value> {
     );
     let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
     let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
-    println!(
-        "mass: initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}",
-        (m1 - m0) / m0.abs().max(1e-300)
-    );
+    println!("mass: initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}", (m1 - m0) / m0.abs().max(1e-300));
     let en = &summary["energy"];
     println!(
         "energy (J): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}; balance residual {:.3e} ({:.3e} relative)",
@@ -219,7 +183,6 @@ pub fn report(dir: &Path) -> Result<Value> {
         AnalysisKind::None => json!({}),
     };
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();
-    std::fs::write(dir.join("report.json"), text)
-        .map_err(|e| SphError::Io(format!("report.json: {e}")))?;
+    std::fs::write(dir.join("report.json"), text).map_err(|e| SphError::Io(format!("report.json: {e}")))?;
     Ok(out)
 }

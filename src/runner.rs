@@ -32,12 +32,7 @@ pub struct Energy {
 
 fn energy(sim: &Sim) -> Energy {
     let (k, i, e) = sim.energies();
-    Energy {
-        kinetic: k,
-        internal: i,
-        elastic: e,
-        total: k + i,
-    }
+    Energy { kinetic: k, internal: i, elastic: e, total: k + i }
 }
 
 /// What a finished (or stopped) run returns.
@@ -54,12 +49,8 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 }
 
 pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
-    let text = std::fs::read_to_string(case_path).map_err(|e| {
-        crate::error::input(format!(
-            "{}: cannot read the case file: {e}",
-            case_path.display()
-        ))
-    })?;
+    let text = std::fs::read_to_string(case_path)
+        .map_err(|e| crate::error::input(format!("{}: cannot read the case file: {e}", case_path.display())))?;
     let case = case::parse(
         &text,
         &case_path.display().to_string(),
@@ -67,18 +58,14 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
         case_path.file_stem().and_then(|s| s.to_str()),
     )?;
     let sim = Sim::new(case, &opts.ov)?;
-    let dir = opts
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("runs").join(sim.case.name()));
+    let dir = opts.out.clone().unwrap_or_else(|| PathBuf::from("runs").join(sim.case.name()));
     run_sim(sim, &dir, &text, opts)
 }
 
 /// Runs a prepared simulation into `dir`.
 pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> Result<RunResult> {
     std::fs::create_dir_all(dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
-    std::fs::write(dir.join("case.toml"), case_text)
-        .map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
+    std::fs::write(dir.join("case.toml"), case_text).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
     let mut h5 = H5Part::create(&dir.join("particles.h5"))?;
     let gpath = dir.join("gauges.csv");
     let mut gauges = Gauges::new(&sim, Some(&gpath))?;
@@ -92,11 +79,7 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
         StepRule::Cfl => None,
     };
     let interval = sim.cfg.out_interval;
-    let mut next_out = if interval > 0.0 {
-        interval
-    } else {
-        f64::INFINITY
-    };
+    let mut next_out = if interval > 0.0 { interval } else { f64::INFINITY };
     sim.rates();
     sim.interface_stats();
     h5.write(&sim)?;
@@ -107,10 +90,8 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
     } else {
         let pb = indicatif::ProgressBar::new(1000);
         pb.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:30} {percent:>3}% {msg} [{elapsed} < {eta}]",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template("{bar:30} {percent:>3}% {msg} [{elapsed} < {eta}]")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         pb
     };
@@ -172,12 +153,7 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
     let skipped: serde_json::Map<String, serde_json::Value> = Module::ALL
         .iter()
         .filter(|m| !sim.plan.is_active(**m))
-        .map(|m| {
-            (
-                m.name().to_string(),
-                json!(sim.plan.why[Module::ALL.iter().position(|x| *x == *m).unwrap_or(0)]),
-            )
-        })
+        .map(|m| (m.name().to_string(), json!(sim.plan.why[Module::ALL.iter().position(|x| *x == *m).unwrap_or(0)])))
         .collect();
     let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
     let residual = e1.total - e0.total - work;
@@ -233,14 +209,9 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
         summary["ejecta_height_m"] = json!(c.ejecta_height_m);
     }
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-    std::fs::write(dir.join("summary.json"), text)
-        .map_err(|e| SphError::Io(format!("summary.json: {e}")))?;
+    std::fs::write(dir.join("summary.json"), text).map_err(|e| SphError::Io(format!("summary.json: {e}")))?;
     if let Some(d) = diag {
         return Err(d);
     }
-    Ok(RunResult {
-        dir: dir.to_path_buf(),
-        summary,
-        sim,
-    })
+    Ok(RunResult { dir: dir.to_path_buf(), summary, sim })
 }

@@ -3,9 +3,7 @@
 
 use crate::case::{BurnMode, Case, EosCfg, Shape, WallKind};
 use crate::error::{Result, input};
-use crate::legacy::{
-    MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments,
-};
+use crate::legacy::{MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments};
 
 /// Particles as generated, before the solver takes them.
 #[derive(Debug, Clone, Default)]
@@ -40,38 +38,17 @@ pub fn material_table(case: &Case) -> MatTable {
                 col[0] = rho0_kgm3.unwrap_or(1.0);
                 col[1] = *gamma;
             }
-            EosCfg::Jwl {
-                rho0_kgm3,
-                a_pa,
-                b_pa,
-                r1,
-                r2,
-                omega,
-                d_ms,
-            } => {
+            EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
                 mtype[m] = SPH_EOS_JWL as i32;
                 col[0] = *rho0_kgm3;
                 col[1..7].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
             }
-            EosCfg::Water {
-                rho0_kgm3,
-                a1_pa,
-                a2_pa,
-                a3_pa,
-                b0,
-                b1,
-                c0_ms,
-            } => {
+            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
                 mtype[m] = SPH_EOS_WATER as i32;
                 col[0] = *rho0_kgm3;
                 col[1..7].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
             }
-            EosCfg::Soil {
-                rho0_kgm3,
-                c_ms,
-                s,
-                gamma,
-            } => {
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
                 mtype[m] = SPH_EOS_SOIL as i32;
                 col[0] = *rho0_kgm3;
                 col[1..4].copy_from_slice(&[*c_ms, *s, *gamma]);
@@ -83,10 +60,7 @@ pub fn material_table(case: &Case) -> MatTable {
             col[9] = s.alpha_phi;
             col[10] = s.cohesion_pa;
         }
-        let gname = mc
-            .penalty_group
-            .clone()
-            .unwrap_or_else(|| format!("\u{0}{}", mc.name));
+        let gname = mc.penalty_group.clone().unwrap_or_else(|| format!("\u{0}{}", mc.name));
         group[m] = match groups.iter().position(|g| *g == gname) {
             Some(k) => k as i32,
             None => {
@@ -125,10 +99,7 @@ fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
         Shape::Polygon => point_in_polygon(p, rc.vertices_m.as_ref().unwrap()),
         Shape::Lattice => {
             let (o, c) = (rc.origin_m.as_ref().unwrap(), rc.count.as_ref().unwrap());
-            (0..d).all(|a| {
-                p[a] >= o[a] - 0.5 * rc.spacing_m
-                    && p[a] < o[a] + (c[a] as f64 - 0.5) * rc.spacing_m
-            })
+            (0..d).all(|a| p[a] >= o[a] - 0.5 * rc.spacing_m && p[a] < o[a] + (c[a] as f64 - 0.5) * rc.spacing_m)
         }
     }
 }
@@ -198,22 +169,14 @@ fn lattice_points(case: &Case, r: usize) -> Vec<[f64; 3]> {
 pub fn particles(case: &Case) -> Result<Initial> {
     let d = case.dim;
     let nr = case.regions.len();
-    let mut init = Initial {
-        dx_min: f64::INFINITY,
-        ..Default::default()
-    };
+    let mut init = Initial { dx_min: f64::INFINITY, ..Default::default() };
     let mut all: Vec<Vec<[f64; 3]>> = Vec::with_capacity(nr);
     for r in 0..nr {
         let rc = &case.regions[r];
-        let cut: Vec<usize> = rc
-            .subtract
-            .iter()
-            .filter_map(|s| case.regions.iter().position(|q| &q.name == s))
-            .collect();
-        let pts: Vec<[f64; 3]> = lattice_points(case, r)
-            .into_iter()
-            .filter(|p| !cut.iter().any(|&c| inside(case, c, p)))
-            .collect();
+        let cut: Vec<usize> =
+            rc.subtract.iter().filter_map(|s| case.regions.iter().position(|q| &q.name == s)).collect();
+        let pts: Vec<[f64; 3]> =
+            lattice_points(case, r).into_iter().filter(|p| !cut.iter().any(|&c| inside(case, c, p))).collect();
         if pts.is_empty() {
             return Err(input(format!(
                 "region[{r}] ({}): holds no particles (is spacing_m = {} larger than the region, or is it all cut out?)",
@@ -300,9 +263,7 @@ pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segm
         segs.seg.extend_from_slice(&a[..d]);
         segs.seg.extend_from_slice(&b[..d]);
         segs.seg.extend_from_slice(&nrm[..d]);
-        let shared = walls
-            .iter()
-            .any(|o| o.from_m.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-12));
+        let shared = walls.iter().any(|o| o.from_m.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-12));
         segs.endnode.push(if d == 1 || !shared { 1 } else { 0 });
     }
     segs

@@ -104,16 +104,10 @@ pub struct Config {
 
 impl Config {
     pub fn acc_slot(&self, t: AccTerm) -> usize {
-        self.acc_terms
-            .iter()
-            .position(|x| *x == t)
-            .unwrap_or(usize::MAX)
+        self.acc_terms.iter().position(|x| *x == t).unwrap_or(usize::MAX)
     }
     pub fn de_slot(&self, t: DeTerm) -> usize {
-        self.de_terms
-            .iter()
-            .position(|x| *x == t)
-            .unwrap_or(usize::MAX)
+        self.de_terms.iter().position(|x| *x == t).unwrap_or(usize::MAX)
     }
 }
 
@@ -185,33 +179,23 @@ pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
         choice = Choice::all(Backend::parse(d).unwrap_or(Backend::Fortran));
     }
     for m in &case.backend.rust {
-        choice.set(
-            Module::parse(m).ok_or_else(|| input(format!("backend.rust: unknown module `{m}`")))?,
-            Backend::Rust,
-        );
+        choice
+            .set(Module::parse(m).ok_or_else(|| input(format!("backend.rust: unknown module `{m}`")))?, Backend::Rust);
     }
     for m in &case.backend.fortran {
         choice.set(
-            Module::parse(m)
-                .ok_or_else(|| input(format!("backend.fortran: unknown module `{m}`")))?,
+            Module::parse(m).ok_or_else(|| input(format!("backend.fortran: unknown module `{m}`")))?,
             Backend::Fortran,
         );
     }
     if let Some(b) = ov.backend {
         choice = Choice::all(b);
     }
-    for (list, b, flag) in [
-        (&ov.rust, Backend::Rust, "--rust"),
-        (&ov.fortran, Backend::Fortran, "--fortran"),
-    ] {
+    for (list, b, flag) in [(&ov.rust, Backend::Rust, "--rust"), (&ov.fortran, Backend::Fortran, "--fortran")] {
         for m in list {
             let m = m.trim();
-            let mm = Module::parse(m).ok_or_else(|| {
-                input(format!(
-                    "{flag}: unknown module `{m}` (modules: {})",
-                    Module::names()
-                ))
-            })?;
+            let mm = Module::parse(m)
+                .ok_or_else(|| input(format!("{flag}: unknown module `{m}` (modules: {})", Module::names())))?;
             choice.set(mm, b);
         }
     }
@@ -235,31 +219,19 @@ pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
             _ => "no walls".into(),
         },
     );
-    set(
-        &mut active,
-        &mut why,
-        Module::Nnps,
-        true,
-        format!("{:?} search", case.sph.nnps).to_lowercase(),
-    );
+    set(&mut active, &mut why, Module::Nnps, true, format!("{:?} search", case.sph.nnps).to_lowercase());
     set(
         &mut active,
         &mut why,
         Module::Kernel,
         true,
-        format!(
-            "{} kernel, support {}h",
-            case.sph.kernel.name(),
-            case.sph.kernel.support()
-        ),
+        format!("{} kernel, support {}h", case.sph.kernel.name(), case.sph.kernel.support()),
     );
-    set(
-        &mut active,
-        &mut why,
-        Module::Density,
-        true,
-        format!("{:?}", case.sph.density).to_lowercase(),
-    );
+    let dens = match case.sph.density {
+        DensityKind::Summation => "summation".to_string(),
+        DensityKind::Continuity => format!("continuity, {:?} form", case.sph.continuity_form).to_lowercase(),
+    };
+    set(&mut active, &mut why, Module::Density, true, dens);
     let prog = setup::programmed(case);
     set(
         &mut active,
@@ -282,22 +254,14 @@ pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
         &mut why,
         Module::Strength,
         st,
-        if st {
-            "materials with strength present".into()
-        } else {
-            "fluids only: no stress arrays".into()
-        },
+        if st { "materials with strength present".into() } else { "fluids only: no stress arrays".into() },
     );
     set(
         &mut active,
         &mut why,
         Module::Force,
         true,
-        if st {
-            "sigma = -p I + tau".into()
-        } else {
-            "pressure only".into()
-        },
+        if st { "sigma = -p I + tau".into() } else { "pressure only".into() },
     );
     let visc = case.viscosity.alpha > 0.0 || case.viscosity.beta > 0.0;
     set(
@@ -305,18 +269,11 @@ pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
         &mut why,
         Module::Viscosity,
         visc,
-        format!(
-            "alpha = {}, beta = {}",
-            case.viscosity.alpha, case.viscosity.beta
-        ),
+        format!("alpha = {}, beta = {}", case.viscosity.alpha, case.viscosity.beta),
     );
     let mt = setup::material_table(case);
-    let used: std::collections::BTreeSet<i32> = case
-        .regions
-        .iter()
-        .filter_map(|r| case.material_index(&r.material))
-        .map(|m| mt.group[m])
-        .collect();
+    let used: std::collections::BTreeSet<i32> =
+        case.regions.iter().filter_map(|r| case.material_index(&r.material)).map(|m| mt.group[m]).collect();
     let pen = case.penalty.is_some() && used.len() > 1;
     set(
         &mut active,
@@ -332,33 +289,11 @@ pub fn plan(case: &Case, ov: &Overrides) -> Result<Plan> {
         },
     );
     let xs = case.sph.xsph_eps > 0.0;
-    set(
-        &mut active,
-        &mut why,
-        Module::Xsph,
-        xs,
-        format!("eps = {}", case.sph.xsph_eps),
-    );
+    set(&mut active, &mut why, Module::Xsph, xs, format!("eps = {}", case.sph.xsph_eps));
     let sm = case.sph.smoothing != SmoothingKind::Constant;
-    set(
-        &mut active,
-        &mut why,
-        Module::Smoothing,
-        sm,
-        format!("{:?}", case.sph.smoothing).to_lowercase(),
-    );
-    set(
-        &mut active,
-        &mut why,
-        Module::Integrator,
-        true,
-        format!("leapfrog, {:?} step", case.time.step).to_lowercase(),
-    );
-    Ok(Plan {
-        active,
-        why,
-        choice,
-    })
+    set(&mut active, &mut why, Module::Smoothing, sm, format!("{:?}", case.sph.smoothing).to_lowercase());
+    set(&mut active, &mut why, Module::Integrator, true, format!("leapfrog, {:?} step", case.time.step).to_lowercase());
+    Ok(Plan { active, why, choice })
 }
 
 impl Sim {
@@ -402,11 +337,7 @@ impl Sim {
             acc_terms.push(AccTerm::Wall);
         }
         let b = &case.boundary;
-        let pen = case
-            .penalty
-            .as_ref()
-            .map(|p| (p.pbar, p.n1, p.n2))
-            .unwrap_or((0.0, 12, 6));
+        let pen = case.penalty.as_ref().map(|p| (p.pbar, p.n1, p.n2)).unwrap_or((0.0, 12, 6));
         let cfg = Config {
             dim,
             kernel: case.sph.kernel,
@@ -416,11 +347,7 @@ impl Sim {
             smoothing: case.sph.smoothing,
             theta: case.sph.theta,
             xsph_eps: case.sph.xsph_eps,
-            visc: (
-                case.viscosity.alpha,
-                case.viscosity.beta,
-                case.viscosity.phi_over_h,
-            ),
+            visc: (case.viscosity.alpha, case.viscosity.beta, case.viscosity.phi_over_h),
             penalty: pen,
             mt,
             mirror_segs,
@@ -434,28 +361,19 @@ impl Sim {
                 b.n2,
             ),
             noslip: b.noslip,
-            grav: case
-                .physics
-                .gravity_ms2
-                .clone()
-                .unwrap_or_else(|| vec![0.0; dim]),
+            grav: case.physics.gravity_ms2.clone().unwrap_or_else(|| vec![0.0; dim]),
             step: case.time.step,
             dt_fixed: case.time.dt_s.unwrap_or(0.0),
             cfl: case.time.cfl,
             dt_max: case.time.dt_max_s.unwrap_or(f64::INFINITY),
             end: case.time.end_s,
             out_interval: case.time.output_interval_s,
-            det_point: case
-                .detonation
-                .as_ref()
-                .and_then(|d| d.point_m.clone())
-                .unwrap_or_default(),
+            det_point: case.detonation.as_ref().and_then(|d| d.point_m.clone()).unwrap_or_default(),
             det_width: case.detonation.as_ref().map(|d| d.width_h).unwrap_or(0.0),
             acc_terms,
             de_terms,
             dx_min: init.dx_min,
-            need_drho: case.sph.density == DensityKind::Continuity
-                || case.sph.smoothing == SmoothingKind::Rate,
+            need_drho: case.sph.density == DensityKind::Continuity || case.sph.smoothing == SmoothingKind::Rate,
             max_steps: case.time.max_steps,
         };
         let mut p = Particles {
@@ -481,9 +399,7 @@ impl Sim {
             p.h0 = p.h.clone();
             p.rho0 = p.rho.clone();
         }
-        let need_incidence = Module::ALL
-            .iter()
-            .any(|m| plan.is_active(*m) && plan.backend(*m) == Backend::Rust);
+        let need_incidence = Module::ALL.iter().any(|m| plan.is_active(*m) && plan.backend(*m) == Backend::Rust);
         let h_init = p.h.clone();
         let p_x_init = p.x.clone();
         let mut sim = Sim {
@@ -496,11 +412,7 @@ impl Sim {
             nstep: 0,
             dt_prev: 0.0,
             book: Book::default(),
-            stab: Stability {
-                h_ratio_min: 1.0,
-                h_ratio_max: 1.0,
-                ..Default::default()
-            },
+            stab: Stability { h_ratio_min: 1.0, h_ratio_max: 1.0, ..Default::default() },
             h_init,
             x_init: p_x_init,
             region: init.region,
@@ -512,15 +424,7 @@ impl Sim {
             sim.p.burn = vec![0.0; n];
             let b = sim.plan.backend(Module::Detonation);
             let dim = sim.cfg.dim;
-            md::detonation::light(
-                b,
-                dim,
-                &sim.p.x,
-                &sim.p.mat,
-                &sim.cfg.mt,
-                &sim.cfg.det_point,
-                &mut sim.p.tlight,
-            );
+            md::detonation::light(b, dim, &sim.p.x, &sim.p.mat, &sim.cfg.mt, &sim.cfg.det_point, &mut sim.p.tlight);
             md::detonation::burn(
                 b,
                 0.0,
@@ -533,16 +437,7 @@ impl Sim {
             );
         }
         let b = sim.plan.backend(Module::Eos);
-        md::eos::eval(
-            b,
-            &sim.cfg.mt,
-            &sim.p.mat,
-            &sim.p.burn,
-            &sim.p.rho,
-            &sim.p.e,
-            &mut sim.p.p,
-            &mut sim.p.c,
-        );
+        md::eos::eval(b, &sim.cfg.mt, &sim.p.mat, &sim.p.burn, &sim.p.rho, &sim.p.e, &mut sim.p.p, &mut sim.p.c);
         Ok(sim)
     }
 
@@ -594,18 +489,7 @@ impl Sim {
             self.p.set_ntotal(nt);
             self.exec(
                 Module::Boundary,
-                &[
-                    F::X,
-                    F::V,
-                    F::Rho,
-                    F::P,
-                    F::C,
-                    F::E,
-                    F::H,
-                    F::Mass,
-                    F::Mat,
-                    F::Tau,
-                ],
+                &[F::X, F::V, F::Rho, F::P, F::C, F::E, F::H, F::Mass, F::Mat, F::Tau],
                 |b, p, w, c| {
                     let a = MirrorArrays {
                         x: &mut p.x,
@@ -619,32 +503,14 @@ impl Sim {
                         mat: &mut p.mat,
                         tau: &mut p.tau,
                     };
-                    md::boundary::mirror_fill(
-                        b,
-                        dim,
-                        n,
-                        &w.gsrc,
-                        &w.gseg,
-                        &c.mirror_segs,
-                        c.noslip,
-                        a,
-                    );
+                    md::boundary::mirror_fill(b, dim, n, &w.gsrc, &w.gseg, &c.mirror_segs, c.noslip, a);
                 },
             );
         }
         let nt = self.p.ntotal;
         // 2. neighbours
         self.exec(Module::Nnps, &[F::PairI, F::PairJ], |b, p, w, c| {
-            md::nnps::search(
-                b,
-                c.cell,
-                dim,
-                n,
-                &p.x[..dim * nt],
-                &p.h[..nt],
-                c.kappa,
-                &mut w.pairs,
-            );
+            md::nnps::search(b, c.cell, dim, n, &p.x[..dim * nt], &p.h[..nt], c.kappa, &mut w.pairs);
         });
         let np = self.w.pairs.len();
         if self.need_incidence {
@@ -654,16 +520,7 @@ impl Sim {
         self.w.dwdx.resize(dim * np, 0.0);
         // 3. kernel
         self.exec(Module::Kernel, &[F::W, F::Dwdx], |b, p, w, c| {
-            md::kernel::pairs(
-                b,
-                dim,
-                c.kernel,
-                &w.pairs,
-                &p.x[..dim * nt],
-                &p.h[..nt],
-                &mut w.w,
-                &mut w.dwdx,
-            );
+            md::kernel::pairs(b, dim, c.kernel, &w.pairs, &p.x[..dim * nt], &p.h[..nt], &mut w.w, &mut w.dwdx);
         });
         // 4. density
         if self.cfg.summation {
@@ -682,16 +539,14 @@ impl Sim {
         }
         if self.cfg.need_drho {
             self.w.drho.resize(nt, 0.0);
+            let vol = self.case.sph.continuity_form == crate::case::ContinuityForm::Volume;
             self.exec(Module::Density, &[F::Drho], |b, p, w, _| {
-                md::density::rate(
-                    b,
-                    dim,
-                    &w.pairs,
-                    &w.dwdx,
-                    &p.mass[..nt],
-                    &p.v[..dim * nt],
-                    &mut w.drho,
-                );
+                let (pl, g, m, v) = (&w.pairs, &w.dwdx, &p.mass[..nt], &p.v[..dim * nt]);
+                if vol {
+                    md::density::rate_vol(b, dim, pl, g, m, &p.rho[..nt], v, &mut w.drho);
+                } else {
+                    md::density::rate(b, dim, pl, g, m, v, &mut w.drho);
+                }
             });
         }
         if self.cfg.smoothing == SmoothingKind::Density && self.plan.is_active(Module::Smoothing) {
@@ -703,31 +558,13 @@ impl Sim {
         if self.plan.is_active(Module::Detonation) {
             let t = self.t;
             self.exec(Module::Detonation, &[F::Burn], |b, p, _, c| {
-                md::detonation::burn(
-                    b,
-                    t,
-                    &p.mat[..n],
-                    &c.mt,
-                    &p.tlight,
-                    &p.h[..n],
-                    c.det_width,
-                    &mut p.burn,
-                );
+                md::detonation::burn(b, t, &p.mat[..n], &c.mt, &p.tlight, &p.h[..n], c.det_width, &mut p.burn);
             });
         }
         // 6. equation of state
         self.exec(Module::Eos, &[F::P, F::C], |b, p, _, c| {
             let (pp, cc) = (&mut p.p, &mut p.c);
-            md::eos::eval(
-                b,
-                &c.mt,
-                &p.mat[..n],
-                &p.burn,
-                &p.rho[..n],
-                &p.e[..n],
-                &mut pp[..n],
-                &mut cc[..n],
-            );
+            md::eos::eval(b, &c.mt, &p.mat[..n], &p.burn, &p.rho[..n], &p.e[..n], &mut pp[..n], &mut cc[..n]);
         });
         if nt > n {
             self.exec(Module::Boundary, &[F::P, F::C], |b, p, w, _| {
@@ -746,42 +583,32 @@ impl Sim {
             self.w.rot.resize(3 * nt, 0.0);
             self.w.dtau.resize(NSTR * n, 0.0);
             let s = self.cfg.de_slot(DeTerm::Strength);
-            self.exec(
-                Module::Strength,
-                &[F::Eps, F::Rot, F::Dtau, F::Dde],
-                |b, p, w, c| {
-                    let out = md::strength::StrengthOut {
-                        eps: &mut w.eps,
-                        rot: &mut w.rot,
-                        dtau: &mut w.dtau,
-                        dedt: &mut w.dde[s * nt..s * nt + n],
-                    };
-                    md::strength::rates(
-                        b,
-                        dim,
-                        n,
-                        &w.pairs,
-                        &w.dwdx,
-                        &p.mass[..nt],
-                        &p.rho[..nt],
-                        &p.v[..dim * nt],
-                        &p.mat[..nt],
-                        &c.mt,
-                        &p.tau,
-                        out,
-                    );
-                },
-            );
+            self.exec(Module::Strength, &[F::Eps, F::Rot, F::Dtau, F::Dde], |b, p, w, c| {
+                let out = md::strength::StrengthOut {
+                    eps: &mut w.eps,
+                    rot: &mut w.rot,
+                    dtau: &mut w.dtau,
+                    dedt: &mut w.dde[s * nt..s * nt + n],
+                };
+                md::strength::rates(
+                    b,
+                    dim,
+                    n,
+                    &w.pairs,
+                    &w.dwdx,
+                    &p.mass[..nt],
+                    &p.rho[..nt],
+                    &p.v[..dim * nt],
+                    &p.mat[..nt],
+                    &c.mt,
+                    &p.tau,
+                    out,
+                );
+            });
         }
-        let (sa, sd) = (
-            self.cfg.acc_slot(AccTerm::Force),
-            self.cfg.de_slot(DeTerm::Force),
-        );
+        let (sa, sd) = (self.cfg.acc_slot(AccTerm::Force), self.cfg.de_slot(DeTerm::Force));
         self.exec(Module::Force, &[F::Acc, F::Dde], |b, p, w, _| {
-            let (acc, dde) = (
-                &mut w.acc[sa * lda..(sa + 1) * lda],
-                &mut w.dde[sd * nt..(sd + 1) * nt],
-            );
+            let (acc, dde) = (&mut w.acc[sa * lda..(sa + 1) * lda], &mut w.dde[sd * nt..(sd + 1) * nt]);
             md::force::internal(
                 b,
                 dim,
@@ -797,15 +624,9 @@ impl Sim {
             );
         });
         if self.plan.is_active(Module::Viscosity) {
-            let (sa, sd) = (
-                self.cfg.acc_slot(AccTerm::Viscosity),
-                self.cfg.de_slot(DeTerm::Viscosity),
-            );
+            let (sa, sd) = (self.cfg.acc_slot(AccTerm::Viscosity), self.cfg.de_slot(DeTerm::Viscosity));
             self.exec(Module::Viscosity, &[F::Acc, F::Dde], |b, p, w, c| {
-                let (acc, dde) = (
-                    &mut w.acc[sa * lda..(sa + 1) * lda],
-                    &mut w.dde[sd * nt..(sd + 1) * nt],
-                );
+                let (acc, dde) = (&mut w.acc[sa * lda..(sa + 1) * lda], &mut w.dde[sd * nt..(sd + 1) * nt]);
                 md::viscosity::monaghan(
                     b,
                     dim,
@@ -849,18 +670,7 @@ impl Sim {
             self.exec(Module::Boundary, &[F::Acc], |b, p, w, c| {
                 let acc = &mut w.acc[sa * lda..sa * lda + dim * n];
                 let (sp, r0, dc, n1, n2) = c.wall;
-                md::boundary::wall_force(
-                    b,
-                    dim,
-                    &p.x[..dim * n],
-                    &c.wall_segs,
-                    sp,
-                    r0,
-                    dc,
-                    n1,
-                    n2,
-                    acc,
-                );
+                md::boundary::wall_force(b, dim, &p.x[..dim * n], &c.wall_segs, sp, r0, dc, n1, n2, acc);
             });
         }
         if self.plan.is_active(Module::Xsph) {
@@ -912,16 +722,7 @@ impl Sim {
             let dtp = self.dt_prev;
             self.exec(
                 Module::Integrator,
-                &[
-                    F::Rho,
-                    F::E,
-                    F::V,
-                    F::Tau,
-                    F::RhoMin,
-                    F::EMin,
-                    F::VMin,
-                    F::TauMin,
-                ],
+                &[F::Rho, F::E, F::V, F::Tau, F::RhoMin, F::EMin, F::VMin, F::TauMin],
                 |b, p, w, _| {
                     let s = crate::legacy::Leapfrog {
                         rho: &mut p.rho[..n],
@@ -933,12 +734,7 @@ impl Sim {
                         v_min: &mut w.v_min,
                         tau_min: &mut w.tau_min,
                     };
-                    let r = crate::legacy::Rates {
-                        drho: &w.drho[..n],
-                        de: &w.de,
-                        dv: &w.dv,
-                        dtau: &w.dtau[..ntau],
-                    };
+                    let r = crate::legacy::Rates { drho: &w.drho[..n], de: &w.de, dv: &w.dv, dtau: &w.dtau[..ntau] };
                     md::integrator::predict(b, dim, n, dtp, cont, s, r);
                 },
             );
@@ -949,15 +745,7 @@ impl Sim {
             StepRule::Cfl => {
                 self.w.dt_cfl.resize(1, 0.0);
                 self.exec(Module::Integrator, &[F::DtCfl], |b, p, w, c| {
-                    w.dt_cfl[0] = md::integrator::cfl(
-                        b,
-                        dim,
-                        c.cfl,
-                        &p.h[..n],
-                        &p.c[..n],
-                        &p.v[..dim * n],
-                        &w.dv,
-                    );
+                    w.dt_cfl[0] = md::integrator::cfl(b, dim, c.cfl, &p.h[..n], &p.c[..n], &p.v[..dim * n], &w.dv);
                 });
                 let mut dt = self.w.dt_cfl[0].min(self.cfg.dt_max);
                 let left = self.cfg.end - self.t;
@@ -967,54 +755,27 @@ impl Sim {
                 dt
             }
         };
+        self.check_rates()?;
         if dt.is_nan() || dt <= 0.0 || !dt.is_finite() {
-            return Err(SphError::Unstable(format!(
-                "step {}: time step dt = {dt:e} s (the CFL rule found no valid step)",
-                self.nstep
-            )));
+            return Err(self.bad_step(dt));
         }
         self.account(dt);
         let dtp = self.dt_prev;
-        self.exec(
-            Module::Integrator,
-            &[F::Rho, F::E, F::V, F::Tau, F::X],
-            |b, p, w, _| {
-                let s = crate::legacy::Leapfrog {
-                    rho: &mut p.rho[..n],
-                    e: &mut p.e[..n],
-                    v: &mut p.v[..dim * n],
-                    tau: &mut p.tau[..ntau],
-                    rho_min: &mut w.rho_min,
-                    e_min: &mut w.e_min,
-                    v_min: &mut w.v_min,
-                    tau_min: &mut w.tau_min,
-                };
-                let r = crate::legacy::Rates {
-                    drho: &w.drho[..n],
-                    de: &w.de,
-                    dv: &w.dv,
-                    dtau: &w.dtau[..ntau],
-                };
-                let av: &[f64] = if w.av.is_empty() {
-                    &[]
-                } else {
-                    &w.av[..dim * n]
-                };
-                md::integrator::advance(
-                    b,
-                    dim,
-                    n,
-                    first,
-                    dtp,
-                    dt,
-                    cont,
-                    s,
-                    r,
-                    av,
-                    &mut p.x[..dim * n],
-                );
-            },
-        );
+        self.exec(Module::Integrator, &[F::Rho, F::E, F::V, F::Tau, F::X], |b, p, w, _| {
+            let s = crate::legacy::Leapfrog {
+                rho: &mut p.rho[..n],
+                e: &mut p.e[..n],
+                v: &mut p.v[..dim * n],
+                tau: &mut p.tau[..ntau],
+                rho_min: &mut w.rho_min,
+                e_min: &mut w.e_min,
+                v_min: &mut w.v_min,
+                tau_min: &mut w.tau_min,
+            };
+            let r = crate::legacy::Rates { drho: &w.drho[..n], de: &w.de, dv: &w.dv, dtau: &w.dtau[..ntau] };
+            let av: &[f64] = if w.av.is_empty() { &[] } else { &w.av[..dim * n] };
+            md::integrator::advance(b, dim, n, first, dtp, dt, cont, s, r, av, &mut p.x[..dim * n]);
+        });
         if self.plan.is_active(Module::Strength) {
             self.exec(Module::Strength, &[F::Tau], |b, p, _, c| {
                 md::strength::yield_return(b, &p.mat[..n], &c.mt, &p.p[..n], &mut p.tau[..ntau]);
@@ -1032,6 +793,80 @@ impl Sim {
         Ok(dt)
     }
 
+    /// Stops on a non-finite rate, naming the particle and the term (force, viscosity, ...).
+    fn check_rates(&mut self) -> Result<()> {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let lda = dim * self.p.ntotal;
+        let nt = self.p.ntotal;
+        for i in 0..n {
+            let dv_ok = (0..dim).all(|d| self.w.dv[d + dim * i].is_finite());
+            if dv_ok && self.w.de[i].is_finite() {
+                continue;
+            }
+            self.stab.nan = true;
+            let mut terms = Vec::new();
+            for (k, t) in self.cfg.acc_terms.iter().enumerate() {
+                if !(0..dim).all(|d| self.w.acc[k * lda + d + dim * i].is_finite()) {
+                    terms.push(format!("{t:?} acceleration").to_lowercase());
+                }
+            }
+            for (k, t) in self.cfg.de_terms.iter().enumerate() {
+                if !self.w.dde[k * nt + i].is_finite() {
+                    terms.push(format!("{t:?} energy rate").to_lowercase());
+                }
+            }
+            let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", self.p.x[d + dim * i])).collect();
+            return Err(SphError::Unstable(format!(
+                "step {} (t = {:.6e} s): particle {} (material {}) at [{}] m has a non-finite rate: {} (rho = {:e} kg/m3, p = {:e} Pa, h = {:e} m, {} neighbours)",
+                self.nstep,
+                self.t,
+                self.p.id[i],
+                self.case.materials[self.p.mat[i] as usize].name,
+                pos.join(", "),
+                if terms.is_empty() { "gravity".to_string() } else { terms.join(", ") },
+                self.p.rho[i],
+                self.p.p[i],
+                self.p.h[i],
+                (0..self.w.pairs.len())
+                    .filter(|&k| self.w.pairs.i[k] as usize == i || self.w.pairs.j[k] as usize == i)
+                    .count()
+            )));
+        }
+        Ok(())
+    }
+
+    /// The diagnostic of a step the CFL rule could not take: the particle that limits it.
+    fn bad_step(&self, dt: f64) -> SphError {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let norm =
+            |a: &[f64], i: usize| -> f64 { (0..dim).map(|d| a[d + dim * i] * a[d + dim * i]).sum::<f64>().sqrt() };
+        let mut worst = (f64::INFINITY, 0usize);
+        for i in 0..n {
+            let tc = self.p.h[i] / (self.p.c[i] + norm(&self.p.v, i));
+            let tf = (self.p.h[i] / norm(&self.w.dv, i)).sqrt();
+            let t = if tc.is_nan() || tf.is_nan() { -1.0 } else { tc.min(tf) };
+            if t < worst.0 {
+                worst = (t, i);
+            }
+        }
+        let i = worst.1;
+        SphError::Unstable(format!(
+            "step {} (t = {:.6e} s): time step dt = {dt:e} s; limited by particle {} (material {}): h = {:e} m, c = {:e} m/s, |v| = {:e} m/s, |a| = {:e} m/s2, rho = {:e} kg/m3, e = {:e} J/kg",
+            self.nstep,
+            self.t,
+            self.p.id[i],
+            self.case.materials[self.p.mat[i] as usize].name,
+            self.p.h[i],
+            self.p.c[i],
+            norm(&self.p.v, i),
+            norm(&self.w.dv, i),
+            self.p.rho[i],
+            self.p.e[i]
+        ))
+    }
+
     /// Work of the wall, penalty and gravity forces over the step (v at t).
     fn account(&mut self, dt: f64) {
         let dim = self.cfg.dim;
@@ -1043,21 +878,13 @@ impl Sim {
                 return 0.0;
             }
             let a = &self.w.acc[slot * lda..slot * lda + dim * n];
-            (0..n)
-                .map(|i| {
-                    self.p.mass[i]
-                        * (0..dim)
-                            .map(|d| a[d + dim * i] * self.p.v[d + dim * i])
-                            .sum::<f64>()
-                })
-                .sum()
+            (0..n).map(|i| self.p.mass[i] * (0..dim).map(|d| a[d + dim * i] * self.p.v[d + dim * i]).sum::<f64>()).sum()
         };
         self.book.work_wall += dt * power(self.cfg.acc_slot(AccTerm::Wall));
         self.book.work_penalty += dt * power(self.cfg.acc_slot(AccTerm::Penalty));
         let g = &self.cfg.grav;
-        let pg: f64 = (0..n)
-            .map(|i| self.p.mass[i] * (0..dim).map(|d| g[d] * self.p.v[d + dim * i]).sum::<f64>())
-            .sum();
+        let pg: f64 =
+            (0..n).map(|i| self.p.mass[i] * (0..dim).map(|d| g[d] * self.p.v[d + dim * i]).sum::<f64>()).sum();
         self.book.work_gravity += dt * pg;
     }
 
@@ -1095,6 +922,14 @@ impl Sim {
             if !p.p[i].is_finite() {
                 self.stab.nan = true;
                 return Err(bad("pressure", i, p.p[i]));
+            }
+            if !p.tau.is_empty() {
+                for q in 0..NSTR {
+                    if !p.tau[q + NSTR * i].is_finite() {
+                        self.stab.nan = true;
+                        return Err(bad(&format!("deviatoric stress component {q}"), i, p.tau[q + NSTR * i]));
+                    }
+                }
             }
             let r = p.h[i] / self.h_init[i];
             if !r.is_finite() || r < 1e-3 {
@@ -1134,9 +969,7 @@ impl Sim {
                         self.stab.max_wall_penetration_m = depth;
                     }
                     if depth > 0.5 * self.cfg.dx_min {
-                        let pos: Vec<String> = (0..dim)
-                            .map(|d| format!("{:.5}", p.x[d + dim * i]))
-                            .collect();
+                        let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", p.x[d + dim * i])).collect();
                         return Err(SphError::Unstable(format!(
                             "step {step} (t = {:.6e} s): particle {} crossed wall {s} by {depth:.3e} m (x = [{}] m)",
                             self.t,
@@ -1149,16 +982,11 @@ impl Sim {
         }
         if let Some(dm) = &self.case.domain {
             let out = (0..n)
-                .filter(|&i| {
-                    (0..dim).any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d])
-                })
+                .filter(|&i| (0..dim).any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d]))
                 .count();
             if out > 0 && dm.stop_on_exit {
                 let i = (0..n)
-                    .find(|&i| {
-                        (0..dim)
-                            .any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d])
-                    })
+                    .find(|&i| (0..dim).any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d]))
                     .unwrap_or(0);
                 return Err(bad("a position outside [domain]; x[0]", i, p.x[dim * i]));
             }
@@ -1181,14 +1009,7 @@ impl Sim {
         let pl = &self.w.pairs;
         let mut cnt = vec![0usize; self.p.ntotal.max(n)];
         let mut gap = f64::INFINITY;
-        let multi = self
-            .cfg
-            .mt
-            .group
-            .iter()
-            .collect::<std::collections::BTreeSet<_>>()
-            .len()
-            > 1;
+        let multi = self.cfg.mt.group.iter().collect::<std::collections::BTreeSet<_>>().len() > 1;
         for k in 0..pl.len() {
             let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
             if i < cnt.len() {
@@ -1197,10 +1018,7 @@ impl Sim {
             if j < cnt.len() {
                 cnt[j] += 1;
             }
-            if multi
-                && j < n
-                && self.cfg.mt.group[self.p.mat[i] as usize]
-                    != self.cfg.mt.group[self.p.mat[j] as usize]
+            if multi && j < n && self.cfg.mt.group[self.p.mat[i] as usize] != self.cfg.mt.group[self.p.mat[j] as usize]
             {
                 let mut r2 = 0.0;
                 for d in 0..dim {
@@ -1214,8 +1032,7 @@ impl Sim {
         self.stab.mean_neighbours = cnt[..n].iter().sum::<usize>() as f64 / n.max(1) as f64;
         if gap.is_finite() {
             let g = gap / self.cfg.dx_min;
-            self.stab.min_interface_gap_dx =
-                Some(self.stab.min_interface_gap_dx.map_or(g, |x: f64| x.min(g)));
+            self.stab.min_interface_gap_dx = Some(self.stab.min_interface_gap_dx.map_or(g, |x: f64| x.min(g)));
         }
     }
 
@@ -1229,19 +1046,14 @@ impl Sim {
         let shear = crate::legacy::SPH_MP_SHEAR as usize - 1;
         for i in 0..n {
             let m = self.p.mass[i];
-            let v2: f64 = (0..dim)
-                .map(|d| self.p.v[d + dim * i] * self.p.v[d + dim * i])
-                .sum();
+            let v2: f64 = (0..dim).map(|d| self.p.v[d + dim * i] * self.p.v[d + dim * i]).sum();
             ke += 0.5 * m * v2;
             ie += m * self.p.e[i];
             if !self.p.tau.is_empty() {
                 let g = self.cfg.mt.mpar[shear + crate::legacy::NPAR * self.p.mat[i] as usize];
                 if g > 0.0 {
                     let t = &self.p.tau[NSTR * i..NSTR * i + NSTR];
-                    let tt = t[0] * t[0]
-                        + t[1] * t[1]
-                        + t[2] * t[2]
-                        + 2.0 * (t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
+                    let tt = t[0] * t[0] + t[1] * t[1] + t[2] * t[2] + 2.0 * (t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
                     el += m / self.p.rho[i] * tt / (4.0 * g);
                 }
             }

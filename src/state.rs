@@ -48,14 +48,7 @@ impl Particles {
         self.ntotal = nt;
         self.x.resize(d * nt, 0.0);
         self.v.resize(d * nt, 0.0);
-        for a in [
-            &mut self.rho,
-            &mut self.p,
-            &mut self.c,
-            &mut self.e,
-            &mut self.h,
-            &mut self.mass,
-        ] {
+        for a in [&mut self.rho, &mut self.p, &mut self.c, &mut self.e, &mut self.h, &mut self.mass] {
             a.resize(nt, 0.0);
         }
         self.mat.resize(nt, 0);

@@ -53,6 +53,9 @@ void sph_density_sum(int ntotal, int npair, const int *pair_i, const int *pair_j
                      const double *w, const double *w0, const double *mass, double *rho);
 void sph_density_rate(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                       const double *dwdx, const double *mass, const double *v, double *drho);
+void sph_density_rate_vol(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
+                          const double *dwdx, const double *mass, const double *rho,
+                          const double *v, double *drho);
 
 /* eos (sph_eos.f90) */
 void sph_eos_eval(int n, int nmat, const int *mtype, const double *mpar, const int *mat,

@@ -3,14 +3,17 @@
 !  applied to rho) or its rate by the continuity equation (Liu's
 !  con_density, thesis Table 4-1):
 !     rho_i      = m_i W_ii + sum_j m_j W_ij
-!     drho_i/dt  = sum_j m_j (v_i - v_j) . grad_i W_ij
+!     drho_i/dt  = sum_j m_j (v_i - v_j) . grad_i W_ij            (mass form)
+!  or its volume form, rho_i times the SPH divergence of v, which stays
+!  consistent across large density ratios (products against soil):
+!     drho_i/dt  = rho_i sum_j (m_j/rho_j) (v_i - v_j) . grad_i W_ij
 !  Pairs are scattered to both ends in pair order.
 !-----------------------------------------------------------------------
 module sph_density
   use iso_c_binding, only: c_int, c_double
   implicit none
   private
-  public :: sph_density_sum, sph_density_rate
+  public :: sph_density_sum, sph_density_rate, sph_density_rate_vol
 
 contains
 
@@ -54,5 +57,30 @@ contains
       drho(j) = drho(j) + mass(i)*vcc
     end do
   end subroutine sph_density_rate
+
+  subroutine sph_density_rate_vol(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, v, drho) &
+      bind(C, name="sph_density_rate_vol")
+    integer(c_int), value :: dim, ntotal, npair
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), v(dim, ntotal)
+    real(c_double), intent(out) :: drho(ntotal)
+    integer :: i, j, k, d
+    real(c_double) :: vcc
+
+    drho = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      vcc = 0.0d0
+      do d = 1, dim
+        vcc = vcc + (v(d, i) - v(d, j))*dwdx(d, k)
+      end do
+      drho(i) = drho(i) + mass(j)/rho(j)*vcc
+      drho(j) = drho(j) + mass(i)/rho(i)*vcc
+    end do
+    do i = 1, ntotal
+      drho(i) = rho(i)*drho(i)
+    end do
+  end subroutine sph_density_rate_vol
 
 end module sph_density

@@ -3,10 +3,11 @@
 //! Definitions (docs/validation.md):
 //! - the soil is the particles of the soil materials (`analysis.soil_materials`, default: every
 //!   material with strength);
-//! - the ground surface is measured in vertical columns one finest spacing Δx wide: in each
-//!   column, the soil particles are walked upward from the lowest; the surface is the highest
-//!   particle reached before a vertical gap larger than 2Δx (particles above such a gap are ejecta,
-//!   not ground). The original surface s0(x) is the same measure at t = 0;
+//! - the ground surface is measured in vertical columns Δx apart (Δx the finest spacing), each
+//!   gathering the soil particles within ±Δx of its centre: they are walked upward from the
+//!   lowest; the surface is the highest particle reached before a vertical gap larger than 2Δx
+//!   (particles above such a gap are ejecta, not ground). The original surface s0(x) is the same
+//!   measure at t = 0;
 //! - crater depth = max over columns of s0 − s;
 //! - crater diameter = width of the run of columns around the deepest one whose surface lies
 //!   more than Δx/2 below the original surface (the apparent crater at the original ground level);
@@ -23,34 +24,35 @@ pub struct Crater {
     pub centre_m: f64,
     pub ejecta_height_m: f64,
     /// Column centres (m), original and final surface heights (m).
+    #[serde(skip)]
     pub columns_m: Vec<f64>,
+    #[serde(skip)]
     pub surface0_m: Vec<f64>,
+    #[serde(skip)]
     pub surface_m: Vec<f64>,
 }
 
-fn soil_mask(sim: &Sim) -> Vec<bool> {
-    let case = &sim.case;
+/// Which materials count as soil (per material index).
+pub fn soil_mask(case: &crate::case::Case) -> Vec<bool> {
     match &case.analysis.soil_materials {
-        Some(list) => case
-            .materials
-            .iter()
-            .map(|m| list.contains(&m.name))
-            .collect(),
-        None => case
-            .materials
-            .iter()
-            .map(|m| m.strength.is_some())
-            .collect(),
+        Some(list) => case.materials.iter().map(|m| list.contains(&m.name)).collect(),
+        None => case.materials.iter().map(|m| m.strength.is_some()).collect(),
     }
 }
 
-/// Ground surface per column from positions (x, y) of the soil particles.
+/// Ground surface per column from positions (x, y) of the soil particles. Column k is centred at
+/// x0 + (k + 1/2) dx and gathers the particles within ±dx of its centre (two spacings wide, so a
+/// smooth lateral shift of the lattice cannot empty it); the particles are walked upward from the
+/// lowest and the surface is the last one before a vertical gap larger than 2 dx.
 pub fn surface(xs: &[f64], ys: &[f64], x0: f64, dx: f64, ncol: usize) -> Vec<f64> {
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); ncol];
     for (x, y) in xs.iter().zip(ys) {
-        let k = ((x - x0) / dx).floor();
-        if k >= 0.0 && (k as usize) < ncol {
+        let u = (x - x0) / dx - 0.5;
+        let (a, b) = ((u - 1.0).ceil(), (u + 1.0).floor());
+        let mut k = a.max(0.0);
+        while k <= b && (k as usize) < ncol {
             cols[k as usize].push(*y);
+            k += 1.0;
         }
     }
     cols.into_iter()
@@ -71,14 +73,13 @@ pub fn surface(xs: &[f64], ys: &[f64], x0: f64, dx: f64, ncol: usize) -> Vec<f64
         .collect()
 }
 
+/// Measures the crater of a 2D run from the soil particles' initial and current positions.
 pub fn measure(sim: &Sim) -> Crater {
-    let dim = sim.cfg.dim;
-    if dim != 2 {
+    if sim.cfg.dim != 2 {
         return Crater::default();
     }
-    let soil = soil_mask(sim);
+    let soil = soil_mask(&sim.case);
     let n = sim.p.nreal;
-    let dx = sim.cfg.dx_min;
     let pick = |x: &[f64]| -> (Vec<f64>, Vec<f64>) {
         let mut xs = Vec::new();
         let mut ys = Vec::new();
@@ -92,14 +93,20 @@ pub fn measure(sim: &Sim) -> Crater {
     };
     let (x0s, y0s) = pick(&sim.x_init);
     let (x1s, y1s) = pick(&sim.p.x);
+    measure_xy(&x0s, &y0s, &x1s, &y1s, sim.cfg.dx_min)
+}
+
+/// The crater from soil positions at t = 0 (`x0s`, `y0s`) and now (`x1s`, `y1s`); `dx` is the
+/// column width (the finest initial spacing).
+pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -> Crater {
     if x0s.is_empty() {
         return Crater::default();
     }
     let lo = x0s.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * dx;
     let hi = x0s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * dx;
     let ncol = ((hi - lo) / dx).round().max(1.0) as usize;
-    let s0 = surface(&x0s, &y0s, lo, dx, ncol);
-    let s1 = surface(&x1s, &y1s, lo, dx, ncol);
+    let s0 = surface(x0s, y0s, lo, dx, ncol);
+    let s1 = surface(x1s, y1s, lo, dx, ncol);
     let drop: Vec<f64> = s0
         .iter()
         .zip(&s1)
@@ -113,12 +120,8 @@ pub fn measure(sim: &Sim) -> Crater {
             }
         })
         .collect();
-    let (kmax, depth) = drop
-        .iter()
-        .enumerate()
-        .fold((0, f64::NEG_INFINITY), |acc, (k, d)| {
-            if *d > acc.1 { (k, *d) } else { acc }
-        });
+    let (kmax, depth) =
+        drop.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (k, d)| if *d > acc.1 { (k, *d) } else { acc });
     let mut diameter = 0.0;
     if depth > 0.5 * dx {
         let mut a = kmax;
@@ -131,11 +134,7 @@ pub fn measure(sim: &Sim) -> Crater {
         }
         diameter = (b - a + 1) as f64 * dx;
     }
-    let smax = s0
-        .iter()
-        .cloned()
-        .filter(|v| v.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
+    let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
     Crater {
         diameter_m: diameter,

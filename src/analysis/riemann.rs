@@ -43,10 +43,7 @@ fn f_k(p: f64, s: Side, g: f64) -> (f64, f64) {
         ((p - s.p) * q, q * (1.0 - 0.5 * (p - s.p) / (b + p)))
     } else {
         let r = p / s.p;
-        (
-            2.0 * c / (g - 1.0) * (r.powf((g - 1.0) / (2.0 * g)) - 1.0),
-            r.powf(-(g + 1.0) / (2.0 * g)) / (s.rho * c),
-        )
+        (2.0 * c / (g - 1.0) * (r.powf((g - 1.0) / (2.0 * g)) - 1.0), r.powf(-(g + 1.0) / (2.0 * g)) / (s.rho * c))
     }
 }
 
@@ -60,9 +57,8 @@ impl Riemann {
         }
         // two-rarefaction guess (Toro 4.46), then Newton
         let z = (g - 1.0) / (2.0 * g);
-        let mut p = ((cl + cr - 0.5 * (g - 1.0) * (right.u - left.u))
-            / (cl / left.p.powf(z) + cr / right.p.powf(z)))
-        .powf(1.0 / z);
+        let mut p = ((cl + cr - 0.5 * (g - 1.0) * (right.u - left.u)) / (cl / left.p.powf(z) + cr / right.p.powf(z)))
+            .powf(1.0 / z);
         for _ in 0..100 {
             let (fl, dl) = f_k(p, left, g);
             let (fr, dr) = f_k(p, right, g);
@@ -77,13 +73,7 @@ impl Riemann {
                 let (fl, _) = f_k(p, left, g);
                 let (fr, _) = f_k(p, right, g);
                 let u = 0.5 * (left.u + right.u) + 0.5 * (fr - fl);
-                return Some(Riemann {
-                    left,
-                    right,
-                    gamma,
-                    p_star: p,
-                    u_star: u,
-                });
+                return Some(Riemann { left, right, gamma, p_star: p, u_star: u });
             }
         }
         None
@@ -108,33 +98,21 @@ impl Riemann {
     pub fn right_shock_speed(&self) -> f64 {
         let g = self.gamma;
         let cr = sound(self.right, g);
-        self.right.u
-            + cr * ((g + 1.0) / (2.0 * g) * self.p_star / self.right.p + (g - 1.0) / (2.0 * g))
-                .sqrt()
+        self.right.u + cr * ((g + 1.0) / (2.0 * g) * self.p_star / self.right.p + (g - 1.0) / (2.0 * g)).sqrt()
     }
 
     /// The solution at ξ = (x − x0)/t (Toro 4.5).
     pub fn sample(&self, xi: f64) -> State {
         let g = self.gamma;
         let (ps, us) = (self.p_star, self.u_star);
-        let st = |rho: f64, u: f64, p: f64| State {
-            rho,
-            u,
-            p,
-            e: p / ((g - 1.0) * rho),
-        };
+        let st = |rho: f64, u: f64, p: f64| State { rho, u, p, e: p / ((g - 1.0) * rho) };
         let (rl, rr) = self.rho_star();
         if xi <= us {
             let l = self.left;
             let cl = sound(l, g);
             if ps > l.p {
-                let sl =
-                    l.u - cl * ((g + 1.0) / (2.0 * g) * ps / l.p + (g - 1.0) / (2.0 * g)).sqrt();
-                if xi <= sl {
-                    st(l.rho, l.u, l.p)
-                } else {
-                    st(rl, us, ps)
-                }
+                let sl = l.u - cl * ((g + 1.0) / (2.0 * g) * ps / l.p + (g - 1.0) / (2.0 * g)).sqrt();
+                if xi <= sl { st(l.rho, l.u, l.p) } else { st(rl, us, ps) }
             } else {
                 let shl = l.u - cl;
                 let cs = cl * (ps / l.p).powf((g - 1.0) / (2.0 * g));
@@ -156,11 +134,7 @@ impl Riemann {
             let cr = sound(r, g);
             if ps > r.p {
                 let sr = self.right_shock_speed();
-                if xi >= sr {
-                    st(r.rho, r.u, r.p)
-                } else {
-                    st(rr, us, ps)
-                }
+                if xi >= sr { st(r.rho, r.u, r.p) } else { st(rr, us, ps) }
             } else {
                 let shr = r.u + cr;
                 let cs = cr * (ps / r.p).powf((g - 1.0) / (2.0 * g));

@@ -58,9 +58,8 @@ pub fn wall_force(
     match b {
         Backend::Fortran => legacy::wall_force(dim, x, segs, spacing, r0, dcoef, n1, n2, dvdt),
         Backend::Rust => {
-            let frames: Vec<_> = (0..segs.len())
-                .map(|s| frame(dim, &segs.seg[3 * dim * s..3 * dim * (s + 1)]))
-                .collect();
+            let frames: Vec<_> =
+                (0..segs.len()).map(|s| frame(dim, &segs.seg[3 * dim * s..3 * dim * (s + 1)])).collect();
             dvdt.par_chunks_mut(dim).enumerate().for_each(|(i, acc)| {
                 acc.iter_mut().for_each(|v| *v = 0.0);
                 for (s, (t, el, _)) in frames.iter().enumerate() {
@@ -74,11 +73,7 @@ pub fn wall_force(
                     let (klo, khi) = if *el > 0.0 {
                         let klo = (((tp - r0) / ds).ceil() as i64).max(0);
                         let khi = ((tp + r0) / ds).floor() as i64;
-                        let khi = if segs.endnode[s] != 0 {
-                            khi.min(nk)
-                        } else {
-                            khi.min(nk - 1)
-                        };
+                        let khi = if segs.endnode[s] != 0 { khi.min(nk) } else { khi.min(nk - 1) };
                         (klo, khi)
                     } else {
                         (0, 0)

@@ -9,9 +9,7 @@
 //! one machine, but allowed a few ULP (see docs/migration.md).
 
 use super::Backend;
-use crate::legacy::{
-    self, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER,
-};
+use crate::legacy::{self, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
 use rayon::prelude::*;
 
 const RHO0: usize = 0;
@@ -46,8 +44,7 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         p *= lam;
     } else if itype == SPH_EOS_WATER as i32 {
         let mu = rho / rho0 - 1.0;
-        let (wa1, wa2, wa3, wb0, wb1) =
-            (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
+        let (wa1, wa2, wa3, wb0, wb1) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
         let dpdr;
         if mu > 0.0 {
             p = wa1 * mu + wa2 * mu * mu + wa3 * mu * mu * mu + (wb0 + wb1 * mu) * rho0 * e;
@@ -68,10 +65,7 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         let c0 = a0 * (2.0 * (s - 1.0) + 3.0 * (s - 1.0) * (s - 1.0));
         let mu = rho / rho0 - 1.0;
         let (ph, dph) = if mu > 0.0 {
-            (
-                a0 * mu + b0 * mu * mu + c0 * mu * mu * mu,
-                a0 + 2.0 * b0 * mu + 3.0 * c0 * mu * mu,
-            )
+            (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu, a0 + 2.0 * b0 * mu + 3.0 * c0 * mu * mu)
         } else {
             (a0 * mu, a0)
         };
@@ -106,23 +100,13 @@ pub fn eval(
         Backend::Fortran => legacy::eos_eval(mt, mat, burn, rho, e, p, c),
         Backend::Rust => {
             let n = mat.len();
-            p[..n]
-                .par_iter_mut()
-                .zip(c[..n].par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (pi, ci))| {
-                    let m = mat[i] as usize;
-                    let lam = if burn.is_empty() { 1.0 } else { burn[i] };
-                    let (pp, cc) = point(
-                        mt.mtype[m],
-                        &mt.mpar[NPAR * m..NPAR * (m + 1)],
-                        rho[i],
-                        e[i],
-                        lam,
-                    );
-                    *pi = pp;
-                    *ci = cc;
-                });
+            p[..n].par_iter_mut().zip(c[..n].par_iter_mut()).enumerate().for_each(|(i, (pi, ci))| {
+                let m = mat[i] as usize;
+                let lam = if burn.is_empty() { 1.0 } else { burn[i] };
+                let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
+                *pi = pp;
+                *ci = cc;
+            });
         }
     }
 }

@@ -25,9 +25,7 @@ pub fn internal(
     dedt: &mut [f64],
 ) {
     match b {
-        Backend::Fortran => {
-            legacy::force_internal(dim, &pl.i, &pl.j, dwdx, mass, rho, p, v, tau, dvdt, dedt)
-        }
+        Backend::Fortran => legacy::force_internal(dim, &pl.i, &pl.j, dwdx, mass, rho, p, v, tau, dvdt, dedt),
         Backend::Rust => {
             let nt = mass.len();
             let strength = !tau.is_empty();
@@ -70,8 +68,7 @@ pub fn internal(
                             for be in 0..dim {
                                 let q = IV[al][be];
                                 let s = if al == be {
-                                    (tau[q + NSTR * i] - p[i]) / ri2
-                                        + (tau[q + NSTR * j] - p[j]) / rj2
+                                    (tau[q + NSTR * i] - p[i]) / ri2 + (tau[q + NSTR * j] - p[j]) / rj2
                                 } else {
                                     tau[q + NSTR * i] / ri2 + tau[q + NSTR * j] / rj2
                                 };

@@ -26,20 +26,17 @@ pub fn sum_rates(
 ) {
     match b {
         Backend::Fortran => legacy::sum_rates(dim, n, lda, nterm, acc, grav, out),
-        Backend::Rust => out[..dim * n]
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(l, o)| {
-                let d = l % dim;
-                let mut s = 0.0;
-                if nterm > 0 {
-                    s = acc[l];
-                }
-                for t in 1..nterm {
-                    s += acc[l + lda * t];
-                }
-                *o = s + grav[d];
-            }),
+        Backend::Rust => out[..dim * n].par_iter_mut().enumerate().for_each(|(l, o)| {
+            let d = l % dim;
+            let mut s = 0.0;
+            if nterm > 0 {
+                s = acc[l];
+            }
+            for t in 1..nterm {
+                s += acc[l + lda * t];
+            }
+            *o = s + grav[d];
+        }),
     }
 }
 
@@ -49,28 +46,16 @@ pub fn predict(b: Backend, dim: usize, n: usize, dt_prev: f64, cont: bool, s: Le
         Backend::Rust => {
             let half = 0.5 * dt_prev;
             s.e_min[..n].copy_from_slice(&s.e[..n]);
-            s.e[..n]
-                .par_iter_mut()
-                .zip(r.de[..n].par_iter())
-                .for_each(|(e, de)| *e += half * de);
+            s.e[..n].par_iter_mut().zip(r.de[..n].par_iter()).for_each(|(e, de)| *e += half * de);
             if cont {
                 s.rho_min[..n].copy_from_slice(&s.rho[..n]);
-                s.rho[..n]
-                    .par_iter_mut()
-                    .zip(r.drho[..n].par_iter())
-                    .for_each(|(u, du)| *u += half * du);
+                s.rho[..n].par_iter_mut().zip(r.drho[..n].par_iter()).for_each(|(u, du)| *u += half * du);
             }
             s.v_min[..dim * n].copy_from_slice(&s.v[..dim * n]);
-            s.v[..dim * n]
-                .par_iter_mut()
-                .zip(r.dv[..dim * n].par_iter())
-                .for_each(|(u, du)| *u += half * du);
+            s.v[..dim * n].par_iter_mut().zip(r.dv[..dim * n].par_iter()).for_each(|(u, du)| *u += half * du);
             if !s.tau.is_empty() {
                 s.tau_min[..NSTR * n].copy_from_slice(&s.tau[..NSTR * n]);
-                s.tau[..NSTR * n]
-                    .par_iter_mut()
-                    .zip(r.dtau[..NSTR * n].par_iter())
-                    .for_each(|(u, du)| *u += half * du);
+                s.tau[..NSTR * n].par_iter_mut().zip(r.dtau[..NSTR * n].par_iter()).for_each(|(u, du)| *u += half * du);
             }
         }
     }
@@ -91,52 +76,27 @@ pub fn advance(
     x: &mut [f64],
 ) {
     match b {
-        Backend::Fortran => {
-            legacy::integrator_advance(dim, n, first, dt_prev, dt, cont, s, r, av, x)
-        }
+        Backend::Fortran => legacy::integrator_advance(dim, n, first, dt_prev, dt, cont, s, r, av, x),
         Backend::Rust => {
             fn upd(u: &mut [f64], umin: &[f64], du: &[f64], first: bool, sc: f64) {
                 if first {
-                    u.par_iter_mut()
-                        .zip(du.par_iter())
-                        .for_each(|(u, du)| *u += sc * du);
+                    u.par_iter_mut().zip(du.par_iter()).for_each(|(u, du)| *u += sc * du);
                 } else {
-                    u.par_iter_mut()
-                        .zip(umin.par_iter().zip(du.par_iter()))
-                        .for_each(|(u, (m, du))| *u = m + sc * du);
+                    u.par_iter_mut().zip(umin.par_iter().zip(du.par_iter())).for_each(|(u, (m, du))| *u = m + sc * du);
                 }
             }
-            let sc = if first {
-                0.5 * dt
-            } else {
-                0.5 * (dt_prev + dt)
-            };
+            let sc = if first { 0.5 * dt } else { 0.5 * (dt_prev + dt) };
             upd(&mut s.e[..n], &s.e_min[..n], &r.de[..n], first, sc);
             if cont {
                 upd(&mut s.rho[..n], &s.rho_min[..n], &r.drho[..n], first, sc);
             }
-            upd(
-                &mut s.v[..dim * n],
-                &s.v_min[..dim * n],
-                &r.dv[..dim * n],
-                first,
-                sc,
-            );
+            upd(&mut s.v[..dim * n], &s.v_min[..dim * n], &r.dv[..dim * n], first, sc);
             if !s.tau.is_empty() {
-                upd(
-                    &mut s.tau[..NSTR * n],
-                    &s.tau_min[..NSTR * n],
-                    &r.dtau[..NSTR * n],
-                    first,
-                    sc,
-                );
+                upd(&mut s.tau[..NSTR * n], &s.tau_min[..NSTR * n], &r.dtau[..NSTR * n], first, sc);
             }
             let v: &[f64] = s.v;
             if av.is_empty() {
-                x[..dim * n]
-                    .par_iter_mut()
-                    .zip(v[..dim * n].par_iter())
-                    .for_each(|(x, v)| *x += dt * v);
+                x[..dim * n].par_iter_mut().zip(v[..dim * n].par_iter()).for_each(|(x, v)| *x += dt * v);
             } else {
                 x[..dim * n]
                     .par_iter_mut()

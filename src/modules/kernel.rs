@@ -121,22 +121,18 @@ pub fn pairs(
         Backend::Fortran => legacy::kernel_pairs(dim, kind.skf(), &pl.i, &pl.j, x, h, w, dwdx),
         Backend::Rust => {
             let np = pl.len();
-            w[..np]
-                .par_iter_mut()
-                .zip(dwdx[..dim * np].par_chunks_mut(dim))
-                .enumerate()
-                .for_each(|(k, (wk, g))| {
-                    let i = pl.i[k] as usize;
-                    let j = pl.j[k] as usize;
-                    let mut dx = [0.0; 3];
-                    let mut r2 = 0.0;
-                    for d in 0..dim {
-                        dx[d] = x[d + dim * i] - x[d + dim * j];
-                        r2 += dx[d] * dx[d];
-                    }
-                    let hij = 0.5 * (h[i] + h[j]);
-                    *wk = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
-                });
+            w[..np].par_iter_mut().zip(dwdx[..dim * np].par_chunks_mut(dim)).enumerate().for_each(|(k, (wk, g))| {
+                let i = pl.i[k] as usize;
+                let j = pl.j[k] as usize;
+                let mut dx = [0.0; 3];
+                let mut r2 = 0.0;
+                for d in 0..dim {
+                    dx[d] = x[d + dim * i] - x[d + dim * j];
+                    r2 += dx[d] * dx[d];
+                }
+                let hij = 0.5 * (h[i] + h[j]);
+                *wk = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
+            });
         }
     }
 }
@@ -147,13 +143,10 @@ pub fn self_w(b: Backend, dim: usize, kind: KernelKind, h: &[f64], w0: &mut [f64
         Backend::Fortran => legacy::kernel_self(dim, kind.skf(), h, w0),
         Backend::Rust => {
             let dx = [0.0; 3];
-            w0[..h.len()]
-                .par_iter_mut()
-                .zip(h.par_iter())
-                .for_each(|(w, &hi)| {
-                    let mut g = [0.0; 3];
-                    *w = w_dw(dim, kind, 0.0, &dx[..dim], hi, &mut g[..dim]);
-                });
+            w0[..h.len()].par_iter_mut().zip(h.par_iter()).for_each(|(w, &hi)| {
+                let mut g = [0.0; 3];
+                *w = w_dw(dim, kind, 0.0, &dx[..dim], hi, &mut g[..dim]);
+            });
         }
     }
 }

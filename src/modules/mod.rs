@@ -110,11 +110,7 @@ impl Module {
     }
 
     pub fn names() -> String {
-        Module::ALL
-            .iter()
-            .map(|m| m.name())
-            .collect::<Vec<_>>()
-            .join(", ")
+        Module::ALL.iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
     }
 
     /// What the module computes, for `blastsph check`.
@@ -167,7 +163,5 @@ where
     if width == 0 {
         return;
     }
-    out.par_chunks_mut(width)
-        .enumerate()
-        .for_each(|(a, row)| f(a, row));
+    out.par_chunks_mut(width).enumerate().for_each(|(a, row)| f(a, row));
 }

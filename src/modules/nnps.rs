@@ -61,16 +61,7 @@ impl PairList {
 }
 
 /// Finds the pairs. `x`, `h` hold `ntotal = h.len()` particles, the first `nreal` real.
-pub fn search(
-    b: Backend,
-    cell: bool,
-    dim: usize,
-    nreal: usize,
-    x: &[f64],
-    h: &[f64],
-    kappa: f64,
-    pl: &mut PairList,
-) {
+pub fn search(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     match b {
         Backend::Fortran => {
             let mut cap = pl.i.capacity().max(16 * h.len()).max(16);
@@ -111,12 +102,7 @@ fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &
     let nt = h.len();
     let rows: Vec<Vec<i32>> = (0..nreal)
         .into_par_iter()
-        .map(|i| {
-            ((i + 1)..nt)
-                .filter(|&j| within(dim, x, h, kappa, i, j))
-                .map(|j| j as i32)
-                .collect()
-        })
+        .map(|i| ((i + 1)..nt).filter(|&j| within(dim, x, h, kappa, i, j)).map(|j| j as i32).collect())
         .collect();
     fill(pl, &rows);
 }
@@ -198,15 +184,7 @@ impl CellGrid {
             order[fillp[c] as usize] = i as u32;
             fillp[c] += 1;
         }
-        CellGrid {
-            dim,
-            nc,
-            lo,
-            cs,
-            start,
-            order,
-            cell_of,
-        }
+        CellGrid { dim, nc, lo, cs, start, order, cell_of }
     }
 
     /// Calls `f(j)` for every particle in the 3^dim cells around particle `i`'s cell.

@@ -31,9 +31,7 @@ pub fn force(
     dvdt: &mut [f64],
 ) {
     match b {
-        Backend::Fortran => {
-            legacy::penalty_force(dim, &pl.i, &pl.j, x, h, mass, mat, mt, pbar, n1, n2, dvdt)
-        }
+        Backend::Fortran => legacy::penalty_force(dim, &pl.i, &pl.j, x, h, mass, mat, mt, pbar, n1, n2, dvdt),
         Backend::Rust => {
             let nt = mass.len();
             par_rows(&mut dvdt[..dim * nt], dim, |a, acc| {

@@ -34,10 +34,7 @@ pub fn advance(b: Backend, dt: f64, theta: f64, dhdt: &[f64], h: &mut [f64]) {
         Backend::Fortran => legacy::smoothing_advance(dt, theta, dhdt, h),
         Backend::Rust => {
             let n = dhdt.len();
-            h[..n]
-                .par_iter_mut()
-                .zip(dhdt.par_iter())
-                .for_each(|(hi, d)| *hi += theta * dt * d);
+            h[..n].par_iter_mut().zip(dhdt.par_iter()).for_each(|(hi, d)| *hi += theta * dt * d);
         }
     }
 }

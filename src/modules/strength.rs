@@ -40,17 +40,13 @@ pub fn rates(
 ) {
     match b {
         Backend::Fortran => legacy::strength_rates(
-            dim, nreal, &pl.i, &pl.j, dwdx, mass, rho, v, mat, mt, tau, out.eps, out.rot, out.dtau,
-            out.dedt,
+            dim, nreal, &pl.i, &pl.j, dwdx, mass, rho, v, mat, mt, tau, out.eps, out.rot, out.dtau, out.dedt,
         ),
         Backend::Rust => {
             let nt = mass.len();
             let shear = (SPH_MP_SHEAR - 1) as usize;
-            out.eps[..NSTR * nt]
-                .par_chunks_mut(NSTR)
-                .zip(out.rot[..3 * nt].par_chunks_mut(3))
-                .enumerate()
-                .for_each(|(a, (eps, rot))| {
+            out.eps[..NSTR * nt].par_chunks_mut(NSTR).zip(out.rot[..3 * nt].par_chunks_mut(3)).enumerate().for_each(
+                |(a, (eps, rot))| {
                     let mut gl = [[0.0f64; 3]; 3];
                     for &k in pl.incident(a) {
                         let k = k as usize;
@@ -73,18 +69,14 @@ pub fn rates(
                             r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
                         }
                     }
-                    eps.copy_from_slice(&[
-                        e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2],
-                    ]);
+                    eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
                     rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);
-                });
+                },
+            );
             let eps: &[f64] = out.eps;
             let rot: &[f64] = out.rot;
-            out.dtau[..NSTR * nreal]
-                .par_chunks_mut(NSTR)
-                .zip(out.dedt[..nreal].par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (dt, de))| {
+            out.dtau[..NSTR * nreal].par_chunks_mut(NSTR).zip(out.dedt[..nreal].par_iter_mut()).enumerate().for_each(
+                |(i, (dt, de))| {
                     let m = mat[i] as usize;
                     let g = mt.mpar[shear + NPAR * m];
                     dt.iter_mut().for_each(|x| *x = 0.0);
@@ -123,7 +115,8 @@ pub fn rates(
                         }
                     }
                     *de = s / rho[i];
-                });
+                },
+            );
         }
     }
 }
@@ -137,30 +130,24 @@ pub fn yield_return(b: Backend, mat: &[i32], mt: &MatTable, p: &[f64], tau: &mut
             let shear = (SPH_MP_SHEAR - 1) as usize;
             let aphi = (SPH_MP_ALPHA_PHI - 1) as usize;
             let coh = (SPH_MP_COHESION - 1) as usize;
-            tau[..NSTR * n]
-                .par_chunks_mut(NSTR)
-                .enumerate()
-                .for_each(|(i, t)| {
-                    let m = mat[i] as usize;
-                    let par = &mt.mpar[NPAR * m..NPAR * (m + 1)];
-                    if par[shear] <= 0.0 {
-                        return;
+            tau[..NSTR * n].par_chunks_mut(NSTR).enumerate().for_each(|(i, t)| {
+                let m = mat[i] as usize;
+                let par = &mt.mpar[NPAR * m..NPAR * (m + 1)];
+                if par[shear] <= 0.0 {
+                    return;
+                }
+                let j2 = 0.5 * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) + t[3] * t[3] + t[4] * t[4] + t[5] * t[5];
+                let y = 3.0 * par[aphi] * p[i] + par[coh];
+                if y <= 0.0 {
+                    t.iter_mut().for_each(|x| *x = 0.0);
+                } else {
+                    let sj = j2.sqrt();
+                    if sj > y {
+                        let f = y / sj;
+                        t.iter_mut().for_each(|x| *x *= f);
                     }
-                    let j2 = 0.5 * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
-                        + t[3] * t[3]
-                        + t[4] * t[4]
-                        + t[5] * t[5];
-                    let y = 3.0 * par[aphi] * p[i] + par[coh];
-                    if y <= 0.0 {
-                        t.iter_mut().for_each(|x| *x = 0.0);
-                    } else {
-                        let sj = j2.sqrt();
-                        if sj > y {
-                            let f = y / sj;
-                            t.iter_mut().for_each(|x| *x *= f);
-                        }
-                    }
-                });
+                }
+            });
         }
     }
 }

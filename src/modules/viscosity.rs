@@ -64,9 +64,9 @@ pub fn monaghan(
     dedt: &mut [f64],
 ) {
     match b {
-        Backend::Fortran => legacy::viscosity_monaghan(
-            dim, &pl.i, &pl.j, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt,
-        ),
+        Backend::Fortran => {
+            legacy::viscosity_monaghan(dim, &pl.i, &pl.j, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt)
+        }
         Backend::Rust => {
             let nt = mass.len();
             par_rows(&mut dedt[..nt], 1, |a, out| {
@@ -74,18 +74,7 @@ pub fn monaghan(
                 for &k in pl.incident(a) {
                     let k = k as usize;
                     let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    if let Some((piv, vd)) = pair_pi(
-                        dim,
-                        i,
-                        j,
-                        &dwdx[dim * k..dim * k + dim],
-                        x,
-                        v,
-                        h,
-                        rho,
-                        c,
-                        coef,
-                    ) {
+                    if let Some((piv, vd)) = pair_pi(dim, i, j, &dwdx[dim * k..dim * k + dim], x, v, h, rho, c, coef) {
                         let other = if a == i { j } else { i };
                         de += mass[other] * (0.5 * piv * vd);
                     }
