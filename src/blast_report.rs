@@ -48,7 +48,10 @@ pub fn crater_history(case: &Case, frames: &[Frame], dx: f64) -> Vec<(f64, Crate
         .collect()
 }
 
-fn read_gauges(path: &Path) -> Result<(Vec<String>, Vec<Vec<(f64, f64)>>)> {
+/// Gauge names and their (time s, pressure Pa) records.
+type GaugeRecords = (Vec<String>, Vec<Vec<(f64, f64)>>);
+
+fn read_gauges(path: &Path) -> Result<GaugeRecords> {
     let text = std::fs::read_to_string(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     let mut lines = text.lines();
     let head: Vec<String> =

@@ -537,7 +537,7 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
 }
 
 fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::SphError {
-    let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+    let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
     let msg = e.message().replace('\n', " ");
     match line {
         Some(l) => input(format!("{origin}:{l}: {msg}")),

@@ -50,6 +50,30 @@ fn chk(name: &str, len: usize, need: usize) {
     assert!(len >= need, "legacy call: array `{name}` has {len} values, the routine needs {need}");
 }
 
+/// Every index in `idx` must lie in `0..bound` (the Fortran dereferences them).
+fn chk_idx(name: &str, idx: &[i32], bound: usize) {
+    let (lo, hi) = idx.iter().fold((i32::MAX, i32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(
+        idx.is_empty() || (lo >= 0 && (hi as usize) < bound),
+        "legacy call: `{name}` holds an index outside 0..{bound} (range {lo}..={hi})"
+    );
+}
+
+/// A pair list over `nt` particles.
+fn chk_pairs(pi: &[i32], pj: &[i32], nt: usize) {
+    assert_eq!(pi.len(), pj.len(), "legacy call: pair_i and pair_j differ in length");
+    chk_idx("pair_i", pi, nt);
+    chk_idx("pair_j", pj, nt);
+}
+
+/// A material table and the materials of `mat`.
+fn chk_mat(mt: &MatTable, mat: &[i32]) {
+    let nm = mt.nmat();
+    chk("mpar", mt.mpar.len(), NPAR * nm);
+    chk("group", mt.group.len(), nm);
+    chk_idx("mat", mat, nm);
+}
+
 /// A pointer to a slice for an argument declared `max(k,1)` long: a dummy when empty.
 fn ptr_or_dummy(s: &[f64], dummy: &f64) -> *const f64 {
     if s.is_empty() { dummy } else { s.as_ptr() }
@@ -75,6 +99,8 @@ pub fn kernel_pairs(
     chk("x", x.len(), dim * nt);
     chk("w", w.len(), np);
     chk("dwdx", dwdx.len(), dim * np);
+    chk("h", h.len(), nt);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_kernel_pairs(
             n32(dim),
@@ -161,6 +187,7 @@ pub fn density_sum(pi: &[i32], pj: &[i32], w: &[f64], w0: &[f64], mass: &[f64], 
     chk("w0", w0.len(), nt);
     chk("rho", rho.len(), nt);
     chk("w", w.len(), pi.len());
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_density_sum(
             n32(nt),
@@ -180,6 +207,7 @@ pub fn density_rate(dim: usize, pi: &[i32], pj: &[i32], dwdx: &[f64], mass: &[f6
     chk("dwdx", dwdx.len(), dim * pi.len());
     chk("v", v.len(), dim * nt);
     chk("drho", drho.len(), nt);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_density_rate(
             n32(dim),
@@ -210,6 +238,7 @@ pub fn density_rate_vol(
     chk("rho", rho.len(), nt);
     chk("v", v.len(), dim * nt);
     chk("drho", drho.len(), nt);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_density_rate_vol(
             n32(dim),
@@ -233,6 +262,7 @@ pub fn eos_eval(mt: &MatTable, mat: &[i32], burn: &[f64], rho: &[f64], e: &[f64]
     }
     let nburn = if burn.is_empty() { 0 } else { n };
     chk("burn", burn.len(), nburn);
+    chk_mat(mt, mat);
     let dummy = 1.0;
     unsafe {
         ffi::sph_eos_eval(
@@ -269,6 +299,9 @@ pub fn force_internal(
     chk("v", v.len(), dim * nt);
     chk("dvdt", dvdt.len(), dim * nt);
     chk("dedt", dedt.len(), nt);
+    chk("rho", rho.len(), nt);
+    chk("p", p.len(), nt);
+    chk_pairs(pi, pj, nt);
     let ntau = if tau.is_empty() { 0 } else { nt };
     chk("tau", tau.len(), NSTR * ntau);
     let dummy = 0.0;
@@ -311,6 +344,12 @@ pub fn viscosity_monaghan(
     chk("x", x.len(), dim * nt);
     chk("dvdt", dvdt.len(), dim * nt);
     chk("dedt", dedt.len(), nt);
+    chk("dwdx", dwdx.len(), dim * pi.len());
+    chk("v", v.len(), dim * nt);
+    for (name, l) in [("h", h.len()), ("rho", rho.len()), ("c", c.len())] {
+        chk(name, l, nt);
+    }
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_viscosity_monaghan(
             n32(dim),
@@ -357,6 +396,13 @@ pub fn strength_rates(
     chk("rot", rot.len(), 3 * nt);
     chk("dtau", dtau.len(), NSTR * nreal);
     chk("dedt", dedt.len(), nreal);
+    assert!(nreal <= nt, "legacy call: nreal exceeds ntotal");
+    chk("dwdx", dwdx.len(), dim * pi.len());
+    chk("rho", rho.len(), nt);
+    chk("v", v.len(), dim * nt);
+    chk("mat", mat.len(), nt);
+    chk_mat(mt, &mat[..nt]);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_strength_rates(
             n32(dim),
@@ -385,6 +431,7 @@ pub fn strength_yield(mat: &[i32], mt: &MatTable, p: &[f64], tau: &mut [f64]) {
     let n = mat.len();
     chk("p", p.len(), n);
     chk("tau", tau.len(), NSTR * n);
+    chk_mat(mt, mat);
     unsafe {
         ffi::sph_strength_yield(n32(n), mat.as_ptr(), n32(mt.nmat()), mt.mpar.as_ptr(), p.as_ptr(), tau.as_mut_ptr())
     }
@@ -407,6 +454,10 @@ pub fn penalty_force(
     let nt = mass.len();
     chk("x", x.len(), dim * nt);
     chk("dvdt", dvdt.len(), dim * nt);
+    chk("h", h.len(), nt);
+    chk("mat", mat.len(), nt);
+    chk_mat(mt, &mat[..nt]);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_penalty_force(
             n32(dim),
@@ -491,6 +542,7 @@ pub fn mirror_make(
 ) -> usize {
     let n = h.len();
     chk("x", x.len(), dim * n);
+    chk("seg", segs.seg.len(), 3 * dim * segs.len());
     let maxg = gsrc.len().min(gseg.len() / 2);
     let mut ng = 0i32;
     let mut d1 = [0i32; 2];
@@ -532,6 +584,12 @@ pub fn mirror_fill(dim: usize, n: usize, gsrc: &[i32], gseg: &[i32], segs: &Segm
     let ng = gsrc.len();
     let nt = n + ng;
     chk("gseg", gseg.len(), 2 * ng);
+    chk("seg", segs.seg.len(), 3 * dim * segs.len());
+    chk_idx("gsrc", gsrc, n);
+    assert!(
+        gseg[..2 * ng].iter().all(|&s| s >= -1 && s < segs.len() as i32) && gseg[..2 * ng].chunks(2).all(|c| c[0] >= 0),
+        "legacy call: `gseg` names a wall that does not exist"
+    );
     chk("x", a.x.len(), dim * nt);
     chk("v", a.v.len(), dim * nt);
     for (name, l) in [
@@ -577,6 +635,7 @@ pub fn mirror_fill(dim: usize, n: usize, gsrc: &[i32], gseg: &[i32], segs: &Segm
 pub fn mirror_copy(n: usize, gsrc: &[i32], f: &mut [f64]) {
     let nt = n + gsrc.len();
     chk("f", f.len(), nt);
+    chk_idx("gsrc", gsrc, n);
     unsafe { ffi::sph_boundary_mirror_copy(n32(nt), n32(n), n32(gsrc.len()), gsrc.as_ptr(), f.as_mut_ptr()) }
 }
 
@@ -616,6 +675,9 @@ pub fn xsph_average(
     let nt = mass.len();
     chk("v", v.len(), dim * nt);
     chk("av", av.len(), dim * nt);
+    chk("w", w.len(), pi.len());
+    chk("rho", rho.len(), nt);
+    chk_pairs(pi, pj, nt);
     unsafe {
         ffi::sph_xsph_average(
             n32(dim),
@@ -638,6 +700,7 @@ pub fn detonation_light(dim: usize, x: &[f64], mat: &[i32], mt: &MatTable, xdet:
     chk("x", x.len(), dim * n);
     chk("xdet", xdet.len(), dim);
     chk("tlight", tlight.len(), n);
+    chk_mat(mt, mat);
     unsafe {
         ffi::sph_detonation_light(
             n32(dim),
@@ -658,6 +721,7 @@ pub fn detonation_burn(t: f64, mat: &[i32], mt: &MatTable, tlight: &[f64], h: &[
     chk("tlight", tlight.len(), n);
     chk("h", h.len(), n);
     chk("burn", burn.len(), n);
+    chk_mat(mt, mat);
     unsafe {
         ffi::sph_detonation_burn(
             n32(n),

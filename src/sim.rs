@@ -443,8 +443,21 @@ impl Sim {
 
     /// Turns on the dual run: every module call runs both implementations.
     pub fn enable_dual(&mut self, cmp: Comparator) {
+        use crate::dual::Field as F;
         self.cmp = Some(cmp);
         self.need_incidence = true;
+        // the set-up calls of Sim::new, run again so that they are compared too
+        let (dim, n) = (self.cfg.dim, self.p.nreal);
+        if self.plan.is_active(Module::Detonation) {
+            self.exec(Module::Detonation, &[F::Tlight, F::Burn], |b, p, _, c| {
+                md::detonation::light(b, dim, &p.x[..dim * n], &p.mat[..n], &c.mt, &c.det_point, &mut p.tlight);
+                md::detonation::burn(b, 0.0, &p.mat[..n], &c.mt, &p.tlight, &p.h[..n], c.det_width, &mut p.burn);
+            });
+        }
+        self.exec(Module::Eos, &[F::P, F::C], |b, p, _, c| {
+            let (pp, cc) = (&mut p.p, &mut p.c);
+            md::eos::eval(b, &c.mt, &p.mat[..n], &p.burn, &p.rho[..n], &p.e[..n], &mut pp[..n], &mut cc[..n]);
+        });
     }
 
     /// Runs module `m` through `f`. In a dual run, `f` runs twice (Rust, then Fortran on the same

@@ -52,12 +52,11 @@ fn drucker_prager_radial_return() {
     assert_eq!(&tau[3 * NSTR..], &before[3 * NSTR..], "a material without strength is left alone");
 }
 
+/// Positions, velocities, h, rho and masses of a lattice.
+type Lattice = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// A 2D lattice of particles (spacing dx, h = dx) with velocity v(x) = f(x).
-fn lattice(
-    nside: usize,
-    dx: f64,
-    vel: impl Fn(f64, f64) -> (f64, f64),
-) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+fn lattice(nside: usize, dx: f64, vel: impl Fn(f64, f64) -> (f64, f64)) -> Lattice {
     let n = nside * nside;
     let mut x = Vec::with_capacity(2 * n);
     let mut v = Vec::with_capacity(2 * n);
@@ -109,8 +108,8 @@ fn jaumann_rate_is_objective_under_rigid_rotation() {
     let e = &eps[NSTR * c..NSTR * c + NSTR];
     let r = rot[3 * c];
     // a rigid rotation strains nothing (the lattice sum is symmetric, so exactly zero up to rounding)
-    for q in 0..NSTR {
-        assert!(e[q].abs() < 1e-9 * omega, "strain rate {q} = {} under rigid rotation", e[q]);
+    for (q, eq) in e.iter().enumerate() {
+        assert!(eq.abs() < 1e-9 * omega, "strain rate {q} = {eq} under rigid rotation");
     }
     // R_xy = (dvx/dy - dvy/dx)/2 = -omega, up to the lattice sum of the kernel gradient
     assert!((r + omega).abs() < 0.05 * omega, "R_xy = {r}, expected about -{omega}");

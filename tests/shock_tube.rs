@@ -14,27 +14,12 @@ use blastsph::modules::{Backend, Module};
 use common::{TubeRun, refine_sets, run_tube};
 
 fn book_problem() -> Riemann {
-    Riemann::solve(
-        Side {
-            rho: 1.0,
-            u: 0.0,
-            p: 1.0,
-        },
-        Side {
-            rho: 0.25,
-            u: 0.0,
-            p: 0.1795,
-        },
-        1.4,
-    )
-    .expect("the book's Riemann problem has a solution")
+    Riemann::solve(Side { rho: 1.0, u: 0.0, p: 1.0 }, Side { rho: 0.25, u: 0.0, p: 0.1795 }, 1.4)
+        .expect("the book's Riemann problem has a solution")
 }
 
 fn close(what: &str, got: f64, want: f64, tol: f64) {
-    assert!(
-        (got - want).abs() <= tol,
-        "{what} = {got:.7}, REFERENCES.md gives {want} (tolerance {tol:e})"
-    );
+    assert!((got - want).abs() <= tol, "{what} = {got:.7}, REFERENCES.md gives {want} (tolerance {tol:e})");
 }
 
 #[test]
@@ -55,12 +40,7 @@ fn exact_solver_reproduces_the_book_problem() {
     close("shock position", rs.right_shock_speed() * t, 0.2970, 1e-4);
     close("contact position", rs.u_star * t, 0.1346, 1e-4);
     close("rarefaction head", -cl * t, -0.2366, 1e-4);
-    close(
-        "rarefaction tail",
-        (rs.u_star - c_star_l) * t,
-        -0.0751,
-        1e-4,
-    );
+    close("rarefaction tail", (rs.u_star - c_star_l) * t, -0.0751, 1e-4);
 
     // the sampled solution has those waves where they should be
     let at = |x: f64| rs.sample(x / t);
@@ -82,35 +62,17 @@ fn exact_solver_reproduces_the_book_problem() {
         let s = at(x);
         assert!(s.rho < 1.0 && s.rho > rl, "fan at x = {x}: rho = {}", s.rho);
         let entropy = s.p / s.rho.powf(1.4);
-        assert!(
-            (entropy - 1.0).abs() < 1e-12,
-            "fan at x = {x}: p/rho^gamma = {entropy}"
-        );
+        assert!((entropy - 1.0).abs() < 1e-12, "fan at x = {x}: p/rho^gamma = {entropy}");
         let c = (1.4 * s.p / s.rho).sqrt();
-        assert!(
-            (s.u + 2.0 * c / 0.4 - 2.0 * cl / 0.4).abs() < 1e-12,
-            "Riemann invariant"
-        );
+        assert!((s.u + 2.0 * c / 0.4 - 2.0 * cl / 0.4).abs() < 1e-12, "Riemann invariant");
         assert!((s.e - s.p / (0.4 * s.rho)).abs() < 1e-14);
     }
 }
 
 #[test]
 fn exact_solver_reproduces_sod() {
-    let rs = Riemann::solve(
-        Side {
-            rho: 1.0,
-            u: 0.0,
-            p: 1.0,
-        },
-        Side {
-            rho: 0.125,
-            u: 0.0,
-            p: 0.1,
-        },
-        1.4,
-    )
-    .expect("Sod's problem has a solution");
+    let rs = Riemann::solve(Side { rho: 1.0, u: 0.0, p: 1.0 }, Side { rho: 0.125, u: 0.0, p: 0.1 }, 1.4)
+        .expect("Sod's problem has a solution");
     close("Sod p*", rs.p_star, 0.303130, 1e-5);
     close("Sod u*", rs.u_star, 0.927453, 1e-5);
     // pressure and velocity are continuous across the contact: the star state satisfies both
@@ -126,11 +88,7 @@ fn exact_solver_reproduces_sod() {
 #[test]
 fn exact_solver_refuses_vacuum() {
     // two gases flying apart faster than 2(c_L + c_R)/(γ−1) = 10c: no star state
-    let side = |u| Side {
-        rho: 1.0,
-        u,
-        p: 1.0,
-    };
+    let side = |u| Side { rho: 1.0, u, p: 1.0 };
     let c = 1.4_f64.sqrt();
     assert!(Riemann::solve(side(-5.5 * c), side(5.5 * c), 1.4).is_none());
     // and a symmetric collision gives u* = 0
@@ -157,30 +115,18 @@ fn check_book_run(run: &TubeRun) {
         }
     }
     assert_eq!(s["particles"], 400);
-    assert_eq!(
-        s["steps"], 40,
-        "fixed dt = 0.005 s to t = 0.2 s is 40 steps"
-    );
+    assert_eq!(s["steps"], 40, "fixed dt = 0.005 s to t = 0.2 s is 40 steps");
     let t = s["time"].as_f64().unwrap();
     assert!((t - 0.2).abs() < 1e-12, "end time {t}");
-    assert!(
-        (run.last().time - t).abs() < 1e-15,
-        "the last output is at the end time"
-    );
+    assert!((run.last().time - t).abs() < 1e-15, "the last output is at the end time");
 
     // mass: Σ m_i is conserved to round-off, in summary.json and in the last output
     let m0 = s["mass"]["initial"].as_f64().unwrap();
     let m1 = s["mass"]["final"].as_f64().unwrap();
-    assert!(
-        (m0 - 0.75).abs() < 1e-12,
-        "400 × 0.001875 kg = 0.75 kg, got {m0}"
-    );
+    assert!((m0 - 0.75).abs() < 1e-12, "400 × 0.001875 kg = 0.75 kg, got {m0}");
     assert!((m1 - m0).abs() <= 1e-14 * m0, "mass {m0} -> {m1}");
     let m_frame: f64 = run.last().mass.iter().sum();
-    assert!(
-        (m_frame - m0).abs() <= 1e-14 * m0,
-        "mass in the last output {m_frame}"
-    );
+    assert!((m_frame - m0).abs() <= 1e-14 * m0, "mass in the last output {m_frame}");
 
     // the exact problem the report builds from the case is the book's
     let rs = &run.exact;
@@ -193,11 +139,7 @@ fn check_book_run(run: &TubeRun) {
         l1.n, l1.rho, l1.v, l1.p, l1.e
     );
     assert!(l1.n > 250, "particles in the window: {}", l1.n);
-    assert!(
-        l1.rho < L1_RHO_BOUND,
-        "L1 density error {:.4e} over [-0.4, 0.4] exceeds {L1_RHO_BOUND}",
-        l1.rho
-    );
+    assert!(l1.rho < L1_RHO_BOUND, "L1 density error {:.4e} over [-0.4, 0.4] exceeds {L1_RHO_BOUND}", l1.rho);
     // the other fields, with the same 25 % margin over what was measured (docs/validation.md:
     // v 2.677e−2, p 1.799e−2, e 3.260e−2)
     assert!(l1.v < 0.0335, "L1 velocity error {:.4e}", l1.v);
@@ -207,9 +149,7 @@ fn check_book_run(run: &TubeRun) {
     // plateaus: the SPH star state near the middle of each plateau is within a few % of exact
     let f = run.last();
     let mean = |lo: f64, hi: f64, q: &dyn Fn(usize) -> f64| {
-        let idx: Vec<usize> = (0..f.x.len())
-            .filter(|&i| f.x[i] > lo && f.x[i] < hi)
-            .collect();
+        let idx: Vec<usize> = (0..f.x.len()).filter(|&i| f.x[i] > lo && f.x[i] < hi).collect();
         assert!(idx.len() >= 3, "no particles in [{lo}, {hi}]");
         idx.iter().map(|&i| q(i)).sum::<f64>() / idx.len() as f64
     };
@@ -218,16 +158,10 @@ fn check_book_run(run: &TubeRun) {
     let u_mid = mean(-0.04, 0.25, &|i| f.vx[i]);
     let rl_sph = mean(-0.04, 0.10, &|i| f.rho[i]);
     let rr_sph = mean(0.17, 0.26, &|i| f.rho[i]);
-    for (what, got, want) in [
-        ("p*", p_mid, rs.p_star),
-        ("u*", u_mid, rs.u_star),
-        ("rho*L", rl_sph, rl),
-        ("rho*R", rr_sph, rr),
-    ] {
-        assert!(
-            ((got - want) / want).abs() < 0.03,
-            "SPH {what} = {got:.5}, exact {want:.5}"
-        );
+    for (what, got, want) in
+        [("p*", p_mid, rs.p_star), ("u*", u_mid, rs.u_star), ("rho*L", rl_sph, rl), ("rho*R", rr_sph, rr)]
+    {
+        assert!(((got - want) / want).abs() < 0.03, "SPH {what} = {got:.5}, exact {want:.5}");
     }
     // the shock: where the SPH velocity falls through u*/2 (interpolated between particles)
     // must be the exact shock position 0.2970 m within h/2 = 0.0075 m
@@ -241,10 +175,7 @@ fn check_book_run(run: &TubeRun) {
     let (a, b) = (order[k], order[k + 1]);
     let xs = f.x[a] + (f.x[b] - f.x[a]) * (f.vx[a] - half) / (f.vx[a] - f.vx[b]);
     let exact = rs.right_shock_speed() * f.time;
-    assert!(
-        (xs - exact).abs() < 0.0075,
-        "SPH shock at x = {xs:.4} m, exact {exact:.4} m"
-    );
+    assert!((xs - exact).abs() < 0.0075, "SPH shock at x = {xs:.4} m, exact {exact:.4} m");
 }
 
 #[test]
@@ -271,14 +202,8 @@ fn shock_tube_error_falls_with_resolution() {
     assert_eq!(fine.summary["steps"], 80);
     let (e1, e2) = (coarse.l1(-0.35, 0.35), fine.l1(-0.35, 0.35));
     let order = (e1.rho / e2.rho).log2();
-    println!(
-        "L1 rho over [-0.35, 0.35]: {:.4e} (400), {:.4e} (800), order {order:.2}",
-        e1.rho, e2.rho
-    );
-    assert!(
-        order > 0.8,
-        "observed order {order:.2} of the L1 density error"
-    );
+    println!("L1 rho over [-0.35, 0.35]: {:.4e} (400), {:.4e} (800), order {order:.2}", e1.rho, e2.rho);
+    assert!(order > 0.8, "observed order {order:.2} of the L1 density error");
 }
 
 /// The resolution study of docs/validation.md: 400, 800, 1600 and 3200 particles (h, spacings
@@ -312,24 +237,14 @@ fn shock_tube_convergence() {
                 let order = if r == 0 {
                     "".to_string()
                 } else {
-                    let prev = if pick == 0 {
-                        &rows[r - 1].2
-                    } else {
-                        &rows[r - 1].3
-                    };
+                    let prev = if pick == 0 { &rows[r - 1].2 } else { &rows[r - 1].3 };
                     format!("{:.2}", (prev.rho / l.rho).log2())
                 };
-                println!(
-                    "| {n} | {steps} | {w} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {order} |",
-                    l.rho, l.v, l.p, l.e
-                );
+                println!("| {n} | {steps} | {w} | {:.4e} | {:.4e} | {:.4e} | {:.4e} | {order} |", l.rho, l.v, l.p, l.e);
             }
         }
         for r in 1..rows.len() {
-            assert!(
-                rows[r].2.rho < rows[r - 1].2.rho,
-                "{label}: the L1 density error must fall with resolution"
-            );
+            assert!(rows[r].2.rho < rows[r - 1].2.rho, "{label}: the L1 density error must fall with resolution");
         }
     }
 }

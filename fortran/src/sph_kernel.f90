@@ -55,7 +55,7 @@ contains
       else if (dim == 2) then
         alpha = 7.0d0/(478.0d0*pi*h*h)
       else
-        alpha = 3.0d0/(359.0d0*pi*h*h*h)
+        alpha = 1.0d0/(120.0d0*pi*h*h*h)
       end if
     case (skf_wendland)
       if (dim == 1) then

@@ -26,7 +26,7 @@ fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
         KernelKind::Quintic => match dim {
             1 => 1.0 / (120.0 * h),
             2 => 7.0 / (478.0 * PI * h * h),
-            _ => 3.0 / (359.0 * PI * h * h * h),
+            _ => 1.0 / (120.0 * PI * h * h * h),
         },
         KernelKind::Wendland => match dim {
             1 => 5.0 / (8.0 * h),
