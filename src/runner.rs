@@ -180,6 +180,7 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
             "balance_residual_relative": residual / e0.total.abs().max(1e-300),
         },
         "stability": sim.stab,
+        "module_seconds": Module::ALL.iter().filter(|m| sim.plan.is_active(**m)).map(|m| (m.name().to_string(), json!(sim.timers[Module::ALL.iter().position(|x| x == m).unwrap_or(0)]))).chain(std::iter::once(("incidence".to_string(), json!(sim.timers[13])))).collect::<serde_json::Map<_, _>>(),
         "outputs": h5.steps,
         "version": env!("CARGO_PKG_VERSION"),
         "case_sha256": sha256_hex(case_text.as_bytes()),

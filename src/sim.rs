@@ -160,6 +160,8 @@ pub struct Sim {
     pub x_init: Vec<f64>,
     /// Set in a dual run.
     pub cmp: Option<Comparator>,
+    /// Wall time spent in each module (s), in Module::ALL order, plus the solver's own work.
+    pub timers: [f64; 14],
     need_incidence: bool,
 }
 
@@ -417,6 +419,7 @@ impl Sim {
             x_init: p_x_init,
             region: init.region,
             cmp: None,
+            timers: [0.0; 14],
             need_incidence,
         };
         if sim.plan.is_active(Module::Detonation) {
@@ -467,7 +470,11 @@ impl Sim {
         F: Fn(Backend, &mut Particles, &mut Work, &Config),
     {
         match self.cmp.as_mut() {
-            None => f(self.plan.choice.get(m), &mut self.p, &mut self.w, &self.cfg),
+            None => {
+                let t0 = std::time::Instant::now();
+                f(self.plan.choice.get(m), &mut self.p, &mut self.w, &self.cfg);
+                self.timers[idx(m)] += t0.elapsed().as_secs_f64();
+            }
             Some(cmp) => {
                 let before = crate::dual::snapshot(&self.p, &self.w, outs);
                 f(Backend::Rust, &mut self.p, &mut self.w, &self.cfg);
@@ -527,7 +534,9 @@ impl Sim {
         });
         let np = self.w.pairs.len();
         if self.need_incidence {
+            let t0 = std::time::Instant::now();
             self.w.pairs.build_incidence(nt);
+            self.timers[13] += t0.elapsed().as_secs_f64();
         }
         self.w.w.resize(np, 0.0);
         self.w.dwdx.resize(dim * np, 0.0);
