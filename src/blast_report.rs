@@ -227,13 +227,85 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
     for (r, p) in &peaks {
         println!("gauge at {r:.0} cm: peak {p:.2} MPa");
     }
+    let growth = thesis_growth(case, &hist);
+    for g in &growth {
+        println!(
+            "thesis at {:.0} us: diameter {} cm, depth {} cm; ours at {:.0} us: diameter {:.1} cm, depth {:.1} cm",
+            g["thesis_t_s"].as_f64().unwrap_or(0.0) * 1e6,
+            fmt_cm(g["thesis_diameter_m"].as_f64()),
+            fmt_cm(g["thesis_depth_m"].as_f64()),
+            g["our_t_s"].as_f64().unwrap_or(0.0) * 1e6,
+            100.0 * g["diameter_m"].as_f64().unwrap_or(0.0),
+            100.0 * g["depth_m"].as_f64().unwrap_or(0.0)
+        );
+    }
+    let gauges = thesis_gauges(case, summary);
+    for g in &gauges {
+        println!(
+            "gauge {}: thesis peak {} at {}; ours {:.2} MPa at {:.0} us (arrival {:.0} us)",
+            g["gauge"].as_str().unwrap_or("?"),
+            g["thesis_peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
+            g["thesis_peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} us", t * 1e6)),
+            g["peak_pa"].as_f64().unwrap_or(0.0) / 1e6,
+            g["peak_time_s"].as_f64().unwrap_or(0.0) * 1e6,
+            g["arrival_s"].as_f64().unwrap_or(0.0) * 1e6
+        );
+    }
     Ok(json!({
         "crater": { "diameter_m": last.diameter_m, "depth_m": last.depth_m, "ejecta_height_m": last.ejecta_height_m },
         "thesis_crater_m": case.analysis.thesis_crater_m,
         "history": hist.iter().map(|(t, c)| json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m})).collect::<Vec<_>>(),
         "profile": { "x_m": last.columns_m, "surface0_m": last.surface0_m, "surface_m": last.surface_m },
         "peaks_cm_mpa": peaks,
+        "thesis_growth": growth,
+        "thesis_gauges": gauges,
         "plots": ["crater_growth.png", "crater_profile.png", "gauges.png", "peaks.png"],
         "snapshots": snaps,
     }))
+}
+
+fn fmt_cm(v: Option<f64>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{:.0}", 100.0 * x),
+        _ => "-".into(),
+    }
+}
+
+/// Our crater at each time of the thesis's crater-growth rows (the nearest output).
+pub fn thesis_growth(case: &Case, hist: &[(f64, Crater)]) -> Vec<Value> {
+    let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
+    rows.iter()
+        .filter_map(|r| {
+            let (t, d, z) = (r[0], r[1], r[2]);
+            let (tt, c) = hist.iter().min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))?;
+            Some(json!({
+                "thesis_t_s": t,
+                "thesis_diameter_m": if d.is_finite() { json!(d) } else { Value::Null },
+                "thesis_depth_m": if z.is_finite() { json!(z) } else { Value::Null },
+                "our_t_s": tt,
+                "diameter_m": c.diameter_m,
+                "depth_m": c.depth_m,
+            }))
+        })
+        .collect()
+}
+
+/// Our gauge peaks beside the thesis's readings.
+pub fn thesis_gauges(case: &Case, summary: &Value) -> Vec<Value> {
+    let ours = summary["gauges"].as_array().cloned().unwrap_or_default();
+    case.analysis
+        .thesis_gauge
+        .iter()
+        .filter_map(|t| {
+            let g = ours.iter().find(|g| g["name"] == t.gauge.as_str())?;
+            Some(json!({
+                "gauge": t.gauge,
+                "thesis_peak_time_s": t.peak_time_s,
+                "thesis_peak_pa": t.peak_pa,
+                "peak_time_s": g["peak_time_s"],
+                "peak_pa": g["peak_pa"],
+                "arrival_s": g["arrival_s"],
+            }))
+        })
+        .collect()
 }

@@ -479,10 +479,25 @@ pub struct AnalysisCfg {
     pub window_m: Option<Vec<f64>>,
     /// Crater: the materials that count as soil (default: every material with strength).
     pub soil_materials: Option<Vec<String>>,
-    /// Crater: the original ground surface height (m); default: top of the soil at t = 0.
-    pub surface_m: Option<f64>,
-    /// Thesis values to report beside ours: crater diameter and depth (m).
+    /// Thesis values to report beside ours: final crater diameter and depth (m).
     pub thesis_crater_m: Option<Vec<f64>>,
+    /// Thesis crater growth: [time (s), diameter (m), depth (m)] rows.
+    pub thesis_crater_history: Option<Vec<Vec<f64>>>,
+    /// Thesis gauge readings to report beside ours.
+    #[serde(default)]
+    pub thesis_gauge: Vec<ThesisGauge>,
+}
+
+/// One gauge reading reported by the thesis (THESIS.md §9).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisGauge {
+    /// Gauge name (as in [[gauge]]).
+    pub gauge: String,
+    /// Time of the peak (s).
+    pub peak_time_s: Option<f64>,
+    /// Peak pressure (Pa).
+    pub peak_pa: Option<f64>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -841,6 +856,19 @@ impl Case {
             {
                 return Err(input("analysis.window_m: need [lo, hi] with hi > lo"));
             }
+        }
+        for (k, t) in self.analysis.thesis_gauge.iter().enumerate() {
+            if !self.gauges.iter().any(|g| g.name == t.gauge) {
+                return Err(input(format!(
+                    "analysis.thesis_gauge[{k}].gauge = \"{}\": no [[gauge]] of that name",
+                    t.gauge
+                )));
+            }
+        }
+        if let Some(h) = &self.analysis.thesis_crater_history
+            && h.iter().any(|r| r.len() != 3)
+        {
+            return Err(input("analysis.thesis_crater_history: rows must be [time_s, diameter_m, depth_m]"));
         }
         if let Some(sm) = &self.analysis.soil_materials {
             for s in sm {

@@ -84,6 +84,22 @@ pub enum Cmd {
     },
     /// Measurements and plots of a finished run directory
     Report { dir: PathBuf },
+    /// Run every thesis scene, compare with the thesis and check its trends (validation.md)
+    Validate {
+        /// Where the runs and validation.md go
+        #[arg(long, default_value = "runs/validation")]
+        out: PathBuf,
+        /// Folder of the case files
+        #[arg(long, default_value = "cases")]
+        cases: PathBuf,
+        /// Only these scenes (comma-separated)
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        #[command(flatten)]
+        args: CaseArgs,
+        #[arg(long)]
+        threads: Option<usize>,
+    },
 }
 
 fn overrides(a: &CaseArgs) -> Result<Overrides> {
@@ -152,6 +168,23 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let c = case::load(&case, &args.sets)?;
             let sim = Sim::new(c, &overrides(&args)?)?;
             print!("{}", check_text(&sim));
+            Ok(0)
+        }
+        Cmd::Validate { out, cases, only, args, threads: th } => {
+            threads(th)?;
+            for o in &only {
+                if !crate::validate::SCENES.contains(&o.as_str()) {
+                    return Err(input(format!(
+                        "--only {o}: not a thesis scene ({})",
+                        crate::validate::SCENES.join(", ")
+                    )));
+                }
+            }
+            let opts =
+                RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet: true, threads: th };
+            let md = crate::validate::validate(&cases, &out, &opts, &only)?;
+            println!("{md}");
+            println!("written: {}", out.join("validation.md").display());
             Ok(0)
         }
         Cmd::Report { dir } => {

@@ -24,3 +24,4 @@ pub mod runner;
 pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod validate;

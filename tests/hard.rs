@@ -1,0 +1,139 @@
+//! The hard cases of cases/hard/: each runs (shortened where it would take long) and its
+//! invariants are checked. Full-length runs: `cargo test --release --test hard -- --ignored`.
+
+use blastsph::runner::{self, RunOptions};
+use blastsph::sim::Overrides;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn case(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/hard").join(format!("{name}.toml"))
+}
+
+/// Runs a hard case (with the Rust backend, optionally shortened) and returns its summary and sim.
+fn run(name: &str, end: Option<f64>) -> (Value, blastsph::sim::Sim, tempfile::TempDir) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let opts = RunOptions {
+        out: Some(dir.path().to_path_buf()),
+        quiet: true,
+        ov: Overrides { backend: Some(blastsph::modules::Backend::Rust), end_time: end, ..Default::default() },
+        ..Default::default()
+    };
+    let r = runner::run(&case(name), &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    (r.summary, r.sim, dir)
+}
+
+/// The invariants every hard case must keep.
+fn common(name: &str, s: &Value, energy_bound: f64) {
+    assert_eq!(s["status"], "ok", "{name}: {}", s["diagnostic"]);
+    assert_eq!(s["mass"]["initial"], s["mass"]["final"], "{name}: mass must be exact");
+    let st = &s["stability"];
+    assert_eq!(st["nan"], false, "{name}");
+    assert_eq!(st["left_domain"], 0, "{name}: particles lost");
+    let res = s["energy"]["balance_residual_relative"].as_f64().expect("energy residual");
+    assert!(res.abs() < energy_bound, "{name}: energy balance residual {res:e} (bound {energy_bound})");
+}
+
+fn dx_of(sim: &blastsph::sim::Sim) -> f64 {
+    sim.cfg.dx_min
+}
+
+/// Smallest distance between two real particles, in units of dx.
+fn min_pair_distance(sim: &blastsph::sim::Sim) -> f64 {
+    let (dim, n) = (sim.cfg.dim, sim.p.nreal);
+    let mut m = f64::INFINITY;
+    for k in 0..sim.w.pairs.len() {
+        let (i, j) = (sim.w.pairs.i[k] as usize, sim.w.pairs.j[k] as usize);
+        if j < n {
+            let r2: f64 = (0..dim).map(|d| (sim.p.x[d + dim * i] - sim.p.x[d + dim * j]).powi(2)).sum();
+            m = m.min(r2.sqrt());
+        }
+    }
+    m / dx_of(sim)
+}
+
+#[test]
+fn tnt_against_water_and_soil() {
+    let (s, sim, _d) = run("tnt_water_soil", None);
+    common("tnt_water_soil", &s, 0.02);
+    let st = &s["stability"];
+    let gap = st["min_interface_gap_dx"].as_f64().expect("interface gap");
+    assert!(gap > 0.3, "materials came within {gap} dx of each other");
+    assert!(st["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
+    // the charge really was at 8.4 GPa against rest, and the shock went into both media
+    let peak_water = (0..sim.p.nreal).filter(|&i| sim.p.mat[i] == 1).map(|i| sim.p.v[2 * i + 1]).fold(0.0, f64::max);
+    let peak_soil = (0..sim.p.nreal).filter(|&i| sim.p.mat[i] == 2).map(|i| -sim.p.v[2 * i + 1]).fold(0.0, f64::max);
+    assert!(peak_water > 10.0 && peak_soil > 10.0, "water up {peak_water} m/s, soil down {peak_soil} m/s");
+}
+
+#[test]
+fn soil_spalls_with_the_tension_cut_off() {
+    let (s, sim, _d) = run("soil_spall", None);
+    common("soil_spall", &s, 0.02);
+    let n = sim.p.nreal;
+    // the cut-off: no tension anywhere, and no clumping of particles (tensile instability)
+    assert!(sim.p.p[..n].iter().all(|p| *p >= 0.0), "negative pressure with pmin = 0");
+    let dmin = min_pair_distance(&sim);
+    assert!(dmin > 0.5, "particles clumped: closest pair {dmin} dx");
+    // spall: the top 3 cm flies off, the column below the top 10 cm stays nearly at rest
+    let band = |lo: f64, hi: f64| -> f64 {
+        let ids: Vec<usize> = (0..n).filter(|&i| sim.x_init[2 * i + 1] >= lo && sim.x_init[2 * i + 1] < hi).collect();
+        ids.iter().map(|&i| sim.p.v[2 * i + 1]).sum::<f64>() / ids.len() as f64
+    };
+    let top = band(0.30, 0.33);
+    let low = band(0.03, 0.20);
+    assert!(top > 10.0, "top layer at {top} m/s: no spall");
+    assert!(low.abs() < 1.0, "column below at {low} m/s");
+}
+
+#[test]
+fn high_speed_wall_impact_does_not_penetrate() {
+    let (s, sim, _d) = run("wall_impact", None);
+    common("wall_impact", &s, 0.02);
+    let pen = s["stability"]["max_wall_penetration_m"].as_f64().unwrap();
+    assert!(pen < 0.1 * dx_of(&sim), "penetration {pen} m");
+    // the block did reach the wall and was turned back
+    let n = sim.p.nreal;
+    let mean_vx = sim.p.v[..2 * n].iter().step_by(2).sum::<f64>() / n as f64;
+    assert!(mean_vx > 0.0, "mean vx = {mean_vx}: the block was not turned back by the wall");
+    assert!(sim.p.x[..2 * n].iter().step_by(2).all(|x| *x > 0.0), "a particle behind the wall line");
+}
+
+#[test]
+fn free_expansion_keeps_h_and_neighbours_sane() {
+    let (s, _sim, _d) = run("free_expansion", None);
+    common("free_expansion", &s, 0.01);
+    let st = &s["stability"];
+    let hmax = st["h_ratio_max"].as_f64().unwrap();
+    assert!(hmax > 2.0 && hmax < 20.0, "h/h0 grew to {hmax}");
+    let nmax = st["max_neighbours"].as_u64().unwrap();
+    let nmean = st["mean_neighbours"].as_f64().unwrap();
+    assert!(nmax <= 40 && nmean >= 2.0, "neighbours: max {nmax}, mean {nmean}");
+}
+
+#[test]
+fn coarse_25x25_runs_and_craters() {
+    let (s, sim, _d) = run("coarse_25", None);
+    common("coarse_25", &s, 0.02);
+    assert!(s["stability"]["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
+    let depth = s["crater"]["depth_m"].as_f64().unwrap();
+    assert!(depth > dx_of(&sim), "no crater at dx = 4 cm: depth {depth} m");
+}
+
+#[test]
+fn long_surface_blast_first_tenth_of_a_millisecond() {
+    let (s, sim, _d) = run("long_surface", Some(1.0e-4));
+    common("long_surface", &s, 0.02);
+    assert!(s["stability"]["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
+}
+
+/// The whole 5 ms (about a minute with the Rust backend on 2 cores).
+#[test]
+#[ignore = "long: run with --ignored"]
+fn long_surface_full() {
+    let (s, sim, _d) = run("long_surface", None);
+    common("long_surface", &s, 0.02);
+    assert!(s["stability"]["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
+    let gap = s["stability"]["min_interface_gap_dx"].as_f64().expect("gap");
+    assert!(gap > 0.3, "materials came within {gap} dx");
+}
