@@ -71,16 +71,25 @@ fn read_gauges(path: &Path) -> Result<GaugeRecords> {
     Ok((head, series))
 }
 
-fn colour_mat(m: i32) -> RGBColor {
-    const C: [RGBColor; 6] = [
-        RGBColor(200, 30, 30),
-        RGBColor(194, 160, 90),
-        RGBColor(40, 90, 200),
-        RGBColor(120, 90, 50),
-        RGBColor(60, 160, 60),
-        RGBColor(120, 120, 120),
-    ];
-    C[(m.max(0) as usize) % C.len()]
+/// Snapshot colour of a material, by its kind: explosive red, water blue, soil tan, gas grey
+/// (materials of one kind get darker shades).
+fn material_colours(case: &Case) -> Vec<RGBColor> {
+    let mut seen = std::collections::HashMap::new();
+    case.materials
+        .iter()
+        .map(|m| {
+            let (r, g, b) = match m.eos {
+                crate::case::EosCfg::Jwl { .. } => (210, 30, 30),
+                crate::case::EosCfg::Water { .. } => (40, 110, 210),
+                crate::case::EosCfg::Soil { .. } => (196, 164, 96),
+                crate::case::EosCfg::IdealGas { .. } => (140, 140, 140),
+            };
+            let k = seen.entry(m.eos.kind()).or_insert(0u32);
+            let f = 1.0 - 0.3 * (*k as f64).min(2.0);
+            *k += 1;
+            RGBColor((r as f64 * f) as u8, (g as f64 * f) as u8, (b as f64 * f) as u8)
+        })
+        .collect()
 }
 
 pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Result<Value> {
@@ -182,6 +191,7 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
     let w = xhi - xlo;
     let bounds = ((xlo - 0.05 * w, xhi + 0.05 * w), (ylo - 0.05 * w, yhi + 0.5 * w));
     let mut snaps = Vec::new();
+    let colours = material_colours(case);
     for &k in &picks {
         let f = &frames[k];
         let tag = format!("{:05.0}us", us(f.time));
@@ -191,7 +201,7 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
             &format!("{} t = {:.0} us, by material", case.name(), us(f.time)),
             &f.x,
             &f.y,
-            &|i| colour_mat(f.mat[i]),
+            &|i| colours[(f.mat[i].max(0) as usize).min(colours.len() - 1)],
             bounds,
         )?;
         let pp = dir.join(format!("snap_pressure_{tag}.png"));
@@ -207,10 +217,11 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
         snaps.push(pp.file_name().map(|s| s.to_string_lossy().to_string()));
     }
     println!(
-        "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm, ejecta height {:.1} cm",
+        "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm (bowl {:.1} cm wide at half depth), ejecta height {:.1} cm",
         us(hist.last().map(|h| h.0).unwrap_or(0.0)),
         100.0 * last.diameter_m,
         100.0 * last.depth_m,
+        100.0 * last.width_half_depth_m,
         100.0 * last.ejecta_height_m
     );
     if let Some(th) = &case.analysis.thesis_crater_m
@@ -252,7 +263,7 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
         );
     }
     Ok(json!({
-        "crater": { "diameter_m": last.diameter_m, "depth_m": last.depth_m, "ejecta_height_m": last.ejecta_height_m },
+        "crater": { "diameter_m": last.diameter_m, "depth_m": last.depth_m, "width_half_depth_m": last.width_half_depth_m, "ejecta_height_m": last.ejecta_height_m },
         "thesis_crater_m": case.analysis.thesis_crater_m,
         "history": hist.iter().map(|(t, c)| json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m})).collect::<Vec<_>>(),
         "profile": { "x_m": last.columns_m, "surface0_m": last.surface0_m, "surface_m": last.surface_m },

@@ -11,6 +11,8 @@
 //! - crater depth = max over columns of s0 − s;
 //! - crater diameter = width of the run of columns around the deepest one whose surface lies
 //!   more than Δx/2 below the original surface (the apparent crater at the original ground level);
+//! - bowl width = the same run where the surface lies more than half the depth below (it tells a
+//!   bowl from a broad settlement of a soft soil);
 //! - ejecta height = highest soil particle above the original surface (m).
 
 use crate::sim::Sim;
@@ -20,6 +22,8 @@ use serde::Serialize;
 pub struct Crater {
     pub diameter_m: f64,
     pub depth_m: f64,
+    /// Width of the bowl where the surface lies more than half the depth below the original (m).
+    pub width_half_depth_m: f64,
     /// Horizontal position of the deepest column (m).
     pub centre_m: f64,
     pub ejecta_height_m: f64,
@@ -134,11 +138,24 @@ pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -
         }
         diameter = (b - a + 1) as f64 * dx;
     }
+    let mut half = 0.0;
+    if depth > 0.5 * dx {
+        let lim = 0.5 * depth;
+        let (mut a, mut b) = (kmax, kmax);
+        while a > 0 && drop[a - 1] > lim {
+            a -= 1;
+        }
+        while b + 1 < ncol && drop[b + 1] > lim {
+            b += 1;
+        }
+        half = (b - a + 1) as f64 * dx;
+    }
     let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
     Crater {
         diameter_m: diameter,
         depth_m: depth.max(0.0),
+        width_half_depth_m: half,
         centre_m: lo + (kmax as f64 + 0.5) * dx,
         ejecta_height_m: ejecta.max(0.0),
         columns_m: (0..ncol).map(|k| lo + (k as f64 + 0.5) * dx).collect(),
