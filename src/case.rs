@@ -182,6 +182,11 @@ pub struct SphCfg {
     /// XSPH averaging coefficient ε (0 = off).
     #[serde(default)]
     pub xsph_eps: f64,
+    /// Sort the particles by cell every this many steps, for memory locality (0 = never). It
+    /// changes the order of the neighbour sums, so results differ at round-off from an unsorted
+    /// run (they stay independent of the backend and of the thread count).
+    #[serde(default)]
+    pub reorder_every: u64,
 }
 
 fn one() -> f64 {
@@ -211,6 +216,7 @@ impl Default for SphCfg {
             smoothing: default_smoothing(),
             theta: 1.0,
             xsph_eps: 0.0,
+            reorder_every: 0,
         }
     }
 }

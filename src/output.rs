@@ -196,7 +196,9 @@ impl Gauges {
             return Ok(());
         }
         let mut line = format!("{:.9e}", sim.t);
-        for (k, &i) in self.particle.iter().enumerate() {
+        for (k, &i0) in self.particle.iter().enumerate() {
+            // particle i0 at t = 0 is id i0; it may have moved in memory
+            let i = sim.index_of_id[i0] as usize;
             let p = sim.p.p[i];
             line += &format!(",{p:.6e}");
             if p > self.peak[k].0 {

@@ -191,7 +191,7 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
     if !gauges.names.is_empty() {
         let g: Vec<_> = (0..gauges.names.len())
             .map(|k| {
-                let i = gauges.particle[k];
+                let i = sim.index_of_id[gauges.particle[k]] as usize;
                 json!({
                     "name": gauges.names[k],
                     "point_m": gauges.points[k],

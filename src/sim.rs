@@ -158,6 +158,8 @@ pub struct Sim {
     pub region: Vec<u32>,
     /// Initial positions of the real particles (m).
     pub x_init: Vec<f64>,
+    /// Current index of the real particle of each id (particles move in memory when reordered).
+    pub index_of_id: Vec<u32>,
     /// Set in a dual run.
     pub cmp: Option<Comparator>,
     /// Wall time spent in each module (s), in Module::ALL order, plus the solver's own work.
@@ -417,6 +419,7 @@ impl Sim {
             stab: Stability { h_ratio_min: 1.0, h_ratio_max: 1.0, ..Default::default() },
             h_init,
             x_init: p_x_init,
+            index_of_id: (0..n as u32).collect(),
             region: init.region,
             cmp: None,
             timers: [0.0; 14],
@@ -726,12 +729,89 @@ impl Sim {
         });
     }
 
+    /// Sorts the real particles by the cell of a grid of edge κ·min(h) (row-major cell order),
+    /// carrying every per-particle array, including the half-step values and rates the next
+    /// step reads. Deterministic (a stable counting sort).
+    pub fn reorder(&mut self) {
+        let t0 = std::time::Instant::now();
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        if n == 0 {
+            return;
+        }
+        let hmin = self.p.h[..n].iter().cloned().fold(f64::INFINITY, f64::min);
+        let cs = self.cfg.kappa * hmin;
+        let mut lo = [0.0f64; 3];
+        let mut nc = [1usize; 3];
+        for d in 0..dim {
+            let (a, b) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
+                (a.min(self.p.x[d + dim * i]), b.max(self.p.x[d + dim * i]))
+            });
+            lo[d] = a;
+            nc[d] = (((b - a) / cs) as usize + 1).min(1 << 20);
+        }
+        let key = |i: usize| -> usize {
+            let mut k = 0usize;
+            for d in (0..dim).rev() {
+                let c = (((self.p.x[d + dim * i] - lo[d]) / cs) as usize).min(nc[d] - 1);
+                k = k * nc[d] + c;
+            }
+            k
+        };
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&i| key(i as usize));
+        fn perm<T: Copy>(v: &mut [T], order: &[u32], width: usize) {
+            if v.len() < width * order.len() {
+                return;
+            }
+            let old: Vec<T> = v[..width * order.len()].to_vec();
+            for (new, &o) in order.iter().enumerate() {
+                let o = o as usize;
+                v[width * new..width * new + width].copy_from_slice(&old[width * o..width * o + width]);
+            }
+        }
+        let p = &mut self.p;
+        for a in [&mut p.x, &mut p.v] {
+            perm(a, &order, dim);
+        }
+        for a in [&mut p.rho, &mut p.p, &mut p.c, &mut p.e, &mut p.h, &mut p.mass] {
+            perm(a, &order, 1);
+        }
+        perm(&mut p.mat, &order, 1);
+        perm(&mut p.id, &order, 1);
+        perm(&mut p.tau, &order, NSTR);
+        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0] {
+            perm(a, &order, 1);
+        }
+        perm(&mut self.h_init, &order, 1);
+        perm(&mut self.x_init, &order, dim);
+        perm(&mut self.region, &order, 1);
+        let w = &mut self.w;
+        for a in [&mut w.v_min, &mut w.dv] {
+            perm(a, &order, dim);
+        }
+        for a in [&mut w.rho_min, &mut w.e_min, &mut w.de, &mut w.drho, &mut w.dhdt] {
+            perm(a, &order, 1);
+        }
+        for a in [&mut w.tau_min, &mut w.dtau] {
+            perm(a, &order, NSTR);
+        }
+        for (k, &id) in self.p.id[..n].iter().enumerate() {
+            self.index_of_id[id as usize] = k as u32;
+        }
+        self.timers[13] += t0.elapsed().as_secs_f64();
+    }
+
     /// One leapfrog step (Liu's time_integration loop body).
     pub fn step(&mut self) -> Result<f64> {
         use crate::dual::Field as F;
         let dim = self.cfg.dim;
         let n = self.p.nreal;
         let first = self.nstep == 0;
+        let every = self.case.sph.reorder_every;
+        if every > 0 && self.nstep > 0 && self.nstep % every == 0 {
+            self.reorder();
+        }
         let cont = !self.cfg.summation;
         let ntau = if self.p.tau.is_empty() { 0 } else { NSTR * n };
         if first {
