@@ -562,5 +562,7 @@ fn reordering_keeps_parity_and_gauges() {
         let (pa, pb) = (ga["peak_pa"].as_f64().unwrap(), gb["peak_pa"].as_f64().unwrap());
         assert!((pa - pb).abs() <= 1e-9 * pa.abs(), "peak {pa} vs {pb}: only round-off may differ");
     }
-    assert_eq!(a["mass"]["final"], b["mass"]["final"]);
+    // the particles' masses are untouched; their total is summed in another order
+    let (ma, mb) = (a["mass"]["final"].as_f64().unwrap(), b["mass"]["final"].as_f64().unwrap());
+    assert!((ma - mb).abs() <= 1e-13 * ma, "{ma} vs {mb}");
 }
