@@ -97,54 +97,71 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
         return Ok(json!({}));
     }
     let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
-    let hist = crater_history(case, frames, dx);
+    let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
+    let hist = if crater { crater_history(case, frames, dx) } else { Vec::new() };
     let last = &hist.last().map(|h| h.1.clone()).unwrap_or_default();
-    // crater growth
     let us = |t: f64| t * 1e6;
-    let grow = vec![
-        ("diameter (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect::<Vec<_>>()),
-        ("depth (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
-        ("ejecta height (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect()),
-    ];
-    plot::lines(
-        &dir.join("crater_growth.png"),
-        &format!("{}: crater and ejecta", case.name()),
-        "t (us)",
-        "cm",
-        &grow,
-        false,
-    )?;
-    // crater profile at a few times
     let picks: Vec<usize> = {
-        let n = hist.len();
+        let n = frames.len();
         let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
         v.dedup();
         v
     };
-    let mut prof = vec![(
-        "t = 0".to_string(),
-        last.columns_m
-            .iter()
-            .zip(&last.surface0_m)
-            .filter(|p| p.1.is_finite())
-            .map(|(x, y)| (*x, *y))
-            .collect::<Vec<_>>(),
-    )];
-    for &k in picks.iter().skip(1) {
-        let c = &hist[k].1;
-        prof.push((
-            format!("t = {:.0} us", us(hist[k].0)),
-            c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
-        ));
+    let bubble = bubble_history(case, frames);
+    if !bubble.is_empty() {
+        plot::lines(
+            &dir.join("bubble_growth.png"),
+            &format!("{}: detonation products, equivalent radius sqrt(A/pi)", case.name()),
+            "t (us)",
+            "radius (cm)",
+            &[("products".to_string(), bubble.iter().map(|(t, r)| (us(*t), 100.0 * r)).collect())],
+            false,
+        )?;
+        if let Some((t, r)) = bubble.last() {
+            println!("detonation products at t = {:.0} us: equivalent radius {:.1} cm", us(*t), 100.0 * r);
+        }
     }
-    plot::lines(
-        &dir.join("crater_profile.png"),
-        &format!("{}: ground surface", case.name()),
-        "x (m)",
-        "surface height (m)",
-        &prof,
-        false,
-    )?;
+    if crater {
+        // crater growth
+        let grow = vec![
+            ("diameter (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect::<Vec<_>>()),
+            ("depth (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
+            ("ejecta height (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect()),
+        ];
+        plot::lines(
+            &dir.join("crater_growth.png"),
+            &format!("{}: crater and ejecta", case.name()),
+            "t (us)",
+            "cm",
+            &grow,
+            false,
+        )?;
+        // crater profile at a few times
+        let mut prof = vec![(
+            "t = 0".to_string(),
+            last.columns_m
+                .iter()
+                .zip(&last.surface0_m)
+                .filter(|p| p.1.is_finite())
+                .map(|(x, y)| (*x, *y))
+                .collect::<Vec<_>>(),
+        )];
+        for &k in picks.iter().skip(1) {
+            let c = &hist[k].1;
+            prof.push((
+                format!("t = {:.0} us", us(hist[k].0)),
+                c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
+            ));
+        }
+        plot::lines(
+            &dir.join("crater_profile.png"),
+            &format!("{}: ground surface", case.name()),
+            "x (m)",
+            "surface height (m)",
+            &prof,
+            false,
+        )?;
+    }
     // gauges
     let gpath = dir.join("gauges.csv");
     let mut peaks = Vec::new();
@@ -216,14 +233,16 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
         snaps.push(pm.file_name().map(|s| s.to_string_lossy().to_string()));
         snaps.push(pp.file_name().map(|s| s.to_string_lossy().to_string()));
     }
-    println!(
-        "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm (bowl {:.1} cm wide at half depth), ejecta height {:.1} cm",
-        us(hist.last().map(|h| h.0).unwrap_or(0.0)),
-        100.0 * last.diameter_m,
-        100.0 * last.depth_m,
-        100.0 * last.width_half_depth_m,
-        100.0 * last.ejecta_height_m
-    );
+    if crater {
+        println!(
+            "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm (bowl {:.1} cm wide at half depth), ejecta height {:.1} cm",
+            us(hist.last().map(|h| h.0).unwrap_or(0.0)),
+            100.0 * last.diameter_m,
+            100.0 * last.depth_m,
+            100.0 * last.width_half_depth_m,
+            100.0 * last.ejecta_height_m
+        );
+    }
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2
     {
@@ -270,7 +289,7 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
         "peaks_cm_mpa": peaks,
         "thesis_growth": growth,
         "thesis_gauges": gauges,
-        "plots": ["crater_growth.png", "crater_profile.png", "gauges.png", "peaks.png"],
+        "bubble": bubble.iter().map(|(t, r)| json!({"t_s": t, "equivalent_radius_m": r})).collect::<Vec<_>>(),
         "snapshots": snaps,
     }))
 }
@@ -317,6 +336,25 @@ pub fn thesis_gauges(case: &Case, summary: &Value) -> Vec<Value> {
                 "peak_pa": g["peak_pa"],
                 "arrival_s": g["arrival_s"],
             }))
+        })
+        .collect()
+}
+
+/// Equivalent radius √(A/π) of the detonation products (2D: A = Σ m_i/ρ_i over the JWL
+/// particles, m²) at every frame; empty without an explosive.
+pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
+    let jwl: Vec<bool> = case.materials.iter().map(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. })).collect();
+    if !jwl.iter().any(|j| *j) {
+        return Vec::new();
+    }
+    frames
+        .iter()
+        .map(|f| {
+            let a: f64 = (0..f.mass.len())
+                .filter(|&i| jwl.get(f.mat[i] as usize).copied().unwrap_or(false))
+                .map(|i| f.mass[i] / f.rho[i])
+                .sum();
+            (f.time, (a / std::f64::consts::PI).sqrt())
         })
         .collect()
 }

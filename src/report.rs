@@ -180,6 +180,7 @@ pub fn report(dir: &Path) -> Result<Value> {
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
         AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames)?,
+        AnalysisKind::None if case.dim == 2 => crate::blast_report::report(dir, &case, &summary, &frames)?,
         AnalysisKind::None => json!({}),
     };
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();
