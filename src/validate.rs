@@ -96,9 +96,9 @@ fn markdown(scenes: &[Scene]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "| case | status | steps | wall (s) | crater D (cm) | depth (cm) | thesis D | thesis depth | D ours/thesis | depth ours/thesis | ejecta (cm) | energy residual | wall penetration (m) | closest interface gap (dx) |"
+        "| case | status | steps | wall (s) | crater D (cm) | depth (cm) | bowl width at half depth (cm) | thesis D | thesis depth | D ours/thesis | depth ours/thesis | ejecta (cm) | energy residual | wall penetration (m) | closest interface gap (dx) |"
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for sc in scenes {
         let (d, z) = sc.crater();
         let (td, tz) = sc.thesis().unwrap_or((f64::NAN, f64::NAN));
