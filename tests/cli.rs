@@ -341,3 +341,35 @@ fn error_names_the_line_of_an_unknown_key() {
     assert_eq!(out.status.code(), Some(2));
     assert!(se.contains("line.toml:4:"), "the unknown key is on line 4: {se}");
 }
+
+/// `blastsph validate` on one scene (shortened): the run directory, the report and the table.
+#[test]
+fn validate_runs_a_scene_and_writes_the_table() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("val");
+    let o = blastsph(&[
+        "validate",
+        "--only",
+        "slope_45",
+        "--end-time",
+        "5e-5",
+        "--backend",
+        "rust",
+        "--out",
+        out.to_str().unwrap(),
+        "--cases",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/cases"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("validation.md")).expect("validation.md");
+    assert!(md.contains("| slope_45 | ok |"), "{md}");
+    assert!(md.contains("bowl width at half depth"));
+    assert!(out.join("slope_45/summary.json").exists() && out.join("slope_45/report.json").exists());
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("validation.json")).unwrap()).unwrap();
+    assert_eq!(js["scenes"][0]["case"], "slope_45");
+    // a scene that is not the thesis's is refused with one line and status 2
+    let bad = blastsph(&["validate", "--only", "nonsense", "--out", out.to_str().unwrap()]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert_eq!(String::from_utf8_lossy(&bad.stderr).lines().count(), 1);
+}
