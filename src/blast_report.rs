@@ -92,7 +92,7 @@ fn material_colours(case: &Case) -> Vec<RGBColor> {
         .collect()
 }
 
-pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Result<Value> {
+pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame], times: &[f64]) -> Result<Value> {
     if frames.is_empty() || case.dim != 2 {
         return Ok(json!({}));
     }
@@ -103,7 +103,19 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame]) -> Res
     let us = |t: f64| t * 1e6;
     let picks: Vec<usize> = {
         let n = frames.len();
-        let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
+        let mut v = if times.is_empty() {
+            vec![0, n / 4, n / 2, 3 * n / 4, n - 1]
+        } else {
+            times
+                .iter()
+                .map(|t| {
+                    (0..n)
+                        .min_by(|&a, &b| (frames[a].time - t).abs().total_cmp(&(frames[b].time - t).abs()))
+                        .unwrap_or(0)
+                })
+                .collect()
+        };
+        v.sort_unstable();
         v.dedup();
         v
     };

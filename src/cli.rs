@@ -83,7 +83,13 @@ pub enum Cmd {
         args: CaseArgs,
     },
     /// Measurements and plots of a finished run directory
-    Report { dir: PathBuf },
+    Report {
+        dir: PathBuf,
+        /// Times of the particle snapshots (s, comma-separated; the nearest output of each);
+        /// default: the start, the quarters and the end
+        #[arg(long, value_delimiter = ',', value_name = "SECONDS,..")]
+        times: Vec<f64>,
+    },
     /// Run every thesis scene, compare with the thesis and check its trends (validation.md)
     Validate {
         /// Where the runs and validation.md go
@@ -187,8 +193,11 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("written: {}", out.join("validation.md").display());
             Ok(0)
         }
-        Cmd::Report { dir } => {
-            crate::report::report(&dir)?;
+        Cmd::Report { dir, times } => {
+            if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0) {
+                return Err(input(format!("--times {t}: times must be finite and not negative")));
+            }
+            crate::report::report_at(&dir, &times)?;
             Ok(0)
         }
         Cmd::Dual { case, steps, out, free, sets, nnps, threads: th } => {

@@ -148,6 +148,11 @@ fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
 }
 
 pub fn report(dir: &Path) -> Result<Value> {
+    report_at(dir, &[])
+}
+
+/// The report, with particle snapshots at `times` (s; empty: the start, the quarters, the end).
+pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
     let (case, summary) = load_case(dir)?;
     let frames = read_frames(&dir.join("particles.h5"))?;
     println!(
@@ -179,8 +184,8 @@ pub fn report(dir: &Path) -> Result<Value> {
     );
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
-        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames)?,
-        AnalysisKind::None if case.dim == 2 => crate::blast_report::report(dir, &case, &summary, &frames)?,
+        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
+        AnalysisKind::None if case.dim == 2 => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
         AnalysisKind::None => json!({}),
     };
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();
