@@ -101,10 +101,17 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame], times:
     let hist = if crater { crater_history(case, frames, dx) } else { Vec::new() };
     let last = &hist.last().map(|h| h.1.clone()).unwrap_or_default();
     let us = |t: f64| t * 1e6;
+    let quarters: Vec<usize> = {
+        let n = frames.len();
+        let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
+        v.dedup();
+        v
+    };
+    // frames of the snapshots: the quarters, or the outputs nearest the times asked for
     let picks: Vec<usize> = {
         let n = frames.len();
         let mut v = if times.is_empty() {
-            vec![0, n / 4, n / 2, 3 * n / 4, n - 1]
+            quarters.clone()
         } else {
             times
                 .iter()
@@ -158,7 +165,7 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame], times:
                 .map(|(x, y)| (*x, *y))
                 .collect::<Vec<_>>(),
         )];
-        for &k in picks.iter().skip(1) {
+        for &k in quarters.iter().skip(1) {
             let c = &hist[k].1;
             prof.push((
                 format!("t = {:.0} us", us(hist[k].0)),
