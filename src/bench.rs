@@ -41,7 +41,7 @@ pub struct BenchArgs {
     #[arg(long = "case-dir", default_value = "cases", value_name = "DIR")]
     pub case_dir: PathBuf,
     /// Refinement factors k: every spacing Δx becomes Δx/k (0.5 = twice as coarse)
-    #[arg(long, value_delimiter = ',', default_value = "1,2,4", value_name = "K,..")]
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4", value_name = "K,..", allow_hyphen_values = true)]
     pub resolutions: Vec<String>,
     /// Backends: every module in Rust, or every module in Fortran
     #[arg(long, value_delimiter = ',', default_value = "rust,fortran", value_name = "rust|fortran,..")]
@@ -53,16 +53,16 @@ pub struct BenchArgs {
     #[arg(long, value_delimiter = ',', default_value = "cubic", value_name = "cubic|gauss|quintic|wendland,..")]
     pub kernels: Vec<String>,
     /// Worker threads of the Rust modules (the Fortran core is serial)
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub threads: Option<String>,
     /// Stop every run at this time (s) instead of the case's end time
-    #[arg(long = "end-time", value_name = "SECONDS")]
+    #[arg(long = "end-time", value_name = "SECONDS", allow_hyphen_values = true)]
     pub end_time: Option<String>,
     /// Where the runs, bench.csv, bench.json and the plots go
     #[arg(long, default_value = "runs/bench", value_name = "DIR")]
     pub out: PathBuf,
     /// Skip direct-search runs with more particles than this (reported as skipped)
-    #[arg(long = "max-direct-particles", default_value = "20000", value_name = "N")]
+    #[arg(long = "max-direct-particles", default_value = "20000", value_name = "N", allow_hyphen_values = true)]
     pub max_direct_particles: String,
     /// List the matrix (with particle counts) and run nothing
     #[arg(long = "dry-run")]
@@ -522,6 +522,13 @@ pub struct Row {
     pub wall_s: Option<f64>,
     pub particle_steps_per_s: Option<f64>,
     pub particle_steps_per_s_per_thread: Option<f64>,
+    /// CPU seconds (user + system, every thread) the process spent on the run, set-up and
+    /// output included (Linux: /proc/self/stat); less sensitive than wall time to other work
+    /// on the machine.
+    pub cpu_s: Option<f64>,
+    /// The machine's 1-minute load average when the run started (Linux: /proc/loadavg): above
+    /// the number of threads the run uses, something else was competing for the cores.
+    pub load_avg: Option<f64>,
     /// "ok", "unstable" or "skipped".
     pub status: String,
     /// The diagnostic of an unstable run, or why a run was skipped.
@@ -606,6 +613,23 @@ fn analysis_name(k: AnalysisKind) -> &'static str {
     }
 }
 
+/// CPU time of this process so far (s): utime + stime of /proc/self/stat, in clock ticks of
+/// USER_HZ = 100 per second (fixed for /proc on Linux). None where there is no /proc.
+fn cpu_seconds() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // the command name (field 2) is in parentheses and may hold spaces: count from after it
+    let rest = &s[s.rfind(')')? + 1..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    // fields 14 and 15 of the line are the 12th and 13th after the name
+    let (u, k): (f64, f64) = (f.get(11)?.parse().ok()?, f.get(12)?.parse().ok()?);
+    Some((u + k) / 100.0)
+}
+
+/// The 1-minute load average (Linux: /proc/loadavg).
+fn load_avg() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
+}
+
 fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Row> {
     let pool = rayon::current_num_threads();
     let mut row = Row {
@@ -626,6 +650,8 @@ fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Row> {
         wall_s: None,
         particle_steps_per_s: None,
         particle_steps_per_s_per_thread: None,
+        cpu_s: None,
+        load_avg: None,
         status: "skipped".into(),
         note: p.skip.clone(),
         energy_residual_rel: None,
@@ -656,7 +682,11 @@ fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Row> {
         quiet: true,
         threads: o.threads,
     };
-    let summary = match runner::run(&cf.path, &opts) {
+    row.load_avg = load_avg();
+    let cpu0 = cpu_seconds();
+    let result = runner::run(&cf.path, &opts);
+    row.cpu_s = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    let summary = match result {
         Ok(r) => r.summary,
         Err(SphError::Unstable(msg)) => {
             row.note = Some(msg);
@@ -913,6 +943,13 @@ fn e4(v: Option<f64>) -> String {
     }
 }
 
+fn g2(v: Option<f64>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{x:.2}"),
+        _ => "-".into(),
+    }
+}
+
 fn g3(v: Option<f64>) -> String {
     match v {
         Some(x) if x.is_finite() => format!("{x:.3}"),
@@ -922,7 +959,7 @@ fn g3(v: Option<f64>) -> String {
 
 /// The fixed columns of bench.csv; gauge columns follow (`peak_<g>_pa`, `peak_<g>_err_ref`,
 /// `peak_time_<g>_s`, and `peak_<g>_vs_thesis`, `peak_time_<g>_vs_thesis` where the thesis gives them).
-pub const CSV_COLUMNS: [&str; 30] = [
+pub const CSV_COLUMNS: [&str; 32] = [
     "case",
     "analysis",
     "k",
@@ -939,6 +976,8 @@ pub const CSV_COLUMNS: [&str; 30] = [
     "wall_s",
     "particle_steps_per_s",
     "particle_steps_per_s_per_thread",
+    "cpu_s",
+    "load_avg",
     "status",
     "energy_residual_rel",
     "reference_k",
@@ -998,6 +1037,8 @@ fn csv(rows: &[Row]) -> String {
             f(r.wall_s),
             f(r.particle_steps_per_s),
             f(r.particle_steps_per_s_per_thread),
+            f(r.cpu_s),
+            f(r.load_avg),
             r.status.clone(),
             f(r.energy_residual_rel),
             f(r.reference_k),
@@ -1093,14 +1134,14 @@ fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &Value) -> S
                 );
                 let _ = writeln!(
                     s,
-                    "| k | dx (m) | particles | backend | nnps | kernel | threads | steps | wall (s) | particle-steps/s | per thread | L1 rho | L1 v | L1 p | L1 e | status |"
+                    "| k | dx (m) | particles | backend | nnps | kernel | threads | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | L1 rho | L1 v | L1 p | L1 e | status |"
                 );
-                let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+                let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
                 for r in &rs {
                     let l = r.l1;
                     let _ = writeln!(
                         s,
-                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                         k_tag(r.k),
                         r.dx_m,
                         r.particles,
@@ -1112,6 +1153,8 @@ fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &Value) -> S
                         wall(r.wall_s),
                         e3(r.particle_steps_per_s),
                         e3(r.particle_steps_per_s_per_thread),
+                        wall(r.cpu_s),
+                        g2(r.load_avg),
                         e4(l.map(|l| l.rho)),
                         e4(l.map(|l| l.v)),
                         e4(l.map(|l| l.p)),
@@ -1127,13 +1170,16 @@ fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &Value) -> S
                 );
                 let _ = writeln!(
                     s,
-                    "| k | dx (m) | particles | backend | nnps | kernel | threads | end (s) | steps | wall (s) | particle-steps/s | per thread | D | depth | D err | depth err | D thesis | depth thesis | status |"
+                    "| k | dx (m) | particles | backend | nnps | kernel | threads | end (s) | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | D | depth | D err | depth err | D thesis | depth thesis | status |"
                 );
-                let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+                let _ = writeln!(
+                    s,
+                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+                );
                 for r in &rs {
                     let _ = writeln!(
                         s,
-                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {:e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {:e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                         k_tag(r.k),
                         r.dx_m,
                         r.particles,
@@ -1146,6 +1192,8 @@ fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &Value) -> S
                         wall(r.wall_s),
                         e3(r.particle_steps_per_s),
                         e3(r.particle_steps_per_s_per_thread),
+                        wall(r.cpu_s),
+                        g2(r.load_avg),
                         cm(r.crater_diameter_m),
                         cm(r.crater_depth_m),
                         e3(r.err_ref.get("crater_diameter").copied()),
