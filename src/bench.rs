@@ -1544,6 +1544,9 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
         eprintln!("bench: warning: {w}");
     }
     std::fs::create_dir_all(&o.out).map_err(|e| SphError::Io(format!("{}: {e}", o.out.display())))?;
+    // the date and the commit of the start: what was measured, not what the tree became meanwhile
+    let (date, unix) = utc_now();
+    let commit = commit();
     let mut rows = Vec::new();
     let n = cells.len();
     for (i, c) in cells.iter().enumerate() {
@@ -1569,11 +1572,10 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
         rows.push(row);
     }
     let families = analyse(&mut rows);
-    let (date, unix) = utc_now();
     let meta = json!({
         "date_utc": date,
         "unix_time": unix,
-        "commit": commit(),
+        "commit": commit,
         "version": env!("CARGO_PKG_VERSION"),
         "cores": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
         "pool_threads": rayon::current_num_threads(),
