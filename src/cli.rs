@@ -106,6 +106,12 @@ pub enum Cmd {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Speed against error: a matrix of cases × resolutions × backends × searches × kernels
+    /// (bench.csv, bench.json, error_vs_time.png; docs/performance.md)
+    Bench {
+        #[command(flatten)]
+        args: crate::bench::BenchArgs,
+    },
 }
 
 fn overrides(a: &CaseArgs) -> Result<Overrides> {
@@ -191,6 +197,18 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let md = crate::validate::validate(&cases, &out, &opts, &only)?;
             println!("{md}");
             println!("written: {}", out.join("validation.md").display());
+            Ok(0)
+        }
+        Cmd::Bench { args } => {
+            let o = crate::bench::BenchOptions::from_args(&args)?;
+            if !o.dry_run {
+                threads(o.threads)?;
+            }
+            let b = crate::bench::bench(&o)?;
+            print!("{}", b.text);
+            for f in &b.files {
+                println!("written: {}", f.display());
+            }
             Ok(0)
         }
         Cmd::Report { dir, times } => {

@@ -10,6 +10,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
+pub mod bench;
 pub mod blast_report;
 pub mod case;
 pub mod cli;

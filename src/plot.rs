@@ -167,3 +167,105 @@ pub fn snapshot(
     root.present().map_err(perr)?;
     Ok(())
 }
+
+/// A named series of points (x, y, label) for [`loglog_panels`].
+pub type LogSeries = (String, Vec<(f64, f64, String)>);
+
+/// One log–log panel: named series of points (x, y, label); the label is written beside its
+/// point. Points with x ≤ 0 or y ≤ 0 (or not finite) cannot be shown on log axes and are left out.
+pub struct LogPanel {
+    pub title: String,
+    pub xlabel: String,
+    pub ylabel: String,
+    pub series: Vec<LogSeries>,
+}
+
+/// A logarithmic axis range that holds `vals` (positive and finite only), padded by a factor.
+fn log_range(vals: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in vals.filter(|v| v.is_finite() && *v > 0.0) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return None;
+    }
+    // at least a decade, so that the axis has a labelled power of ten or two
+    if hi / lo < 10.0 {
+        let mid = (lo * hi).sqrt();
+        lo = lo.min(mid / 10f64.sqrt());
+        hi = hi.max(mid * 10f64.sqrt());
+    }
+    Some((lo / 1.3, hi * 1.3))
+}
+
+/// Log–log panels on a grid of `cols` columns, one line and marker colour per series.
+pub fn loglog_panels(path: &Path, panels: &[LogPanel], cols: usize, size: (u32, u32)) -> Result<()> {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(perr)?;
+    let cols = cols.max(1);
+    let rows = panels.len().div_ceil(cols).max(1);
+    let areas = root.split_evenly((rows, cols));
+    let colours = [
+        BLUE,
+        RED,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        BLACK,
+        RGBColor(255, 140, 0),
+        RGBColor(140, 90, 40),
+        RGBColor(128, 128, 128),
+    ];
+    let ok = |p: &(f64, f64, String)| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0;
+    for (pn, area) in panels.iter().zip(areas.iter()) {
+        let xr = log_range(pn.series.iter().flat_map(|s| s.1.iter().filter(|p| ok(p)).map(|p| p.0)));
+        let yr = log_range(pn.series.iter().flat_map(|s| s.1.iter().filter(|p| ok(p)).map(|p| p.1)));
+        let (Some((x0, x1)), Some((y0, y1))) = (xr, yr) else {
+            let sub = area.titled(&pn.title, ("sans-serif", 16)).map_err(perr)?;
+            sub.draw(&Text::new("no positive values to plot", (40, 40), ("sans-serif", 14).into_font()))
+                .map_err(perr)?;
+            continue;
+        };
+        let mut ch = ChartBuilder::on(area)
+            .caption(&pn.title, ("sans-serif", 16))
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(70)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(perr)?;
+        ch.configure_mesh()
+            .x_desc(&pn.xlabel)
+            .y_desc(&pn.ylabel)
+            .x_labels(8)
+            .y_labels(12)
+            .x_label_formatter(&|v| format!("{v:.1e}"))
+            .y_label_formatter(&|v| format!("{v:.1e}"))
+            .label_style(("sans-serif", 12))
+            .draw()
+            .map_err(perr)?;
+        for (k, (name, pts)) in pn.series.iter().enumerate() {
+            let c = colours[k % colours.len()];
+            let good: Vec<&(f64, f64, String)> = pts.iter().filter(|p| ok(p)).collect();
+            ch.draw_series(LineSeries::new(good.iter().map(|p| (p.0, p.1)), c.stroke_width(2)))
+                .map_err(perr)?
+                .label(name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+            ch.draw_series(good.iter().map(|p| {
+                EmptyElement::at((p.0, p.1))
+                    + Circle::new((0, 0), 4, c.filled())
+                    + Text::new(p.2.clone(), (6, -14 + 12 * (k as i32 % 3)), ("sans-serif", 11).into_font())
+            }))
+            .map_err(perr)?;
+        }
+        ch.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 12))
+            .draw()
+            .map_err(perr)?;
+    }
+    root.present().map_err(perr)?;
+    Ok(())
+}
