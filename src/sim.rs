@@ -158,6 +158,8 @@ pub struct Sim {
     pub region: Vec<u32>,
     /// Initial positions of the real particles (m).
     pub x_init: Vec<f64>,
+    /// Kinetic + internal energy at t = 0 (J; per metre of depth in 2D).
+    pub e_initial: f64,
     /// Current index of the real particle of each id (particles move in memory when reordered).
     pub index_of_id: Vec<u32>,
     /// Set in a dual run.
@@ -419,6 +421,7 @@ impl Sim {
             stab: Stability { h_ratio_min: 1.0, h_ratio_max: 1.0, ..Default::default() },
             h_init,
             x_init: p_x_init,
+            e_initial: 0.0,
             index_of_id: (0..n as u32).collect(),
             region: init.region,
             cmp: None,
@@ -444,6 +447,8 @@ impl Sim {
         }
         let b = sim.plan.backend(Module::Eos);
         md::eos::eval(b, &sim.cfg.mt, &sim.p.mat, &sim.p.burn, &sim.p.rho, &sim.p.e, &mut sim.p.p, &mut sim.p.c);
+        let (ke, ie, _) = sim.energies();
+        sim.e_initial = ke + ie;
         Ok(sim)
     }
 
@@ -1002,6 +1007,8 @@ impl Sim {
                 self.t, p.id[i], self.case.materials[p.mat[i] as usize].name
             ))
         };
+        let mut energy = 0.0;
+        let mut ke_max = (0.0f64, 0usize);
         for i in 0..n {
             for d in 0..dim {
                 if !p.x[d + dim * i].is_finite() {
@@ -1043,6 +1050,26 @@ impl Sim {
             if r > self.stab.h_ratio_max {
                 self.stab.h_ratio_max = r;
             }
+            let v2: f64 = (0..dim).map(|d| p.v[d + dim * i] * p.v[d + dim * i]).sum();
+            let ke = 0.5 * p.mass[i] * v2;
+            energy += ke + p.mass[i] * p.e[i];
+            if ke > ke_max.0 {
+                ke_max = (ke, i);
+            }
+        }
+        // energy blow-up: the balance residual (energy created beyond the work of the wall,
+        // penalty and gravity forces) above the initial energy; healthy runs stay under 1 %
+        let budget = self.e_initial + self.book.work_wall + self.book.work_penalty + self.book.work_gravity;
+        if energy - budget > self.e_initial.abs().max(f64::MIN_POSITIVE) {
+            let i = ke_max.1;
+            return Err(SphError::Unstable(format!(
+                "step {step} (t = {:.6e} s): total energy {energy:e} J exceeds the initial {:e} J plus the work of external forces by more than the initial energy; fastest particle {} (material {}), |v| = {:e} m/s",
+                self.t,
+                self.e_initial,
+                p.id[i],
+                self.case.materials[p.mat[i] as usize].name,
+                (2.0 * ke_max.0 / p.mass[i]).sqrt()
+            )));
         }
         // wall crossing: a particle behind a wall line, within the wall's extent
         let segs = &self.cfg.all_segs;

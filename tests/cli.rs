@@ -373,3 +373,45 @@ fn validate_runs_a_scene_and_writes_the_table() {
     assert_eq!(bad.status.code(), Some(2));
     assert_eq!(String::from_utf8_lossy(&bad.stderr).lines().count(), 1);
 }
+
+/// A run that blows up (here: the book's shock tube refined with a gap at the diaphragm and a
+/// fixed step, which creates energy) stops with one line naming the step, the particle and the
+/// quantity, exit status 3, and keeps what it wrote: summary.json (status "unstable") and the
+/// particles.h5 steps written so far.
+#[test]
+fn an_unstable_run_stops_with_a_diagnostic_and_keeps_its_output() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("blow");
+    let sets = [
+        "region.left.count=[640]",
+        "region.left.spacing_m=0.0009375",
+        "region.left.mass_kg=0.0009375",
+        "region.left.h_m=0.0075",
+        "region.left.origin_m=[-0.60046875]",
+        "region.right.count=[160]",
+        "region.right.spacing_m=0.00375",
+        "region.right.mass_kg=0.0009375",
+        "region.right.h_m=0.0075",
+        "region.right.origin_m=[0.005625]",
+        "time.dt_s=0.0025",
+        "time.output_interval_s=0.01",
+    ];
+    let mut args = vec!["run", concat!(env!("CARGO_MANIFEST_DIR"), "/cases/shock_tube.toml"), "--quiet", "--out"];
+    let o = out.to_str().unwrap().to_string();
+    args.push(&o);
+    for s in &sets {
+        args.push("--set");
+        args.push(s);
+    }
+    let r = blastsph(&args);
+    assert_eq!(r.status.code(), Some(3), "exit status of an unstable run");
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+    assert!(err.contains("unstable: step") && err.contains("particle") && err.contains("total energy"), "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "unstable");
+    assert!(s["diagnostic"].as_str().unwrap().contains("total energy"));
+    let f = hdf5::File::open(out.join("particles.h5")).expect("particles.h5 kept");
+    assert!(f.member_names().unwrap().len() >= 2, "the steps written before the failure are kept");
+}
