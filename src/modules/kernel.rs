@@ -5,10 +5,9 @@
 //! ∇_i W_ij is written α g(q) (x_i − x_j)/h², so r = 0 is harmless. The Rust twin evaluates every
 //! expression in the Fortran's order: 0 ULP.
 
-use super::{Backend, nnps::PairList};
+use super::{Backend, nnps::PairList, par_rows, par_rows2};
 use crate::case::KernelKind;
 use crate::legacy;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
@@ -121,9 +120,10 @@ pub fn pairs(
         Backend::Fortran => legacy::kernel_pairs(dim, kind.skf(), &pl.i, &pl.j, x, h, w, dwdx),
         Backend::Rust => {
             let np = pl.len();
-            w[..np].par_iter_mut().zip(dwdx[..dim * np].par_chunks_mut(dim)).enumerate().for_each(|(k, (wk, g))| {
-                let i = pl.i[k] as usize;
-                let j = pl.j[k] as usize;
+            let (pi, pj) = (&pl.i, &pl.j);
+            par_rows2(&mut w[..np], 1, &mut dwdx[..dim * np], dim, |k, wk, g| {
+                let i = pi[k] as usize;
+                let j = pj[k] as usize;
                 let mut dx = [0.0; 3];
                 let mut r2 = 0.0;
                 for d in 0..dim {
@@ -131,7 +131,7 @@ pub fn pairs(
                     r2 += dx[d] * dx[d];
                 }
                 let hij = 0.5 * (h[i] + h[j]);
-                *wk = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
+                wk[0] = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
             });
         }
     }
@@ -143,9 +143,9 @@ pub fn self_w(b: Backend, dim: usize, kind: KernelKind, h: &[f64], w0: &mut [f64
         Backend::Fortran => legacy::kernel_self(dim, kind.skf(), h, w0),
         Backend::Rust => {
             let dx = [0.0; 3];
-            w0[..h.len()].par_iter_mut().zip(h.par_iter()).for_each(|(w, &hi)| {
+            par_rows(&mut w0[..h.len()], 1, |a, w| {
                 let mut g = [0.0; 3];
-                *w = w_dw(dim, kind, 0.0, &dx[..dim], hi, &mut g[..dim]);
+                w[0] = w_dw(dim, kind, 0.0, &dx[..dim], h[a], &mut g[..dim]);
             });
         }
     }

@@ -153,8 +153,18 @@ impl Choice {
     }
 }
 
-/// Runs `f(a, row)` in parallel over the rows of `out` (row `a` = particle `a`, `width` values):
-/// each worker writes only its own particle's slot.
+/// Rows (particles) or pairs per rayon task. At 10^4 particles a finer split costs more in task
+/// hand-offs than it gains; results never depend on it (every row is computed whole by one task).
+pub(crate) const CHUNK: usize = 512;
+
+/// True when the current pool has one thread: the loops below then run inline, without rayon.
+#[inline]
+pub(crate) fn serial() -> bool {
+    rayon::current_num_threads() == 1
+}
+
+/// Runs `f(a, row)` over the rows of `out` (row `a` = particle `a`, `width` values), in parallel
+/// over tasks of [`CHUNK`] rows: each call writes only its own row.
 pub(crate) fn par_rows<F>(out: &mut [f64], width: usize, f: F)
 where
     F: Fn(usize, &mut [f64]) + Sync + Send,
@@ -163,5 +173,49 @@ where
     if width == 0 {
         return;
     }
-    out.par_chunks_mut(width).enumerate().for_each(|(a, row)| f(a, row));
+    let body = |c: usize, blk: &mut [f64]| {
+        for (r, row) in blk.chunks_mut(width).enumerate() {
+            f(c * CHUNK + r, row);
+        }
+    };
+    if serial() {
+        out.chunks_mut(width * CHUNK).enumerate().for_each(|(c, blk)| body(c, blk));
+    } else {
+        out.par_chunks_mut(width * CHUNK).enumerate().for_each(|(c, blk)| body(c, blk));
+    }
+}
+
+/// As [`par_rows`] over two arrays with the same rows: `f(a, row1, row2)`, rows of `w1` and `w2`
+/// values (`w2` may be 0: `row2` is then empty).
+pub(crate) fn par_rows2<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: usize, f: F)
+where
+    F: Fn(usize, &mut [f64], &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    if w1 == 0 {
+        return;
+    }
+    let rows = out1.len() / w1;
+    let out2 = &mut out2[..w2 * rows];
+    let body = |c: usize, b1: &mut [f64], b2: &mut [f64]| {
+        let n = b1.len() / w1;
+        for r in 0..n {
+            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2]);
+        }
+    };
+    if w2 == 0 {
+        par_rows(out1, w1, |a, r1| f(a, r1, &mut []));
+        return;
+    }
+    if serial() {
+        out1.chunks_mut(w1 * CHUNK)
+            .zip(out2.chunks_mut(w2 * CHUNK))
+            .enumerate()
+            .for_each(|(c, (b1, b2))| body(c, b1, b2));
+    } else {
+        out1.par_chunks_mut(w1 * CHUNK)
+            .zip(out2.par_chunks_mut(w2 * CHUNK))
+            .enumerate()
+            .for_each(|(c, (b1, b2))| body(c, b1, b2));
+    }
 }

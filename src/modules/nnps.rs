@@ -4,10 +4,96 @@
 //! |x_i − x_j| < κ h_ij, h_ij = (h_i + h_j)/2 — sorted by i then j. Every search (direct or cell,
 //! Fortran or Rust) returns the same list, so later sums do not depend on the search.
 //! Indices are 0-based (`i32`, as at the C boundary).
+//!
+//! The Rust cell search sizes its cells from the mean h (edge κ h̄/2), not from the largest h as
+//! the Fortran does, so that a few expanded particles (detonation products, h up to 5× the rest)
+//! do not multiply everyone's candidates. Each pair is found once, by its *owner*: the particle
+//! with the larger h (ties: the smaller index), whose box of half-width κ h_owner ≥ κ h_ij holds
+//! every partner. The test itself is the Fortran's, evaluated with i < j:
+//! `s = κ (0.5 (h_i + h_j)); r² < s²`. The pairs are then sorted into the canonical order
+//! (counting sort by i, each row sorted by j), so the list is the Fortran's, whatever the order
+//! in which they were found and however many threads found them.
 
-use super::Backend;
+use super::{Backend, CHUNK, serial};
 use crate::legacy;
 use rayon::prelude::*;
+use std::sync::{Mutex, MutexGuard};
+
+/// One entry of a particle's incidence list: a pair touching it and the pair's other particle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Inc {
+    k: u32,
+    o: u32,
+}
+
+const SIDE_I: u32 = 1 << 31;
+
+impl Inc {
+    /// The pair's index in the list.
+    #[inline]
+    pub fn pair(self) -> usize {
+        self.k as usize
+    }
+    /// The pair's other particle.
+    #[inline]
+    pub fn other(self) -> usize {
+        (self.o & !SIDE_I) as usize
+    }
+    /// True when this particle is the pair's `i` (then the other is its `j`).
+    #[inline]
+    pub fn is_i(self) -> bool {
+        self.o & SIDE_I != 0
+    }
+}
+
+/// Work buffers that the Rust twins reuse from step to step (never part of a result): the pair
+/// terms of the pair-sum modules, a per-particle array, per-task lists, and the cell search's
+/// grid. Behind a mutex so that modules handed `&PairList` can use them; the solver calls one
+/// module at a time, so the lock is never contended. Cloning gives empty buffers.
+#[derive(Default)]
+pub struct Scratch {
+    inner: Mutex<Bufs>,
+}
+
+#[derive(Default)]
+pub(crate) struct Bufs {
+    /// Pair terms, `width` values per pair.
+    pub pair: Vec<f64>,
+    /// One value per particle.
+    pub part: Vec<f64>,
+    /// Per-task buffers of pair indices or pairs.
+    pub idx_tasks: Vec<Vec<u32>>,
+    pub pair_tasks: Vec<Vec<[u32; 2]>>,
+    /// Cell grid: cell of each particle, first slot of each cell, particles in cell order, their
+    /// positions and h in that order.
+    pub cell_of: Vec<u32>,
+    pub start: Vec<u32>,
+    pub order: Vec<u32>,
+    pub xs: Vec<f64>,
+    pub hs: Vec<f64>,
+    pub fill: Vec<u32>,
+}
+
+impl Clone for Scratch {
+    fn clone(&self) -> Scratch {
+        Scratch::default()
+    }
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
+impl Scratch {
+    pub(crate) fn lock(&self) -> MutexGuard<'_, Bufs> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+    fn get_mut(&mut self) -> &mut Bufs {
+        self.inner.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+}
 
 /// The pair list shared by both backends, and (for the Rust gathers) the incidence lists: for each
 /// particle, the pairs that touch it in ascending pair order.
@@ -15,9 +101,10 @@ use rayon::prelude::*;
 pub struct PairList {
     pub i: Vec<i32>,
     pub j: Vec<i32>,
-    pub inc_start: Vec<u32>,
-    pub inc: Vec<u32>,
+    inc_start: Vec<u32>,
+    inc: Vec<Inc>,
     inc_fill: Vec<u32>,
+    pub(crate) scratch: Scratch,
 }
 
 impl PairList {
@@ -28,34 +115,38 @@ impl PairList {
         self.i.is_empty()
     }
 
-    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic).
+    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
+    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
+        let (pi, pj) = (&self.i, &self.j);
         self.inc_start.clear();
         self.inc_start.resize(ntotal + 1, 0);
         for k in 0..np {
-            self.inc_start[self.i[k] as usize + 1] += 1;
-            self.inc_start[self.j[k] as usize + 1] += 1;
+            self.inc_start[pi[k] as usize + 1] += 1;
+            self.inc_start[pj[k] as usize + 1] += 1;
         }
         for a in 0..ntotal {
             self.inc_start[a + 1] += self.inc_start[a];
         }
-        self.inc.resize(2 * np, 0);
+        self.inc.resize(2 * np, Inc::default());
         self.inc_fill.clear();
         self.inc_fill.extend_from_slice(&self.inc_start[..ntotal]);
+        let (inc, fill) = (&mut self.inc, &mut self.inc_fill);
         for k in 0..np {
-            let a = self.i[k] as usize;
-            self.inc[self.inc_fill[a] as usize] = k as u32;
-            self.inc_fill[a] += 1;
-            let b = self.j[k] as usize;
-            self.inc[self.inc_fill[b] as usize] = k as u32;
-            self.inc_fill[b] += 1;
+            let (a, b) = (pi[k] as u32, pj[k] as u32);
+            let fa = &mut fill[a as usize];
+            inc[*fa as usize] = Inc { k: k as u32, o: b | SIDE_I };
+            *fa += 1;
+            let fb = &mut fill[b as usize];
+            inc[*fb as usize] = Inc { k: k as u32, o: a };
+            *fb += 1;
         }
     }
 
     /// The pairs touching particle `a`, ascending.
     #[inline]
-    pub fn incident(&self, a: usize) -> &[u32] {
+    pub fn incident(&self, a: usize) -> &[Inc] {
         &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize]
     }
 }
@@ -78,11 +169,9 @@ pub fn search(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[
             }
         }
         Backend::Rust => {
-            if cell {
-                rust_cell(dim, nreal, x, h, kappa, pl)
-            } else {
-                rust_direct(dim, nreal, x, h, kappa, pl)
-            }
+            assert!(x.len() >= dim * h.len(), "nnps: x has {} values, need {}", x.len(), dim * h.len());
+            let nreal = nreal.min(h.len());
+            if cell { rust_cell(dim, nreal, x, h, kappa, pl) } else { rust_direct(dim, nreal, x, h, kappa, pl) }
         }
     }
 }
@@ -98,142 +187,228 @@ fn within(dim: usize, x: &[f64], h: &[f64], kappa: f64, i: usize, j: usize) -> b
     r2 < s * s
 }
 
+/// Runs `f(task, buffer)` for `ntask` tasks, each with its own cleared buffer.
+fn tasks<T: Send, F>(bufs: &mut Vec<Vec<T>>, ntask: usize, f: F)
+where
+    F: Fn(usize, &mut Vec<T>) + Sync + Send,
+{
+    if bufs.len() < ntask {
+        bufs.resize_with(ntask, Vec::new);
+    }
+    let run = |(t, b): (usize, &mut Vec<T>)| {
+        b.clear();
+        f(t, b)
+    };
+    if serial() {
+        bufs[..ntask].iter_mut().enumerate().for_each(run);
+    } else {
+        bufs[..ntask].par_iter_mut().enumerate().for_each(run);
+    }
+}
+
 fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
-    let rows: Vec<Vec<i32>> = (0..nreal)
-        .into_par_iter()
-        .map(|i| ((i + 1)..nt).filter(|&j| within(dim, x, h, kappa, i, j)).map(|j| j as i32).collect())
-        .collect();
-    fill(pl, &rows);
-}
-
-fn fill(pl: &mut PairList, rows: &[Vec<i32>]) {
-    pl.i.clear();
-    pl.j.clear();
-    for (i, r) in rows.iter().enumerate() {
-        for &j in r {
-            pl.i.push(i as i32);
-            pl.j.push(j);
-        }
-    }
-}
-
-/// A uniform grid of cells of edge ≥ κ max(h), particles sorted by cell (counting sort).
-pub struct CellGrid {
-    pub dim: usize,
-    pub nc: [usize; 3],
-    pub lo: [f64; 3],
-    pub cs: f64,
-    /// First slot of each cell in `order` (ncell + 1).
-    pub start: Vec<u32>,
-    /// Particle indices sorted by cell, ascending within a cell.
-    pub order: Vec<u32>,
-    pub cell_of: Vec<u32>,
-}
-
-impl CellGrid {
-    pub fn build(dim: usize, x: &[f64], h: &[f64], kappa: f64) -> CellGrid {
-        let nt = h.len();
-        let hmax = h.iter().cloned().fold(0.0_f64, f64::max);
-        let mut lo = [0.0; 3];
-        let mut hi = [0.0; 3];
-        for d in 0..dim {
-            lo[d] = f64::INFINITY;
-            hi[d] = f64::NEG_INFINITY;
-            for i in 0..nt {
-                lo[d] = lo[d].min(x[d + dim * i]);
-                hi[d] = hi[d].max(x[d + dim * i]);
-            }
-        }
-        let mut cs = kappa * hmax;
-        loop {
-            let mut prod: u64 = 1;
-            for d in 0..dim {
-                prod = prod.saturating_mul(((hi[d] - lo[d]) / cs) as u64 + 1);
-            }
-            if prod <= (8 * nt as u64).max(64) {
-                break;
-            }
-            cs *= 2.0;
-        }
-        let mut nc = [1usize; 3];
-        for d in 0..dim {
-            nc[d] = ((hi[d] - lo[d]) / cs) as usize + 1;
-        }
-        let ncell = nc[0] * nc[1] * nc[2];
-        let mut cell_of = vec![0u32; nt];
-        let mut count = vec![0u32; ncell + 1];
-        for i in 0..nt {
-            let mut c = [0usize; 3];
-            for d in 0..dim {
-                let k = ((x[d + dim * i] - lo[d]) / cs) as isize;
-                c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
-            }
-            let ic = c[0] + nc[0] * (c[1] + nc[1] * c[2]);
-            cell_of[i] = ic as u32;
-            count[ic + 1] += 1;
-        }
-        for c in 0..ncell {
-            count[c + 1] += count[c];
-        }
-        let start = count.clone();
-        let mut fillp = count;
-        let mut order = vec![0u32; nt];
-        for i in 0..nt {
-            let c = cell_of[i] as usize;
-            order[fillp[c] as usize] = i as u32;
-            fillp[c] += 1;
-        }
-        CellGrid { dim, nc, lo, cs, start, order, cell_of }
-    }
-
-    /// Calls `f(j)` for every particle in the 3^dim cells around particle `i`'s cell.
-    #[inline]
-    pub fn around<F: FnMut(usize)>(&self, i: usize, mut f: F) {
-        let ic = self.cell_of[i] as usize;
-        let c2 = ic / (self.nc[0] * self.nc[1]);
-        let c1 = (ic - c2 * self.nc[0] * self.nc[1]) / self.nc[0];
-        let c0 = ic - self.nc[0] * (c1 + self.nc[1] * c2);
-        let c = [c0, c1, c2];
-        let mut lo = [0usize; 3];
-        let mut hi = [0usize; 3];
-        for d in 0..self.dim {
-            lo[d] = c[d].saturating_sub(1);
-            hi[d] = (c[d] + 1).min(self.nc[d] - 1);
-        }
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                let row = self.nc[0] * (y + self.nc[1] * z);
-                let s = self.start[row + lo[0]] as usize;
-                let e = self.start[row + hi[0] + 1] as usize;
-                for &j in &self.order[s..e] {
-                    f(j as usize);
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    let s = scratch.get_mut();
+    let ntask = nreal.div_ceil(64);
+    tasks(&mut s.pair_tasks, ntask, |t, buf| {
+        for i in 64 * t..(64 * t + 64).min(nreal) {
+            for j in i + 1..nt {
+                if within(dim, x, h, kappa, i, j) {
+                    buf.push([i as u32, j as u32]);
                 }
             }
         }
+    });
+    pi.clear();
+    pj.clear();
+    for buf in &s.pair_tasks[..ntask] {
+        for &[i, j] in buf {
+            pi.push(i as i32);
+            pj.push(j as i32);
+        }
     }
 }
 
+/// The cell search: a uniform grid of edge ≈ κ h̄/2 (h̄ the mean h), particles sorted by cell
+/// (counting sort, ascending index within a cell); each particle looks through the cells that
+/// meet the box of half-width κ h_a around it and keeps the pairs it owns.
 fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
-    if nt == 0 {
-        pl.i.clear();
-        pl.j.clear();
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    pi.clear();
+    pj.clear();
+    if nt == 0 || nreal == 0 {
         return;
     }
-    let grid = CellGrid::build(dim, x, h, kappa);
-    let rows: Vec<Vec<i32>> = (0..nreal)
-        .into_par_iter()
-        .map(|i| {
-            let mut r = Vec::new();
-            grid.around(i, |j| {
-                if j > i && within(dim, x, h, kappa, i, j) {
-                    r.push(j as i32);
+    let s = scratch.get_mut();
+    // the grid
+    let mut lo = [0.0f64; 3];
+    let mut hi = [0.0f64; 3];
+    for d in 0..dim {
+        let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..nt {
+            let v = x[d + dim * i];
+            a = a.min(v);
+            b = b.max(v);
+        }
+        lo[d] = a;
+        hi[d] = b;
+    }
+    let hmean = h.iter().sum::<f64>() / nt as f64;
+    let mut cs = 0.5 * kappa * hmean;
+    if !(cs > 0.0 && cs.is_finite()) {
+        cs = (0..dim).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
+    }
+    // no more than a few cells per particle (sparse clouds)
+    loop {
+        let mut prod: u64 = 1;
+        for d in 0..dim {
+            prod = prod.saturating_mul(((hi[d] - lo[d]) / cs) as u64 + 1);
+        }
+        if prod <= (4 * nt as u64).max(64) {
+            break;
+        }
+        cs *= 2.0;
+    }
+    let mut nc = [1usize; 3];
+    for d in 0..dim {
+        nc[d] = ((hi[d] - lo[d]) / cs) as usize + 1;
+    }
+    let ncell = nc[0] * nc[1] * nc[2];
+    let cell = |p: &[f64]| -> usize {
+        let mut c = [0usize; 3];
+        for d in 0..dim {
+            let k = ((p[d] - lo[d]) / cs) as isize;
+            c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
+        }
+        c[0] + nc[0] * (c[1] + nc[1] * c[2])
+    };
+    s.cell_of.resize(nt, 0);
+    s.start.clear();
+    s.start.resize(ncell + 1, 0);
+    for i in 0..nt {
+        let c = cell(&x[dim * i..dim * i + dim]);
+        s.cell_of[i] = c as u32;
+        s.start[c + 1] += 1;
+    }
+    for c in 0..ncell {
+        s.start[c + 1] += s.start[c];
+    }
+    s.fill.clear();
+    s.fill.extend_from_slice(&s.start[..ncell]);
+    s.order.resize(nt, 0);
+    s.xs.resize(dim * nt, 0.0);
+    s.hs.resize(nt, 0.0);
+    for i in 0..nt {
+        let c = s.cell_of[i] as usize;
+        let slot = s.fill[c] as usize;
+        s.fill[c] += 1;
+        s.order[slot] = i as u32;
+        s.xs[dim * slot..dim * slot + dim].copy_from_slice(&x[dim * i..dim * i + dim]);
+        s.hs[slot] = h[i];
+    }
+    // each particle (in cell order) finds the pairs it owns
+    let (start, order, xs, hs) = (&s.start, &s.order, &s.xs, &s.hs);
+    let ntask = nt.div_ceil(CHUNK);
+    tasks(&mut s.pair_tasks, ntask, |t, buf| {
+        for slot in CHUNK * t..(CHUNK * t + CHUNK).min(nt) {
+            let a = order[slot] as usize;
+            let ha = hs[slot];
+            let xa = &xs[dim * slot..dim * slot + dim];
+            let rad = kappa * ha;
+            let rad = rad + rad * 1e-9;
+            let mut clo = [0usize; 3];
+            let mut chi = [0usize; 3];
+            for d in 0..dim {
+                let k0 = ((xa[d] - rad - lo[d]) / cs) as isize;
+                let k1 = ((xa[d] + rad - lo[d]) / cs) as isize;
+                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
+                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
+            }
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    let row = nc[0] * (y + nc[1] * z);
+                    let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
+                    for sb in s0..s1 {
+                        let hb = hs[sb];
+                        let b = order[sb] as usize;
+                        // the owner: the larger h, ties to the smaller index
+                        if !(ha > hb || (ha == hb && a < b)) {
+                            continue;
+                        }
+                        let (i, j, xi, xj) = if a < b {
+                            (a, b, xa, &xs[dim * sb..dim * sb + dim])
+                        } else {
+                            (b, a, &xs[dim * sb..dim * sb + dim], xa)
+                        };
+                        if i >= nreal {
+                            continue;
+                        }
+                        let mut r2 = 0.0;
+                        for d in 0..dim {
+                            let dxd = xi[d] - xj[d];
+                            r2 += dxd * dxd;
+                        }
+                        let (hi_, hj_) = if a < b { (ha, hb) } else { (hb, ha) };
+                        let sr = kappa * (0.5 * (hi_ + hj_));
+                        if r2 < sr * sr {
+                            buf.push([i as u32, j as u32]);
+                        }
+                    }
                 }
-            });
-            r.sort_unstable();
-            r
-        })
-        .collect();
-    fill(pl, &rows);
+            }
+        }
+    });
+    // canonical order: counting sort by i, then each row by j
+    let bufs = &s.pair_tasks[..ntask];
+    let cnt = &mut s.start;
+    cnt.clear();
+    cnt.resize(nreal + 1, 0);
+    for buf in bufs {
+        for &[i, _] in buf {
+            cnt[i as usize + 1] += 1;
+        }
+    }
+    for a in 0..nreal {
+        cnt[a + 1] += cnt[a];
+    }
+    let np = cnt[nreal] as usize;
+    s.fill.clear();
+    s.fill.extend_from_slice(&cnt[..nreal]);
+    pi.resize(np, 0);
+    pj.resize(np, 0);
+    for buf in bufs {
+        for &[i, j] in buf {
+            let f = &mut s.fill[i as usize];
+            pj[*f as usize] = j as i32;
+            *f += 1;
+        }
+    }
+    let cnt: &[u32] = cnt;
+    let sort_rows = |a0: usize, a1: usize, ri: &mut [i32], rj: &mut [i32]| {
+        let base = cnt[a0] as usize;
+        for a in a0..a1 {
+            let (r0, r1) = (cnt[a] as usize - base, cnt[a + 1] as usize - base);
+            ri[r0..r1].fill(a as i32);
+            rj[r0..r1].sort_unstable();
+        }
+    };
+    // rows in tasks of CHUNK particles
+    let mut parts: Vec<(usize, usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nreal.div_ceil(CHUNK));
+    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    for a0 in (0..nreal).step_by(CHUNK) {
+        let a1 = (a0 + CHUNK).min(nreal);
+        let len = (cnt[a1] - cnt[a0]) as usize;
+        let (hi_i, lo_i) = std::mem::take(&mut ri).split_at_mut(len);
+        let (hi_j, lo_j) = std::mem::take(&mut rj).split_at_mut(len);
+        parts.push((a0, a1, hi_i, hi_j));
+        ri = lo_i;
+        rj = lo_j;
+    }
+    if serial() {
+        parts.into_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
+    } else {
+        parts.into_par_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
+    }
 }

@@ -1,9 +1,16 @@
 //! Monaghan artificial viscosity (thesis (4-47), (4-48); Liu's art_visc), for approaching pairs:
 //! μ_ij = h_ij v_ij·x_ij/(|x_ij|² + φ²), φ = etq h_ij; Π_ij = (β μ_ij − α c̄_ij) μ_ij / ρ̄_ij;
 //! Dv_i/Dt −= Σ_j m_j Π_ij ∇_i W_ij (m/s²); De_i/Dt += ½ Σ_j m_j Π_ij v_ij·∇_i W_ij (J/kg/s).
-//! Rust twin: gather, 0 ULP.
+//!
+//! Rust twin: one parallel pass over the pairs computes −Π_ij ∇_i W_ij and ½ Π_ij v_ij·∇_i W_ij
+//! (the Fortran's expressions, i and j in pair order; zeros for receding pairs) into a reused
+//! buffer; one parallel pass over the particles adds, over each particle's pairs in ascending pair
+//! order (the Fortran's scatter order), ± m_other × those terms into both outputs. A receding
+//! pair adds ±0, which leaves the sum unchanged: an accumulator that starts at +0 is never −0
+//! under round-to-nearest, and x ± 0 = x for every other x. 0 ULP, independent of the thread
+//! count.
 
-use super::{Backend, nnps::PairList, par_rows};
+use super::{Backend, nnps::PairList, par_rows, par_rows2};
 use crate::legacy;
 
 /// Π_ij of pair k (0 for receding pairs) and v_ij·∇W.
@@ -69,35 +76,40 @@ pub fn monaghan(
         }
         Backend::Rust => {
             let nt = mass.len();
-            par_rows(&mut dedt[..nt], 1, |a, out| {
-                let mut de = 0.0;
-                for &k in pl.incident(a) {
-                    let k = k as usize;
-                    let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    if let Some((piv, vd)) = pair_pi(dim, i, j, &dwdx[dim * k..dim * k + dim], x, v, h, rho, c, coef) {
-                        let other = if a == i { j } else { i };
-                        de += mass[other] * (0.5 * piv * vd);
-                    }
-                }
-                out[0] = de;
-            });
-            par_rows(&mut dvdt[..dim * nt], dim, |a, acc| {
-                acc.iter_mut().for_each(|x| *x = 0.0);
-                for &k in pl.incident(a) {
-                    let k = k as usize;
-                    let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    let g = &dwdx[dim * k..dim * k + dim];
-                    if let Some((piv, _)) = pair_pi(dim, i, j, g, x, v, h, rho, c, coef) {
+            let np = pl.len();
+            let wd = dim + 1;
+            let mut buf = pl.scratch.lock();
+            buf.pair.resize(wd * np, 0.0);
+            let (pi, pj) = (&pl.i, &pl.j);
+            // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W
+            par_rows(&mut buf.pair[..wd * np], wd, |k, t| {
+                let (i, j) = (pi[k] as usize, pj[k] as usize);
+                let g = &dwdx[dim * k..dim * k + dim];
+                match pair_pi(dim, i, j, g, x, v, h, rho, c, coef) {
+                    Some((piv, vd)) => {
                         for d in 0..dim {
-                            let f = piv * g[d];
-                            if a == i {
-                                acc[d] -= mass[j] * f;
-                            } else {
-                                acc[d] += mass[i] * f;
-                            }
+                            t[d] = -(piv * g[d]);
                         }
+                        t[dim] = 0.5 * piv * vd;
                     }
+                    None => t.fill(0.0),
                 }
+            });
+            let terms: &[f64] = &buf.pair;
+            par_rows2(&mut dvdt[..dim * nt], dim, &mut dedt[..nt], 1, |a, acc, de| {
+                let mut sa = [0.0f64; 3];
+                let mut se = 0.0;
+                for e in pl.incident(a) {
+                    let t = &terms[wd * e.pair()..wd * e.pair() + wd];
+                    let m = mass[e.other()];
+                    let ms = if e.is_i() { m } else { -m };
+                    for d in 0..dim {
+                        sa[d] += ms * t[d];
+                    }
+                    se += m * t[dim];
+                }
+                acc.copy_from_slice(&sa[..dim]);
+                de[0] = se;
             });
         }
     }

@@ -1,5 +1,9 @@
 //! Averaged velocity (XSPH; Liu's av_vel): av_i = ε Σ_j (m_j/ρ̄_ij)(v_j − v_i) W_ij (m/s).
-//! The integrator moves particles with v + av. Rust twin: gather, 0 ULP.
+//! The integrator moves particles with v + av.
+//!
+//! Rust twin: the pair term f = (v_i − v_j)/ρ̄_ij W_ij is computed once per pair (a parallel pass,
+//! stored as −f); each particle then adds ± m_other × it over its pairs in ascending pair order
+//! (the Fortran's scatter order) and scales by ε. 0 ULP, independent of the thread count.
 
 use super::{Backend, nnps::PairList, par_rows};
 use crate::legacy;
@@ -20,22 +24,31 @@ pub fn average(
         Backend::Fortran => legacy::xsph_average(dim, &pl.i, &pl.j, w, mass, rho, v, eps, av),
         Backend::Rust => {
             let nt = mass.len();
+            let np = pl.len();
+            let mut buf = pl.scratch.lock();
+            buf.pair.resize(dim * np, 0.0);
+            let (pi, pj) = (&pl.i, &pl.j);
+            par_rows(&mut buf.pair[..dim * np], dim, |k, t| {
+                let (i, j) = (pi[k] as usize, pj[k] as usize);
+                let mrho = 0.5 * (rho[i] + rho[j]);
+                for d in 0..dim {
+                    t[d] = -((v[d + dim * i] - v[d + dim * j]) / mrho * w[k]);
+                }
+            });
+            let terms: &[f64] = &buf.pair;
             par_rows(&mut av[..dim * nt], dim, |a, acc| {
-                acc.iter_mut().for_each(|x| *x = 0.0);
-                for &k in pl.incident(a) {
-                    let k = k as usize;
-                    let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    let mrho = 0.5 * (rho[i] + rho[j]);
+                let mut sa = [0.0f64; 3];
+                for e in pl.incident(a) {
+                    let t = &terms[dim * e.pair()..dim * e.pair() + dim];
+                    let m = mass[e.other()];
+                    let ms = if e.is_i() { m } else { -m };
                     for d in 0..dim {
-                        let f = (v[d + dim * i] - v[d + dim * j]) / mrho * w[k];
-                        if a == i {
-                            acc[d] -= mass[j] * f;
-                        } else {
-                            acc[d] += mass[i] * f;
-                        }
+                        sa[d] += ms * t[d];
                     }
                 }
-                acc.iter_mut().for_each(|x| *x *= eps);
+                for d in 0..dim {
+                    acc[d] = eps * sa[d];
+                }
             });
         }
     }
