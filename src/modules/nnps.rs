@@ -230,10 +230,82 @@ fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &
     }
 }
 
+/// A cell grid over the particles sorted by cell.
+struct Grid<'a> {
+    lo: [f64; 3],
+    /// 1 / cell edge.
+    inv: f64,
+    nc: [usize; 3],
+    start: &'a [u32],
+    order: &'a [u32],
+    xs: &'a [f64],
+    hs: &'a [f64],
+    kappa: f64,
+    nreal: usize,
+}
+
+impl Grid<'_> {
+    /// The pairs owned by the particles in `slots` (cell order), into `buf` as [i, j].
+    fn find<const D: usize>(&self, slots: std::ops::Range<usize>, buf: &mut Vec<[u32; 2]>) {
+        let Grid { lo, inv, nc, start, order, xs, hs, kappa, nreal } = *self;
+        for slot in slots {
+            let a = order[slot] as usize;
+            let ha = hs[slot];
+            let xa: [f64; D] = xs[D * slot..D * slot + D].try_into().unwrap_or([0.0; D]);
+            let rad = kappa * ha;
+            let rad = rad + rad * 1e-9;
+            let mut clo = [0usize; 3];
+            let mut chi = [0usize; 3];
+            for d in 0..D {
+                let k0 = ((xa[d] - rad - lo[d]) * inv) as isize;
+                let k1 = ((xa[d] + rad - lo[d]) * inv) as isize;
+                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
+                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
+            }
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    let row = nc[0] * (y + nc[1] * z);
+                    let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
+                    let xrow = &xs[D * s0..D * s1];
+                    for ((xb, &hb), &b) in xrow.chunks_exact(D).zip(&hs[s0..s1]).zip(&order[s0..s1]) {
+                        let b = b as usize;
+                        // the owner: the larger h, ties to the smaller index
+                        if !(ha > hb || (ha == hb && a < b)) {
+                            continue;
+                        }
+                        let i = a.min(b);
+                        if i >= nreal {
+                            continue;
+                        }
+                        // (x_i − x_j)² = (x_a − x_b)² and h_i + h_j = h_a + h_b, exactly
+                        let mut r2 = 0.0;
+                        for d in 0..D {
+                            let dxd = xa[d] - xb[d];
+                            r2 += dxd * dxd;
+                        }
+                        let sr = kappa * (0.5 * (ha + hb));
+                        if r2 < sr * sr {
+                            buf.push([i as u32, a.max(b) as u32]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The cell search: a uniform grid of edge ≈ κ h̄/2 (h̄ the mean h), particles sorted by cell
 /// (counting sort, ascending index within a cell); each particle looks through the cells that
 /// meet the box of half-width κ h_a around it and keeps the pairs it owns.
 fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    match dim {
+        1 => rust_cell_d::<1>(nreal, x, h, kappa, pl),
+        2 => rust_cell_d::<2>(nreal, x, h, kappa, pl),
+        _ => rust_cell_d::<3>(nreal, x, h, kappa, pl),
+    }
+}
+
+fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
     let PairList { i: pi, j: pj, scratch, .. } = pl;
     pi.clear();
@@ -242,28 +314,28 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
         return;
     }
     let s = scratch.get_mut();
-    // the grid
+    // the grid: bounding box and mean h in one pass
     let mut lo = [0.0f64; 3];
     let mut hi = [0.0f64; 3];
-    for d in 0..dim {
-        let (mut a, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
-        for i in 0..nt {
-            let v = x[d + dim * i];
-            a = a.min(v);
-            b = b.max(v);
+    lo[..D].fill(f64::INFINITY);
+    hi[..D].fill(f64::NEG_INFINITY);
+    let mut hsum = [0.0f64; 4];
+    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
+        for d in 0..D {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
         }
-        lo[d] = a;
-        hi[d] = b;
+        hsum[i % 4] += h[i];
     }
-    let hmean = h.iter().sum::<f64>() / nt as f64;
+    let hmean = (hsum[0] + hsum[1] + hsum[2] + hsum[3]) / nt as f64;
     let mut cs = 0.5 * kappa * hmean;
     if !(cs > 0.0 && cs.is_finite()) {
-        cs = (0..dim).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
+        cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
     }
     // no more than a few cells per particle (sparse clouds)
     loop {
         let mut prod: u64 = 1;
-        for d in 0..dim {
+        for d in 0..D {
             prod = prod.saturating_mul(((hi[d] - lo[d]) / cs) as u64 + 1);
         }
         if prod <= (4 * nt as u64).max(64) {
@@ -271,15 +343,17 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
         }
         cs *= 2.0;
     }
+    let inv = 1.0 / cs;
     let mut nc = [1usize; 3];
-    for d in 0..dim {
-        nc[d] = ((hi[d] - lo[d]) / cs) as usize + 1;
+    for d in 0..D {
+        nc[d] = ((hi[d] - lo[d]) * inv) as usize + 1;
     }
     let ncell = nc[0] * nc[1] * nc[2];
+    // a particle's cell; the box search below uses the same map, which is monotone in x
     let cell = |p: &[f64]| -> usize {
         let mut c = [0usize; 3];
-        for d in 0..dim {
-            let k = ((p[d] - lo[d]) / cs) as isize;
+        for d in 0..D {
+            let k = ((p[d] - lo[d]) * inv) as isize;
             c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
         }
         c[0] + nc[0] * (c[1] + nc[1] * c[2])
@@ -287,8 +361,8 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
     s.cell_of.resize(nt, 0);
     s.start.clear();
     s.start.resize(ncell + 1, 0);
-    for i in 0..nt {
-        let c = cell(&x[dim * i..dim * i + dim]);
+    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
+        let c = cell(p);
         s.cell_of[i] = c as u32;
         s.start[c + 1] += 1;
     }
@@ -298,68 +372,20 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
     s.fill.clear();
     s.fill.extend_from_slice(&s.start[..ncell]);
     s.order.resize(nt, 0);
-    s.xs.resize(dim * nt, 0.0);
+    s.xs.resize(D * nt, 0.0);
     s.hs.resize(nt, 0.0);
-    for i in 0..nt {
+    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
         let c = s.cell_of[i] as usize;
         let slot = s.fill[c] as usize;
         s.fill[c] += 1;
         s.order[slot] = i as u32;
-        s.xs[dim * slot..dim * slot + dim].copy_from_slice(&x[dim * i..dim * i + dim]);
+        s.xs[D * slot..D * slot + D].copy_from_slice(p);
         s.hs[slot] = h[i];
     }
     // each particle (in cell order) finds the pairs it owns
-    let (start, order, xs, hs) = (&s.start, &s.order, &s.xs, &s.hs);
+    let g = Grid { lo, inv, nc, start: &s.start, order: &s.order, xs: &s.xs, hs: &s.hs, kappa, nreal };
     let ntask = nt.div_ceil(CHUNK);
-    tasks(&mut s.pair_tasks, ntask, |t, buf| {
-        for slot in CHUNK * t..(CHUNK * t + CHUNK).min(nt) {
-            let a = order[slot] as usize;
-            let ha = hs[slot];
-            let xa = &xs[dim * slot..dim * slot + dim];
-            let rad = kappa * ha;
-            let rad = rad + rad * 1e-9;
-            let mut clo = [0usize; 3];
-            let mut chi = [0usize; 3];
-            for d in 0..dim {
-                let k0 = ((xa[d] - rad - lo[d]) / cs) as isize;
-                let k1 = ((xa[d] + rad - lo[d]) / cs) as isize;
-                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
-                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
-            }
-            for z in clo[2]..=chi[2] {
-                for y in clo[1]..=chi[1] {
-                    let row = nc[0] * (y + nc[1] * z);
-                    let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
-                    for sb in s0..s1 {
-                        let hb = hs[sb];
-                        let b = order[sb] as usize;
-                        // the owner: the larger h, ties to the smaller index
-                        if !(ha > hb || (ha == hb && a < b)) {
-                            continue;
-                        }
-                        let (i, j, xi, xj) = if a < b {
-                            (a, b, xa, &xs[dim * sb..dim * sb + dim])
-                        } else {
-                            (b, a, &xs[dim * sb..dim * sb + dim], xa)
-                        };
-                        if i >= nreal {
-                            continue;
-                        }
-                        let mut r2 = 0.0;
-                        for d in 0..dim {
-                            let dxd = xi[d] - xj[d];
-                            r2 += dxd * dxd;
-                        }
-                        let (hi_, hj_) = if a < b { (ha, hb) } else { (hb, ha) };
-                        let sr = kappa * (0.5 * (hi_ + hj_));
-                        if r2 < sr * sr {
-                            buf.push([i as u32, j as u32]);
-                        }
-                    }
-                }
-            }
-        }
-    });
+    tasks(&mut s.pair_tasks, ntask, |t, buf| g.find::<D>(CHUNK * t..(CHUNK * t + CHUNK).min(nt), buf));
     // canonical order: counting sort by i, then each row by j
     let bufs = &s.pair_tasks[..ntask];
     let cnt = &mut s.start;
