@@ -7,7 +7,7 @@
 //! m_other × term (volume form: (m/ρ)_other × term, then × ρ_i) over its pairs in ascending pair
 //! order — the order of the Fortran scatter — so 0 ULP and independent of the thread count.
 
-use super::{Backend, nnps::PairList, par_rows};
+use super::{Backend, by_dim, nnps::PairList, par_rows};
 use crate::legacy;
 
 pub fn summation(b: Backend, pl: &PairList, w: &[f64], w0: &[f64], mass: &[f64], rho: &mut [f64]) {
@@ -28,14 +28,18 @@ pub fn summation(b: Backend, pl: &PairList, w: &[f64], w0: &[f64], mass: &[f64],
 
 /// v_ij·∇_i W_ij of every pair into `out`, in the Fortran's order.
 fn vdotw(dim: usize, pl: &PairList, dwdx: &[f64], v: &[f64], out: &mut Vec<f64>) {
+    out.resize(pl.len(), 0.0);
+    by_dim!(dim, 0, vdotw_d(pl, dwdx, v, out));
+}
+
+fn vdotw_d<const D: usize, const W: usize>(pl: &PairList, dwdx: &[f64], v: &[f64], out: &mut [f64]) {
     let np = pl.len();
-    out.resize(np, 0.0);
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut out[..np], 1, |k, o| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
         let mut vcc = 0.0;
-        for d in 0..dim {
-            vcc += (v[d + dim * i] - v[d + dim * j]) * dwdx[d + dim * k];
+        for d in 0..D {
+            vcc += (v[d + D * i] - v[d + D * j]) * dwdx[d + D * k];
         }
         o[0] = vcc;
     });

@@ -10,6 +10,7 @@ use crate::case::KernelKind;
 use crate::legacy;
 use std::f64::consts::PI;
 
+#[inline(always)]
 fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
     match kind {
         KernelKind::Cubic => match dim {
@@ -36,7 +37,7 @@ fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
 }
 
 /// W and ∇W for the separation `dx` (length `dim`) at distance `r`; writes ∇W into `dwdx`.
-#[inline]
+#[inline(always)]
 pub fn w_dw(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, dwdx: &mut [f64]) -> f64 {
     let q = r / h;
     let al = alpha(dim, kind, h);
@@ -118,23 +119,41 @@ pub fn pairs(
 ) {
     match b {
         Backend::Fortran => legacy::kernel_pairs(dim, kind.skf(), &pl.i, &pl.j, x, h, w, dwdx),
-        Backend::Rust => {
-            let np = pl.len();
-            let (pi, pj) = (&pl.i, &pl.j);
-            par_rows2(&mut w[..np], 1, &mut dwdx[..dim * np], dim, |k, wk, g| {
-                let i = pi[k] as usize;
-                let j = pj[k] as usize;
-                let mut dx = [0.0; 3];
-                let mut r2 = 0.0;
-                for d in 0..dim {
-                    dx[d] = x[d + dim * i] - x[d + dim * j];
-                    r2 += dx[d] * dx[d];
-                }
-                let hij = 0.5 * (h[i] + h[j]);
-                wk[0] = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
-            });
-        }
+        Backend::Rust => match dim {
+            1 => pairs_d::<1>(kind, pl, x, h, w, dwdx),
+            2 => pairs_d::<2>(kind, pl, x, h, w, dwdx),
+            _ => pairs_d::<3>(kind, pl, x, h, w, dwdx),
+        },
     }
+}
+
+const KINDS: [KernelKind; 4] = [KernelKind::Cubic, KernelKind::Gauss, KernelKind::Quintic, KernelKind::Wendland];
+
+fn pairs_d<const D: usize>(kind: KernelKind, pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
+    match kind {
+        KernelKind::Cubic => pairs_dk::<D, 0>(pl, x, h, w, dwdx),
+        KernelKind::Gauss => pairs_dk::<D, 1>(pl, x, h, w, dwdx),
+        KernelKind::Quintic => pairs_dk::<D, 2>(pl, x, h, w, dwdx),
+        KernelKind::Wendland => pairs_dk::<D, 3>(pl, x, h, w, dwdx),
+    }
+}
+
+/// The pair loop for one dimension and one kernel (`KINDS[K]`), so both are constants in it.
+fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
+    let np = pl.len();
+    let (pi, pj) = (&pl.i, &pl.j);
+    par_rows2(&mut w[..np], 1, &mut dwdx[..D * np], D, |k, wk, g| {
+        let i = pi[k] as usize;
+        let j = pj[k] as usize;
+        let mut dx = [0.0; D];
+        let mut r2 = 0.0;
+        for d in 0..D {
+            dx[d] = x[d + D * i] - x[d + D * j];
+            r2 += dx[d] * dx[d];
+        }
+        let hij = 0.5 * (h[i] + h[j]);
+        wk[0] = w_dw(D, KINDS[K], r2.sqrt(), &dx, hij, g);
+    });
 }
 
 /// The self-contribution W(0, h_i) of each particle.

@@ -219,3 +219,71 @@ where
             .for_each(|(c, (b1, b2))| body(c, b1, b2));
     }
 }
+
+/// Calls `$f::<D, W>($args)` with D = `$dim` (1, 2 or 3) and W = D + `$extra` (0 or 1): the pair
+/// loops are monomorphised over the dimension, so their short inner loops are unrolled.
+macro_rules! by_dim {
+    ($dim:expr, 0, $f:ident($($args:expr),* $(,)?)) => {
+        match $dim {
+            1 => $f::<1, 1>($($args),*),
+            2 => $f::<2, 2>($($args),*),
+            _ => $f::<3, 3>($($args),*),
+        }
+    };
+    ($dim:expr, 1, $f:ident($($args:expr),* $(,)?)) => {
+        match $dim {
+            1 => $f::<1, 2>($($args),*),
+            2 => $f::<2, 3>($($args),*),
+            _ => $f::<3, 4>($($args),*),
+        }
+    };
+}
+pub(crate) use by_dim;
+
+/// The gather of a pair sum whose pair k holds W terms `t` (a reused buffer): for every particle
+/// `a`, over its pairs in ascending pair order, `acc += m_j t[0..D]` where `a` is the pair's i and
+/// `acc −= m_i t[0..D]` where it is the j (written as `+= (−m_i) t`, the same IEEE operation), and,
+/// when W = D + 1, `e += m_other t[D]`. Rows are `acc` (D values) and `e` (one value, or none
+/// when W = D); `scale` multiplies `acc` at the end.
+pub(crate) fn gather_signed<const D: usize, const W: usize>(
+    pl: &nnps::PairList,
+    terms: &[f64],
+    mass: &[f64],
+    scale: Option<f64>,
+    acc: &mut [f64],
+    e: &mut [f64],
+) {
+    let body = |a: usize, acc: &mut [f64], e: &mut [f64]| {
+        let mut sa = [0.0f64; D];
+        let mut se = 0.0;
+        for inc in pl.incident(a) {
+            let k = inc.pair();
+            let t = &terms[W * k..W * k + W];
+            let m = mass[inc.other()];
+            let ms = if inc.is_i() { m } else { -m };
+            for d in 0..D {
+                sa[d] += ms * t[d];
+            }
+            if W > D {
+                se += m * t[W - 1];
+            }
+        }
+        match scale {
+            Some(s) => {
+                for d in 0..D {
+                    acc[d] = s * sa[d];
+                }
+            }
+            None => acc.copy_from_slice(&sa),
+        }
+        if W > D {
+            e[0] = se;
+        }
+    };
+    let n = mass.len();
+    if W > D {
+        par_rows2(&mut acc[..D * n], D, &mut e[..n], 1, body);
+    } else {
+        par_rows(&mut acc[..D * n], D, |a, r| body(a, r, &mut []));
+    }
+}

@@ -8,7 +8,7 @@
 //! v_j − v_i taken in pair order; then ε̇, R and the Jaumann rate. 0 ULP, independent of the
 //! thread count.
 
-use super::{Backend, nnps::PairList, par_rows, par_rows2};
+use super::{Backend, by_dim, nnps::PairList, par_rows, par_rows2};
 use crate::legacy::{self, MatTable, NPAR, NSTR, SPH_MP_ALPHA_PHI, SPH_MP_COHESION, SPH_MP_SHEAR};
 
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
@@ -51,30 +51,7 @@ pub fn rates(
             buf.part.resize(nt, 0.0);
             par_rows(&mut buf.part[..nt], 1, |a, r| r[0] = mass[a] / rho[a]);
             let vol: &[f64] = &buf.part;
-            par_rows2(&mut out.eps[..NSTR * nt], NSTR, &mut out.rot[..3 * nt], 3, |a, eps, rot| {
-                let mut gl = [[0.0f64; 3]; 3];
-                for e in pl.incident(a) {
-                    let (k, o) = (e.pair(), e.other());
-                    let f = vol[o];
-                    let (i, j) = if e.is_i() { (a, o) } else { (o, a) };
-                    for al in 0..dim {
-                        let dva = v[al + dim * j] - v[al + dim * i];
-                        for be in 0..dim {
-                            gl[al][be] += f * dva * dwdx[be + dim * k];
-                        }
-                    }
-                }
-                let mut e3 = [[0.0f64; 3]; 3];
-                let mut r3 = [[0.0f64; 3]; 3];
-                for al in 0..dim {
-                    for be in 0..dim {
-                        e3[al][be] = 0.5 * (gl[al][be] + gl[be][al]);
-                        r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
-                    }
-                }
-                eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
-                rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);
-            });
+            by_dim!(dim, 0, velocity_gradient(pl, dwdx, vol, v, &mut out.eps[..NSTR * nt], &mut out.rot[..3 * nt]));
             let eps: &[f64] = out.eps;
             let rot: &[f64] = out.rot;
             par_rows2(&mut out.dtau[..NSTR * nreal], NSTR, &mut out.dedt[..nreal], 1, |i, dt, de| {
@@ -119,6 +96,44 @@ pub fn rates(
             });
         }
     }
+}
+
+/// ε̇ and R of every particle from L = Σ_j (m_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij, gathered in pair order.
+fn velocity_gradient<const D: usize, const W: usize>(
+    pl: &PairList,
+    dwdx: &[f64],
+    vol: &[f64],
+    v: &[f64],
+    eps: &mut [f64],
+    rot: &mut [f64],
+) {
+    par_rows2(eps, NSTR, rot, 3, |a, eps, rot| {
+        let mut gl = [[0.0f64; 3]; 3];
+        let va = &v[D * a..D * a + D];
+        for e in pl.incident(a) {
+            let (k, o) = (e.pair(), e.other());
+            let f = vol[o];
+            let vo = &v[D * o..D * o + D];
+            let g = &dwdx[D * k..D * k + D];
+            for al in 0..D {
+                // v_j − v_i in pair order
+                let dva = if e.is_i() { vo[al] - va[al] } else { va[al] - vo[al] };
+                for be in 0..D {
+                    gl[al][be] += f * dva * g[be];
+                }
+            }
+        }
+        let mut e3 = [[0.0f64; 3]; 3];
+        let mut r3 = [[0.0f64; 3]; 3];
+        for al in 0..D {
+            for be in 0..D {
+                e3[al][be] = 0.5 * (gl[al][be] + gl[be][al]);
+                r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
+            }
+        }
+        eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
+        rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);
+    });
 }
 
 /// Drucker–Prager radial return of τ for the first `mat.len()` particles.

@@ -10,11 +10,11 @@
 //! under round-to-nearest, and x ± 0 = x for every other x. 0 ULP, independent of the thread
 //! count.
 
-use super::{Backend, nnps::PairList, par_rows, par_rows2};
+use super::{Backend, by_dim, gather_signed, nnps::PairList, par_rows};
 use crate::legacy;
 
 /// Π_ij of pair k (0 for receding pairs) and v_ij·∇W.
-#[inline]
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn pair_pi(
     dim: usize,
@@ -75,42 +75,42 @@ pub fn monaghan(
             legacy::viscosity_monaghan(dim, &pl.i, &pl.j, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt)
         }
         Backend::Rust => {
-            let nt = mass.len();
-            let np = pl.len();
-            let wd = dim + 1;
-            let mut buf = pl.scratch.lock();
-            buf.pair.resize(wd * np, 0.0);
-            let (pi, pj) = (&pl.i, &pl.j);
-            // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W
-            par_rows(&mut buf.pair[..wd * np], wd, |k, t| {
-                let (i, j) = (pi[k] as usize, pj[k] as usize);
-                let g = &dwdx[dim * k..dim * k + dim];
-                match pair_pi(dim, i, j, g, x, v, h, rho, c, coef) {
-                    Some((piv, vd)) => {
-                        for d in 0..dim {
-                            t[d] = -(piv * g[d]);
-                        }
-                        t[dim] = 0.5 * piv * vd;
-                    }
-                    None => t.fill(0.0),
-                }
-            });
-            let terms: &[f64] = &buf.pair;
-            par_rows2(&mut dvdt[..dim * nt], dim, &mut dedt[..nt], 1, |a, acc, de| {
-                let mut sa = [0.0f64; 3];
-                let mut se = 0.0;
-                for e in pl.incident(a) {
-                    let t = &terms[wd * e.pair()..wd * e.pair() + wd];
-                    let m = mass[e.other()];
-                    let ms = if e.is_i() { m } else { -m };
-                    for d in 0..dim {
-                        sa[d] += ms * t[d];
-                    }
-                    se += m * t[dim];
-                }
-                acc.copy_from_slice(&sa[..dim]);
-                de[0] = se;
-            });
+            by_dim!(dim, 1, rust(pl, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt))
         }
     }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn rust<const D: usize, const W: usize>(
+    pl: &PairList,
+    dwdx: &[f64],
+    x: &[f64],
+    v: &[f64],
+    h: &[f64],
+    rho: &[f64],
+    c: &[f64],
+    mass: &[f64],
+    coef: (f64, f64, f64),
+    dvdt: &mut [f64],
+    dedt: &mut [f64],
+) {
+    let np = pl.len();
+    let mut buf = pl.scratch.lock();
+    buf.pair.resize(W * np, 0.0);
+    let (pi, pj) = (&pl.i, &pl.j);
+    // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W
+    par_rows(&mut buf.pair[..W * np], W, |k, t| {
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let g = &dwdx[D * k..D * k + D];
+        match pair_pi(D, i, j, g, x, v, h, rho, c, coef) {
+            Some((piv, vd)) => {
+                for d in 0..D {
+                    t[d] = -(piv * g[d]);
+                }
+                t[D] = 0.5 * piv * vd;
+            }
+            None => t.fill(0.0),
+        }
+    });
+    gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
 }

@@ -5,7 +5,7 @@
 //! stored as −f); each particle then adds ± m_other × it over its pairs in ascending pair order
 //! (the Fortran's scatter order) and scales by ε. 0 ULP, independent of the thread count.
 
-use super::{Backend, nnps::PairList, par_rows};
+use super::{Backend, by_dim, gather_signed, nnps::PairList, par_rows};
 use crate::legacy;
 
 #[allow(clippy::too_many_arguments)]
@@ -22,34 +22,29 @@ pub fn average(
 ) {
     match b {
         Backend::Fortran => legacy::xsph_average(dim, &pl.i, &pl.j, w, mass, rho, v, eps, av),
-        Backend::Rust => {
-            let nt = mass.len();
-            let np = pl.len();
-            let mut buf = pl.scratch.lock();
-            buf.pair.resize(dim * np, 0.0);
-            let (pi, pj) = (&pl.i, &pl.j);
-            par_rows(&mut buf.pair[..dim * np], dim, |k, t| {
-                let (i, j) = (pi[k] as usize, pj[k] as usize);
-                let mrho = 0.5 * (rho[i] + rho[j]);
-                for d in 0..dim {
-                    t[d] = -((v[d + dim * i] - v[d + dim * j]) / mrho * w[k]);
-                }
-            });
-            let terms: &[f64] = &buf.pair;
-            par_rows(&mut av[..dim * nt], dim, |a, acc| {
-                let mut sa = [0.0f64; 3];
-                for e in pl.incident(a) {
-                    let t = &terms[dim * e.pair()..dim * e.pair() + dim];
-                    let m = mass[e.other()];
-                    let ms = if e.is_i() { m } else { -m };
-                    for d in 0..dim {
-                        sa[d] += ms * t[d];
-                    }
-                }
-                for d in 0..dim {
-                    acc[d] = eps * sa[d];
-                }
-            });
-        }
+        Backend::Rust => by_dim!(dim, 0, rust(pl, w, mass, rho, v, eps, av)),
     }
+}
+
+fn rust<const D: usize, const W: usize>(
+    pl: &PairList,
+    w: &[f64],
+    mass: &[f64],
+    rho: &[f64],
+    v: &[f64],
+    eps: f64,
+    av: &mut [f64],
+) {
+    let np = pl.len();
+    let mut buf = pl.scratch.lock();
+    buf.pair.resize(W * np, 0.0);
+    let (pi, pj) = (&pl.i, &pl.j);
+    par_rows(&mut buf.pair[..W * np], W, |k, t| {
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let mrho = 0.5 * (rho[i] + rho[j]);
+        for d in 0..D {
+            t[d] = -((v[d + D * i] - v[d + D * j]) / mrho * w[k]);
+        }
+    });
+    gather_signed::<D, W>(pl, &buf.pair, mass, Some(eps), av, &mut []);
 }
