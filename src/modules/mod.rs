@@ -10,7 +10,7 @@
 //! scatter into the same particle, and each pair term is computed with the same operations in the
 //! same order, so the sums agree bit for bit and results do not depend on the thread count. A pair
 //! term is computed once (a parallel pass over the pairs, into a buffer the pair list keeps from
-//! step to step) and the gather adds it to both ends. Loops run in tasks of [`CHUNK`] rows, inline
+//! step to step) and the gather adds it to both ends. Loops run in tasks of `CHUNK` rows, inline
 //! when the pool has one thread; the CLI runs the whole simulation on a pool worker, so a parallel
 //! call starts there instead of being handed over from an outside thread.
 
