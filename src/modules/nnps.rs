@@ -320,12 +320,18 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     lo[..D].fill(f64::INFINITY);
     hi[..D].fill(f64::NEG_INFINITY);
     let mut hsum = [0.0f64; 4];
+    let mut hmin = f64::INFINITY;
     for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
         for d in 0..D {
             lo[d] = lo[d].min(p[d]);
             hi[d] = hi[d].max(p[d]);
         }
         hsum[i % 4] += h[i];
+        hmin = hmin.min(h[i]);
+    }
+    if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
+        // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
+        return rust_direct(D, nreal, x, h, kappa, pl);
     }
     let hmean = (hsum[0] + hsum[1] + hsum[2] + hsum[3]) / nt as f64;
     let mut cs = 0.5 * kappa * hmean;
@@ -336,7 +342,7 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     loop {
         let mut prod: u64 = 1;
         for d in 0..D {
-            prod = prod.saturating_mul(((hi[d] - lo[d]) / cs) as u64 + 1);
+            prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
         }
         if prod <= (4 * nt as u64).max(64) {
             break;
@@ -346,7 +352,7 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     let inv = 1.0 / cs;
     let mut nc = [1usize; 3];
     for d in 0..D {
-        nc[d] = ((hi[d] - lo[d]) * inv) as usize + 1;
+        nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
     }
     let ncell = nc[0] * nc[1] * nc[2];
     // a particle's cell; the box search below uses the same map, which is monotone in x
@@ -436,5 +442,82 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
         parts.into_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
     } else {
         parts.into_par_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64*, seeded.
+    struct Rng(u64);
+    impl Rng {
+        fn f(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn lists(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64) -> Vec<(i32, i32)> {
+        let mut pl = PairList::default();
+        search(b, cell, dim, nreal, x, h, kappa, &mut pl);
+        pl.i.iter().copied().zip(pl.j.iter().copied()).collect()
+    }
+
+    /// The owner-based cell search returns the Fortran's direct list: lattices with equal h (ties),
+    /// a few particles with h up to 5×, duplicated positions, points exactly at the support
+    /// radius, a far outlier, and the fallbacks (negative h, non-finite values).
+    #[test]
+    fn cell_search_equals_direct() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let mut checked = 0;
+        for dim in 1..=3 {
+            let side = [400, 24, 8][dim - 1];
+            let n = [side, side * side, side * side * side][dim - 1];
+            for case in 0..6 {
+                let mut x = vec![0.0; dim * n];
+                let mut h = vec![0.01; n];
+                for i in 0..n {
+                    let mut r = i;
+                    for d in 0..dim {
+                        let jitter = if case % 2 == 0 { 0.0 } else { 0.004 * (rng.f() - 0.5) };
+                        x[d + dim * i] = 0.01 * (r % side) as f64 + jitter;
+                        r /= side;
+                    }
+                    if case >= 2 && rng.f() < 0.03 {
+                        h[i] = 0.01 * (1.0 + 4.0 * rng.f());
+                    }
+                    if case >= 4 && rng.f() < 0.3 {
+                        h[i] = 0.01 * (0.9 + 0.2 * rng.f());
+                    }
+                }
+                if case == 3 {
+                    // a duplicate, and a far outlier with a huge h
+                    x[dim] = x[0];
+                    x[dim * (n - 1)] = 50.0;
+                    h[n - 1] = 0.3;
+                }
+                if case == 5 {
+                    h[7] = -0.01;
+                }
+                let nreal = n - n / 7;
+                for kappa in [2.0, 3.0] {
+                    let want = lists(Backend::Fortran, false, dim, nreal, &x, &h, kappa);
+                    assert!(!want.is_empty());
+                    assert_eq!(lists(Backend::Rust, true, dim, nreal, &x, &h, kappa), want, "{dim}D case {case}");
+                    assert_eq!(lists(Backend::Rust, false, dim, nreal, &x, &h, kappa), want, "{dim}D case {case}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 36);
+        // non-finite values
+        let x = vec![0.0, 0.01, f64::NAN, 0.03, 0.04, f64::INFINITY, 0.06];
+        for h in [vec![0.01; 7], vec![0.01, 0.01, 0.01, f64::INFINITY, 0.01, 0.01, f64::NAN]] {
+            let want = lists(Backend::Fortran, false, 1, 6, &x, &h, 2.0);
+            assert_eq!(lists(Backend::Rust, true, 1, 6, &x, &h, 2.0), want);
+        }
     }
 }
