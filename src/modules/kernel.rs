@@ -5,7 +5,7 @@
 //! ∇_i W_ij is written α g(q) (x_i − x_j)/h², so r = 0 is harmless. The Rust twin evaluates every
 //! expression in the Fortran's order: 0 ULP.
 
-use super::{Backend, nnps::PairList, par_rows, par_rows2};
+use super::{Backend, CHUNK, nnps::PairList, par_rows, par_rows2, serial};
 use crate::case::KernelKind;
 use crate::legacy;
 use std::f64::consts::PI;
@@ -142,6 +142,24 @@ fn pairs_d<const D: usize>(kind: KernelKind, pl: &PairList, x: &[f64], h: &[f64]
 fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
     let np = pl.len();
     let (pi, pj) = (&pl.i, &pl.j);
+    if K == 0 {
+        let body = |c: usize, wb: &mut [f64], gb: &mut [f64]| cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb);
+        if serial() {
+            w[..np]
+                .chunks_mut(CHUNK)
+                .zip(dwdx[..D * np].chunks_mut(D * CHUNK))
+                .enumerate()
+                .for_each(|(c, (wb, gb))| body(c, wb, gb));
+        } else {
+            use rayon::prelude::*;
+            w[..np]
+                .par_chunks_mut(CHUNK)
+                .zip(dwdx[..D * np].par_chunks_mut(D * CHUNK))
+                .enumerate()
+                .for_each(|(c, (wb, gb))| body(c, wb, gb));
+        }
+        return;
+    }
     par_rows2(&mut w[..np], 1, &mut dwdx[..D * np], D, |k, wk, g| {
         let i = pi[k] as usize;
         let j = pj[k] as usize;
@@ -154,6 +172,67 @@ fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64],
         let hij = 0.5 * (h[i] + h[j]);
         wk[0] = w_dw(D, KINDS[K], r2.sqrt(), &dx, hij, g);
     });
+}
+
+/// The cubic spline over a block of pairs, in loops over contiguous arrays so that the ones with
+/// √ and the divisions (the branches written as selects) run on vectors: the same operations per
+/// pair, so the same bits.
+fn cubic_block<const D: usize>(pi: &[i32], pj: &[i32], x: &[f64], h: &[f64], k0: usize, w: &mut [f64], g: &mut [f64]) {
+    let len = w.len();
+    let mut dx = [[0.0f64; CHUNK]; D];
+    let mut r2s = [0.0f64; CHUNK];
+    let mut hs = [0.0f64; CHUNK];
+    let mut gs = [0.0f64; CHUNK];
+    for l in 0..len {
+        let (i, j) = (pi[k0 + l] as usize, pj[k0 + l] as usize);
+        let mut r2 = 0.0;
+        for d in 0..D {
+            let e = x[d + D * i] - x[d + D * j];
+            dx[d][l] = e;
+            r2 += e * e;
+        }
+        r2s[l] = r2;
+        hs[l] = 0.5 * (h[i] + h[j]);
+    }
+    // over the whole block: the unused tail holds zeros, and what it gives is never read
+    let mut ws = [0.0f64; CHUNK];
+    for l in 0..CHUNK {
+        let hv = hs[l];
+        let q = r2s[l].sqrt() / hv;
+        let al = alpha(D, KernelKind::Cubic, hv);
+        let w1 = al * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+        let g1 = al * (-2.0 + 1.5 * q);
+        let a = 2.0 - q;
+        let w2 = al * (a * a * a / 6.0);
+        let g2 = -al * 0.5 * a * a / q;
+        let near = q < 1.0;
+        let mid = q < 2.0;
+        ws[l] = if near {
+            w1
+        } else if mid {
+            w2
+        } else {
+            0.0
+        };
+        gs[l] = if near {
+            g1
+        } else if mid {
+            g2
+        } else {
+            0.0
+        };
+    }
+    w.copy_from_slice(&ws[..len]);
+    for dxd in dx.iter_mut() {
+        for l in 0..CHUNK {
+            dxd[l] = gs[l] * dxd[l] / (hs[l] * hs[l]);
+        }
+    }
+    for l in 0..len {
+        for d in 0..D {
+            g[D * l + d] = dx[d][l];
+        }
+    }
 }
 
 /// The self-contribution W(0, h_i) of each particle.
