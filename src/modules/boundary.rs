@@ -77,7 +77,7 @@ pub fn wall_force(
             let n = x.len() / dim.max(1);
             let reach2 = (1.01 * r0) * (1.01 * r0);
             par_rows(&mut dvdt[..dim * n], dim, |i, acc| {
-                acc.fill(0.0);
+                let mut sum = [0.0f64; 3];
                 let xi = &x[dim * i..dim * i + dim];
                 for (s, w) in walls.iter().enumerate() {
                     let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
@@ -112,11 +112,12 @@ pub fn wall_force(
                             let q = r0 / r2.sqrt();
                             let f = dcoef * (ipow(q, n1) - ipow(q, n2)) / r2;
                             for d in 0..dim {
-                                acc[d] += f * dx[d];
+                                sum[d] += f * dx[d];
                             }
                         }
                     }
                 }
+                acc.copy_from_slice(&sum[..dim]);
             });
         }
     }

@@ -143,20 +143,25 @@ fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64],
     let np = pl.len();
     let (pi, pj) = (&pl.i, &pl.j);
     if K == 0 {
-        let body = |c: usize, wb: &mut [f64], gb: &mut [f64]| cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb);
+        // the cubic spline in blocks, with a reused buffer of D + 2 values per pair
+        let mut buf = pl.scratch.lock();
+        buf.pair.resize((D + 2) * np, 0.0);
+        let tmp = &mut buf.pair[..(D + 2) * np];
+        let body = |c: usize, ((wb, gb), tb): ((&mut [f64], &mut [f64]), &mut [f64])| {
+            cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb, tb)
+        };
+        let (wc, gc, tc) =
+            (w[..np].chunks_mut(CHUNK), dwdx[..D * np].chunks_mut(D * CHUNK), tmp.chunks_mut((D + 2) * CHUNK));
         if serial() {
-            w[..np]
-                .chunks_mut(CHUNK)
-                .zip(dwdx[..D * np].chunks_mut(D * CHUNK))
-                .enumerate()
-                .for_each(|(c, (wb, gb))| body(c, wb, gb));
+            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
         } else {
             use rayon::prelude::*;
-            w[..np]
-                .par_chunks_mut(CHUNK)
-                .zip(dwdx[..D * np].par_chunks_mut(D * CHUNK))
-                .enumerate()
-                .for_each(|(c, (wb, gb))| body(c, wb, gb));
+            let (wc, gc, tc) = (
+                w[..np].par_chunks_mut(CHUNK),
+                dwdx[..D * np].par_chunks_mut(D * CHUNK),
+                tmp.par_chunks_mut((D + 2) * CHUNK),
+            );
+            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
         }
         return;
     }
@@ -174,29 +179,36 @@ fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64],
     });
 }
 
-/// The cubic spline over a block of pairs, in loops over contiguous arrays so that the ones with
-/// √ and the divisions (the branches written as selects) run on vectors: the same operations per
-/// pair, so the same bits.
-fn cubic_block<const D: usize>(pi: &[i32], pj: &[i32], x: &[f64], h: &[f64], k0: usize, w: &mut [f64], g: &mut [f64]) {
+/// The cubic spline over a block of pairs, in loops over contiguous arrays (in `tmp`: D + 2 values
+/// per pair) so that the square roots and divisions, the branches written as selects, run on
+/// vectors: the same operations per pair, so the same bits.
+#[allow(clippy::too_many_arguments)]
+fn cubic_block<const D: usize>(
+    pi: &[i32],
+    pj: &[i32],
+    x: &[f64],
+    h: &[f64],
+    k0: usize,
+    w: &mut [f64],
+    g: &mut [f64],
+    tmp: &mut [f64],
+) {
     let len = w.len();
-    let mut dx = [[0.0f64; CHUNK]; D];
-    let mut r2s = [0.0f64; CHUNK];
-    let mut hs = [0.0f64; CHUNK];
-    let mut gs = [0.0f64; CHUNK];
+    let (dx, rest) = tmp.split_at_mut(D * len);
+    let (r2s, hs) = rest.split_at_mut(len);
     for l in 0..len {
         let (i, j) = (pi[k0 + l] as usize, pj[k0 + l] as usize);
         let mut r2 = 0.0;
         for d in 0..D {
             let e = x[d + D * i] - x[d + D * j];
-            dx[d][l] = e;
+            dx[d * len + l] = e;
             r2 += e * e;
         }
         r2s[l] = r2;
         hs[l] = 0.5 * (h[i] + h[j]);
     }
-    // over the whole block: the unused tail holds zeros, and what it gives is never read
-    let mut ws = [0.0f64; CHUNK];
-    for l in 0..CHUNK {
+    // r2s becomes the gradient factor g(q)
+    for l in 0..len {
         let hv = hs[l];
         let q = r2s[l].sqrt() / hv;
         let al = alpha(D, KernelKind::Cubic, hv);
@@ -207,14 +219,14 @@ fn cubic_block<const D: usize>(pi: &[i32], pj: &[i32], x: &[f64], h: &[f64], k0:
         let g2 = -al * 0.5 * a * a / q;
         let near = q < 1.0;
         let mid = q < 2.0;
-        ws[l] = if near {
+        w[l] = if near {
             w1
         } else if mid {
             w2
         } else {
             0.0
         };
-        gs[l] = if near {
+        r2s[l] = if near {
             g1
         } else if mid {
             g2
@@ -222,15 +234,14 @@ fn cubic_block<const D: usize>(pi: &[i32], pj: &[i32], x: &[f64], h: &[f64], k0:
             0.0
         };
     }
-    w.copy_from_slice(&ws[..len]);
-    for dxd in dx.iter_mut() {
-        for l in 0..CHUNK {
-            dxd[l] = gs[l] * dxd[l] / (hs[l] * hs[l]);
+    for dxd in dx.chunks_exact_mut(len) {
+        for l in 0..len {
+            dxd[l] = r2s[l] * dxd[l] / (hs[l] * hs[l]);
         }
     }
     for l in 0..len {
         for d in 0..D {
-            g[D * l + d] = dx[d][l];
+            g[D * l + d] = dx[d * len + l];
         }
     }
 }

@@ -57,7 +57,9 @@ pub fn rates(
             par_rows2(&mut out.dtau[..NSTR * nreal], NSTR, &mut out.dedt[..nreal], 1, |i, dt, de| {
                 let m = mat[i] as usize;
                 let g = mt.mpar[shear + NPAR * m];
-                dt.fill(0.0);
+                for v in dt.iter_mut().take(NSTR) {
+                    *v = 0.0;
+                }
                 de[0] = 0.0;
                 if g <= 0.0 {
                     return;

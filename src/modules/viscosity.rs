@@ -109,7 +109,12 @@ fn rust<const D: usize, const W: usize>(
                 }
                 t[D] = 0.5 * piv * vd;
             }
-            None => t.fill(0.0),
+            None => {
+                // (a loop of known length: `fill` would call memset for three values)
+                for v in t.iter_mut().take(W) {
+                    *v = 0.0;
+                }
+            }
         }
     });
     gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
