@@ -245,8 +245,8 @@ struct Grid<'a> {
 }
 
 impl Grid<'_> {
-    /// The pairs owned by the particles in `slots` (cell order), into `buf` as [i, j].
-    fn find<const D: usize>(&self, slots: std::ops::Range<usize>, buf: &mut Vec<[u32; 2]>) {
+    /// The pairs owned by the particles in `slots` (cell order), as [i, j] into `bufs[i / rows]`.
+    fn find<const D: usize>(&self, slots: std::ops::Range<usize>, rows: usize, bufs: &mut [Vec<[u32; 2]>]) {
         let Grid { lo, inv, nc, start, order, xs, hs, kappa, nreal } = *self;
         for slot in slots {
             let a = order[slot] as usize;
@@ -285,7 +285,7 @@ impl Grid<'_> {
                         }
                         let sr = kappa * (0.5 * (ha + hb));
                         if r2 < sr * sr {
-                            buf.push([i as u32, a.max(b) as u32]);
+                            bufs[i / rows].push([i as u32, a.max(b) as u32]);
                         }
                     }
                 }
@@ -388,60 +388,74 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
         s.xs[D * slot..D * slot + D].copy_from_slice(p);
         s.hs[slot] = h[i];
     }
-    // each particle (in cell order) finds the pairs it owns
+    // each particle (in cell order) finds the pairs it owns, into per-task buffers, one per
+    // bucket of rows (the pair's i). The list is canonical whatever the split, so the split may
+    // follow the thread count: a few tasks and buckets per thread keep the buffers O(threads²).
     let g = Grid { lo, inv, nc, start: &s.start, order: &s.order, xs: &s.xs, hs: &s.hs, kappa, nreal };
-    let ntask = nt.div_ceil(CHUNK);
-    tasks(&mut s.pair_tasks, ntask, |t, buf| g.find::<D>(CHUNK * t..(CHUNK * t + CHUNK).min(nt), buf));
-    // canonical order: counting sort by i, then each row by j
-    let bufs = &s.pair_tasks[..ntask];
-    let cnt = &mut s.start;
-    cnt.clear();
-    cnt.resize(nreal + 1, 0);
-    for buf in bufs {
-        for &[i, _] in buf {
-            cnt[i as usize + 1] += 1;
-        }
+    let per = 4 * rayon::current_num_threads();
+    let ntask = nt.div_ceil(CHUNK).min(per);
+    let slots = nt.div_ceil(ntask);
+    let nb = nreal.div_ceil(CHUNK).min(per);
+    let rows = nreal.div_ceil(nb);
+    if s.pair_tasks.len() < ntask * nb {
+        s.pair_tasks.resize_with(ntask * nb, Vec::new);
     }
-    for a in 0..nreal {
-        cnt[a + 1] += cnt[a];
+    let find = |(t, bufs): (usize, &mut [Vec<[u32; 2]>])| {
+        bufs.iter_mut().for_each(Vec::clear);
+        g.find::<D>(slots * t..(slots * t + slots).min(nt), rows, bufs);
+    };
+    let found = &mut s.pair_tasks[..ntask * nb];
+    if serial() {
+        found.chunks_mut(nb).enumerate().for_each(find);
+    } else {
+        found.par_chunks_mut(nb).enumerate().for_each(find);
     }
-    let np = cnt[nreal] as usize;
-    s.fill.clear();
-    s.fill.extend_from_slice(&cnt[..nreal]);
+    // canonical order, bucket by bucket: a counting sort by i, then each row by j
+    let found = &s.pair_tasks[..ntask * nb];
+    let size = |b: usize| -> usize { (0..ntask).map(|t| found[t * nb + b].len()).sum() };
+    let np: usize = (0..nb).map(size).sum();
     pi.resize(np, 0);
     pj.resize(np, 0);
-    for buf in bufs {
-        for &[i, j] in buf {
-            let f = &mut s.fill[i as usize];
-            pj[*f as usize] = j as i32;
-            *f += 1;
-        }
+    let mut parts: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nb);
+    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    for b in 0..nb {
+        let len = size(b);
+        let (head_i, tail_i) = std::mem::take(&mut ri).split_at_mut(len);
+        let (head_j, tail_j) = std::mem::take(&mut rj).split_at_mut(len);
+        parts.push((b, head_i, head_j));
+        ri = tail_i;
+        rj = tail_j;
     }
-    let cnt: &[u32] = cnt;
-    let sort_rows = |a0: usize, a1: usize, ri: &mut [i32], rj: &mut [i32]| {
-        let base = cnt[a0] as usize;
-        for a in a0..a1 {
-            let (r0, r1) = (cnt[a] as usize - base, cnt[a + 1] as usize - base);
-            ri[r0..r1].fill(a as i32);
+    let place = |(b, ri, rj): (usize, &mut [i32], &mut [i32])| {
+        let a0 = rows * b;
+        let nr = rows.min(nreal - a0);
+        let mut cnt = vec![0u32; nr + 1];
+        for t in 0..ntask {
+            for &[i, _] in &found[t * nb + b] {
+                cnt[i as usize - a0 + 1] += 1;
+            }
+        }
+        for r in 0..nr {
+            cnt[r + 1] += cnt[r];
+        }
+        let mut fill = cnt[..nr].to_vec();
+        for t in 0..ntask {
+            for &[i, j] in &found[t * nb + b] {
+                let f = &mut fill[i as usize - a0];
+                rj[*f as usize] = j as i32;
+                *f += 1;
+            }
+        }
+        for r in 0..nr {
+            let (r0, r1) = (cnt[r] as usize, cnt[r + 1] as usize);
+            ri[r0..r1].fill((a0 + r) as i32);
             rj[r0..r1].sort_unstable();
         }
     };
-    // rows in tasks of CHUNK particles
-    let mut parts: Vec<(usize, usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nreal.div_ceil(CHUNK));
-    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
-    for a0 in (0..nreal).step_by(CHUNK) {
-        let a1 = (a0 + CHUNK).min(nreal);
-        let len = (cnt[a1] - cnt[a0]) as usize;
-        let (hi_i, lo_i) = std::mem::take(&mut ri).split_at_mut(len);
-        let (hi_j, lo_j) = std::mem::take(&mut rj).split_at_mut(len);
-        parts.push((a0, a1, hi_i, hi_j));
-        ri = lo_i;
-        rj = lo_j;
-    }
     if serial() {
-        parts.into_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
+        parts.into_iter().for_each(place);
     } else {
-        parts.into_par_iter().for_each(|(a0, a1, ri, rj)| sort_rows(a0, a1, ri, rj));
+        parts.into_par_iter().for_each(place);
     }
 }
 
