@@ -419,26 +419,42 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
         return;
     }
     let s = scratch.get_mut();
-    // the grid: bounding box and mean h in one pass
+    // the grid: bounding box, smallest and mean h, in tasks of CHUNK particles (the partial sums
+    // added in task order, so h̄ does not depend on the thread count)
+    let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+        for i in CHUNK * c..(CHUNK * c + CHUNK).min(nt) {
+            for d in 0..D {
+                lo[d] = lo[d].min(x[d + D * i]);
+                hi[d] = hi[d].max(x[d + D * i]);
+            }
+            hsum += h[i];
+            hmin = hmin.min(h[i]);
+        }
+        (lo, hi, hsum, hmin)
+    };
+    let nchunk = nt.div_ceil(CHUNK);
+    let parts: Vec<_> =
+        if serial() { (0..nchunk).map(stats).collect() } else { (0..nchunk).into_par_iter().map(stats).collect() };
     let mut lo = [0.0f64; 3];
     let mut hi = [0.0f64; 3];
     lo[..D].fill(f64::INFINITY);
     hi[..D].fill(f64::NEG_INFINITY);
-    let mut hsum = [0.0f64; 4];
-    let mut hmin = f64::INFINITY;
-    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
+    let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+    for (plo, phi, ps, pm) in parts {
         for d in 0..D {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
+            lo[d] = lo[d].min(plo[d]);
+            hi[d] = hi[d].max(phi[d]);
         }
-        hsum[i % 4] += h[i];
-        hmin = hmin.min(h[i]);
+        hsum += ps;
+        hmin = hmin.min(pm);
     }
     if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
         // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
         return rust_direct(D, nreal, x, h, kappa, pl);
     }
-    let hmean = (hsum[0] + hsum[1] + hsum[2] + hsum[3]) / nt as f64;
+    let hmean = hsum / nt as f64;
     let mut cs = 0.5 * kappa * hmean;
     if !(cs > 0.0 && cs.is_finite()) {
         cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
@@ -470,12 +486,21 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
         c[0] + nc[0] * (c[1] + nc[1] * c[2])
     };
     s.cell_of.resize(nt, 0);
+    let cells = |(c, out): (usize, &mut [u32])| {
+        for (l, o) in out.iter_mut().enumerate() {
+            let i = CHUNK * c + l;
+            *o = cell(&x[D * i..D * i + D]) as u32;
+        }
+    };
+    if serial() {
+        s.cell_of.chunks_mut(CHUNK).enumerate().for_each(cells);
+    } else {
+        s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
+    }
     s.start.clear();
     s.start.resize(ncell + 1, 0);
-    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
-        let c = cell(p);
-        s.cell_of[i] = c as u32;
-        s.start[c + 1] += 1;
+    for &c in &s.cell_of {
+        s.start[c as usize + 1] += 1;
     }
     for c in 0..ncell {
         s.start[c + 1] += s.start[c];
