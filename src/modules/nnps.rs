@@ -8,8 +8,11 @@
 //! The Rust cell search sizes its cells from the mean h (edge κ h̄/2), not from the largest h as
 //! the Fortran does, so that a few expanded particles (detonation products, h up to 5× the rest)
 //! do not multiply everyone's candidates. Each pair is found once, by its *owner*: the particle
-//! with the larger h (ties: the smaller index), whose box of half-width κ h_owner ≥ κ h_ij holds
-//! every partner. The test itself is the Fortran's, evaluated with i < j:
+//! with the clearly larger h (h_a > h_b (1 + 1/16)), or, between similar h, the one that comes
+//! first in cell order; the owner's box of half-width κ h_owner (1 + 1/16) ≥ κ h_ij holds every
+//! partner. Between similar h a particle thus looks only forward in cell order (half the box), and
+//! backward only through rows that hold a clearly smaller h. The test itself is the Fortran's,
+//! evaluated with i < j:
 //! `s = κ (0.5 (h_i + h_j)); r² < s²`. The pairs are then sorted into the canonical order
 //! (counting sort by i, each row sorted by j), so the list is the Fortran's, whatever the order
 //! in which they were found and however many threads found them.
@@ -335,6 +338,9 @@ fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &
     }
 }
 
+/// Two h are "similar" unless one exceeds the other times ONEP (an exact binary fraction).
+const ONEP: f64 = 1.0 + 1.0 / 16.0;
+
 /// A cell grid over the particles sorted by cell.
 struct Grid<'a> {
     lo: [f64; 3],
@@ -357,7 +363,8 @@ impl Grid<'_> {
             let a = order[slot] as usize;
             let ha = hs[slot];
             let xa: [f64; D] = xs[D * slot..D * slot + D].try_into().unwrap_or([0.0; D]);
-            let rad = kappa * ha;
+            // the box holds every partner a owns: r < κ (h_a + h_b)/2 ≤ κ h_a ONEP
+            let rad = kappa * (ha * ONEP);
             let rad = rad + rad * 1e-9;
             let mut clo = [0usize; 3];
             let mut chi = [0usize; 3];
@@ -367,30 +374,44 @@ impl Grid<'_> {
                 clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
                 chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
             }
+            let mut test = |sb: usize| {
+                let b = order[sb] as usize;
+                let i = a.min(b);
+                if i >= nreal {
+                    return;
+                }
+                let hb = hs[sb];
+                let xb = &xs[D * sb..D * sb + D];
+                // (x_i − x_j)² = (x_a − x_b)² and h_i + h_j = h_a + h_b, exactly
+                let mut r2 = 0.0;
+                for d in 0..D {
+                    let dxd = xa[d] - xb[d];
+                    r2 += dxd * dxd;
+                }
+                let sr = kappa * (0.5 * (ha + hb));
+                if r2 < sr * sr {
+                    bufs[i / rows].push([i as u32, a.max(b) as u32]);
+                }
+            };
             for z in clo[2]..=chi[2] {
                 for y in clo[1]..=chi[1] {
                     let row = nc[0] * (y + nc[1] * z);
                     let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
-                    let xrow = &xs[D * s0..D * s1];
-                    for ((xb, &hb), &b) in xrow.chunks_exact(D).zip(&hs[s0..s1]).zip(&order[s0..s1]) {
-                        let b = b as usize;
-                        // the owner: the larger h, ties to the smaller index
-                        if !(ha > hb || (ha == hb && a < b)) {
+                    // later slots: a owns b unless b is clearly larger
+                    for sb in s0.max(slot + 1)..s1 {
+                        let b_larger = hs[sb] > ha * ONEP;
+                        if b_larger {
                             continue;
                         }
-                        let i = a.min(b);
-                        if i >= nreal {
-                            continue;
-                        }
-                        // (x_i − x_j)² = (x_a − x_b)² and h_i + h_j = h_a + h_b, exactly
-                        let mut r2 = 0.0;
-                        for d in 0..D {
-                            let dxd = xa[d] - xb[d];
-                            r2 += dxd * dxd;
-                        }
-                        let sr = kappa * (0.5 * (ha + hb));
-                        if r2 < sr * sr {
-                            bufs[i / rows].push([i as u32, a.max(b) as u32]);
+                        test(sb);
+                    }
+                    // earlier slots: a owns b only if a is clearly larger (rarely any)
+                    let back = s0..s1.min(slot).max(s0);
+                    if hs[back.clone()].iter().any(|&hb| ha > hb * ONEP) {
+                        for sb in back {
+                            if ha > hs[sb] * ONEP {
+                                test(sb);
+                            }
                         }
                     }
                 }
