@@ -57,8 +57,8 @@ pub fn rates(
             par_rows2(&mut out.dtau[..NSTR * nreal], NSTR, &mut out.dedt[..nreal], 1, |i, dt, de| {
                 let m = mat[i] as usize;
                 let g = mt.mpar[shear + NPAR * m];
-                for v in dt.iter_mut().take(NSTR) {
-                    *v = 0.0;
+                if let Ok(dt) = <&mut [f64; NSTR]>::try_from(&mut *dt) {
+                    *dt = [0.0; NSTR];
                 }
                 de[0] = 0.0;
                 if g <= 0.0 {

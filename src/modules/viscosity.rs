@@ -110,9 +110,9 @@ fn rust<const D: usize, const W: usize>(
                 t[D] = 0.5 * piv * vd;
             }
             None => {
-                // (a loop of known length: `fill` would call memset for three values)
-                for v in t.iter_mut().take(W) {
-                    *v = 0.0;
+                // (a store of known length: `fill` would call memset for three values)
+                if let Ok(t) = <&mut [f64; W]>::try_from(t) {
+                    *t = [0.0; W];
                 }
             }
         }
