@@ -131,27 +131,28 @@ impl PairList {
         if threads > 1 && np >= 4 * CHUNK && self.canonical(ntotal) {
             return self.build_incidence_par(ntotal, 4 * threads);
         }
-        let (pi, pj) = (&self.i, &self.j);
-        self.inc_start.clear();
-        self.inc_start.resize(ntotal + 1, 0);
-        for k in 0..np {
-            self.inc_start[pi[k] as usize + 1] += 1;
-            self.inc_start[pj[k] as usize + 1] += 1;
+        let (pi, pj) = (&self.i[..np], &self.j[..np]);
+        let start = &mut self.inc_start;
+        start.clear();
+        start.resize(ntotal + 1, 0);
+        for (&a, &b) in pi.iter().zip(pj) {
+            start[a as usize + 1] += 1;
+            start[b as usize + 1] += 1;
         }
         for a in 0..ntotal {
-            self.inc_start[a + 1] += self.inc_start[a];
+            start[a + 1] += start[a];
         }
         self.inc.resize(2 * np, Inc::default());
-        self.inc_fill.clear();
-        self.inc_fill.extend_from_slice(&self.inc_start[..ntotal]);
-        let (inc, fill) = (&mut self.inc, &mut self.inc_fill);
-        for k in 0..np {
-            let (a, b) = (pi[k] as u32, pj[k] as u32);
+        let fill = &mut self.inc_fill;
+        fill.clear();
+        fill.extend_from_slice(&start[..ntotal]);
+        let inc = &mut self.inc[..];
+        for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
             let fa = &mut fill[a as usize];
-            inc[*fa as usize] = Inc { k: k as u32, o: b | SIDE_I };
+            inc[*fa as usize] = Inc { k: k as u32, o: b as u32 | SIDE_I };
             *fa += 1;
             let fb = &mut fill[b as usize];
-            inc[*fb as usize] = Inc { k: k as u32, o: a };
+            inc[*fb as usize] = Inc { k: k as u32, o: a as u32 };
             *fb += 1;
         }
     }
