@@ -519,26 +519,29 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     } else {
         s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
     }
-    s.start.clear();
-    s.start.resize(ncell + 1, 0);
+    let start = &mut s.start;
+    start.clear();
+    start.resize(ncell + 1, 0);
     for &c in &s.cell_of {
-        s.start[c as usize + 1] += 1;
+        start[c as usize + 1] += 1;
     }
     for c in 0..ncell {
-        s.start[c + 1] += s.start[c];
+        start[c + 1] += start[c];
     }
-    s.fill.clear();
-    s.fill.extend_from_slice(&s.start[..ncell]);
+    let fill = &mut s.fill;
+    fill.clear();
+    fill.extend_from_slice(&start[..ncell]);
     s.order.resize(nt, 0);
     s.xs.resize(D * nt, 0.0);
     s.hs.resize(nt, 0.0);
-    for (i, p) in x[..D * nt].chunks_exact(D).enumerate() {
-        let c = s.cell_of[i] as usize;
-        let slot = s.fill[c] as usize;
-        s.fill[c] += 1;
-        s.order[slot] = i as u32;
-        s.xs[D * slot..D * slot + D].copy_from_slice(p);
-        s.hs[slot] = h[i];
+    let (order, xs, hs) = (&mut s.order[..], &mut s.xs[..], &mut s.hs[..]);
+    for (i, (p, &c)) in x[..D * nt].chunks_exact(D).zip(&s.cell_of).enumerate() {
+        let f = &mut fill[c as usize];
+        let slot = *f as usize;
+        *f += 1;
+        order[slot] = i as u32;
+        xs[D * slot..D * slot + D].copy_from_slice(p);
+        hs[slot] = h[i];
     }
     // each particle (in cell order) finds the pairs it owns, into per-task buffers, one per
     // bucket of rows (the pair's i). The list is canonical whatever the split, so the split may
