@@ -217,22 +217,12 @@ fn cubic_block<const D: usize>(
         let a = 2.0 - q;
         let w2 = al * (a * a * a / 6.0);
         let g2 = -al * 0.5 * a * a / q;
-        let near = q < 1.0;
-        let mid = q < 2.0;
-        w[l] = if near {
-            w1
-        } else if mid {
-            w2
-        } else {
-            0.0
-        };
-        r2s[l] = if near {
-            g1
-        } else if mid {
-            g2
-        } else {
-            0.0
-        };
+        // the branches as bit masks: exact selects, and they vectorise
+        let near = 0u64.wrapping_sub((q < 1.0) as u64);
+        let mid = 0u64.wrapping_sub((q < 2.0) as u64) & !near;
+        let pick = |a: f64, b: f64| f64::from_bits((a.to_bits() & near) | (b.to_bits() & mid));
+        w[l] = pick(w1, w2);
+        r2s[l] = pick(g1, g2);
     }
     for dxd in dx.chunks_exact_mut(len) {
         for l in 0..len {
