@@ -3,7 +3,10 @@
 //! gradient for q ≤ 1 is wrong and not reproduced), Wendland C2 (2h).
 //!
 //! ∇_i W_ij is written α g(q) (x_i − x_j)/h², so r = 0 is harmless. The Rust twin evaluates every
-//! expression in the Fortran's order: 0 ULP.
+//! expression in the Fortran's order: 0 ULP. The pair loop is monomorphised over the dimension and
+//! the kernel; the cubic spline runs in blocks of pairs over contiguous arrays, its branches as
+//! exact bit-mask selects, so that the square roots and divisions run on vectors (same operations
+//! per pair, same bits).
 
 use super::{Backend, CHUNK, nnps::PairList, par_rows, par_rows2, serial};
 use crate::case::KernelKind;
