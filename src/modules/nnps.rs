@@ -60,8 +60,9 @@ pub struct Scratch {
 
 #[derive(Default)]
 pub(crate) struct Bufs {
-    /// Pair terms, `width` values per pair.
+    /// Pair terms, `width` values per pair, and a second pair array.
     pub pair: Vec<f64>,
+    pub pair2: Vec<f64>,
     /// One value per particle.
     pub part: Vec<f64>,
     /// Per-task buffers of pair indices or pairs.

@@ -4,55 +4,15 @@
 //!
 //! Rust twin: one parallel pass over the pairs computes −Π_ij ∇_i W_ij and ½ Π_ij v_ij·∇_i W_ij
 //! (the Fortran's expressions, i and j in pair order; zeros for receding pairs) into a reused
-//! buffer; one parallel pass over the particles adds, over each particle's pairs in ascending pair
-//! order (the Fortran's scatter order), ± m_other × those terms into both outputs. A receding
-//! pair adds ±0, which leaves the sum unchanged: an accumulator that starts at +0 is never −0
-//! under round-to-nearest, and x ± 0 = x for every other x. 0 ULP, independent of the thread
-//! count.
+//! buffer, in blocks of pairs whose arithmetic runs on vectors; one parallel pass over the
+//! particles adds, over each particle's pairs in ascending pair order (the Fortran's scatter
+//! order), ± m_other × those terms into both outputs. A receding pair adds ±0, which leaves the
+//! sum unchanged: an accumulator that starts at +0 is never −0 under round-to-nearest, and
+//! x ± 0 = x for every other x. 0 ULP, independent of the thread count.
 
-use super::{Backend, by_dim, gather_signed, nnps::PairList, par_rows};
+use super::{Backend, CHUNK, by_dim, gather_signed, nnps::PairList, serial};
 use crate::legacy;
-
-/// Π_ij of pair k (0 for receding pairs) and v_ij·∇W.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn pair_pi(
-    dim: usize,
-    i: usize,
-    j: usize,
-    g: &[f64],
-    x: &[f64],
-    v: &[f64],
-    h: &[f64],
-    rho: &[f64],
-    c: &[f64],
-    coef: (f64, f64, f64),
-) -> Option<(f64, f64)> {
-    let (alpha, beta, etq) = coef;
-    let mut vr = 0.0;
-    let mut r2 = 0.0;
-    let mut dv = [0.0; 3];
-    for d in 0..dim {
-        dv[d] = v[d + dim * i] - v[d + dim * j];
-        let dx = x[d + dim * i] - x[d + dim * j];
-        vr += dv[d] * dx;
-        r2 += dx * dx;
-    }
-    if vr < 0.0 {
-        let hij = 0.5 * (h[i] + h[j]);
-        let muv = hij * vr / (r2 + (etq * hij) * (etq * hij));
-        let mc = 0.5 * (c[i] + c[j]);
-        let mrho = 0.5 * (rho[i] + rho[j]);
-        let piv = (beta * muv - alpha * mc) * muv / mrho;
-        let mut vd = 0.0;
-        for d in 0..dim {
-            vd += dv[d] * g[d];
-        }
-        Some((piv, vd))
-    } else {
-        None
-    }
-}
+use rayon::prelude::*;
 
 #[allow(clippy::too_many_arguments)]
 pub fn monaghan(
@@ -80,6 +40,74 @@ pub fn monaghan(
     }
 }
 
+/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄.
+const NV: usize = 6;
+
+/// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
+/// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a receding pair gets
+/// +0), so that the divisions run on vectors.
+#[allow(clippy::too_many_arguments)]
+fn block<const D: usize, const W: usize>(
+    pi: &[i32],
+    pj: &[i32],
+    dwdx: &[f64],
+    x: &[f64],
+    v: &[f64],
+    h: &[f64],
+    rho: &[f64],
+    c: &[f64],
+    coef: (f64, f64, f64),
+    k0: usize,
+    t: &mut [f64],
+    tmp: &mut [f64],
+) {
+    let (alpha, beta, etq) = coef;
+    let len = t.len() / W;
+    let (vr, rest) = tmp.split_at_mut(len);
+    let (r2, rest) = rest.split_at_mut(len);
+    let (vd, rest) = rest.split_at_mut(len);
+    let (hij, rest) = rest.split_at_mut(len);
+    let (mc, mrho) = rest.split_at_mut(len);
+    for l in 0..len {
+        let k = k0 + l;
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let g = &dwdx[D * k..D * k + D];
+        let (mut s_vr, mut s_r2, mut s_vd) = (0.0, 0.0, 0.0);
+        for d in 0..D {
+            let dv = v[d + D * i] - v[d + D * j];
+            let dx = x[d + D * i] - x[d + D * j];
+            s_vr += dv * dx;
+            s_r2 += dx * dx;
+            s_vd += dv * g[d];
+        }
+        vr[l] = s_vr;
+        r2[l] = s_r2;
+        vd[l] = s_vd;
+        hij[l] = 0.5 * (h[i] + h[j]);
+        mc[l] = 0.5 * (c[i] + c[j]);
+        mrho[l] = 0.5 * (rho[i] + rho[j]);
+    }
+    // Π of every pair, masked to +0 where the pair recedes; vd becomes ½ Π v·∇W
+    for l in 0..len {
+        let hv = hij[l];
+        let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
+        let piv = (beta * muv - alpha * mc[l]) * muv / mrho[l];
+        let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
+        let de = 0.5 * piv * vd[l];
+        hij[l] = f64::from_bits(piv.to_bits() & on);
+        vd[l] = f64::from_bits(de.to_bits() & on);
+        vr[l] = f64::from_bits(on);
+    }
+    for l in 0..len {
+        let g = &dwdx[D * (k0 + l)..D * (k0 + l) + D];
+        let on = vr[l].to_bits();
+        for d in 0..D {
+            t[W * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
+        }
+        t[W * l + D] = vd[l];
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn rust<const D: usize, const W: usize>(
     pl: &PairList,
@@ -95,27 +123,21 @@ fn rust<const D: usize, const W: usize>(
     dedt: &mut [f64],
 ) {
     let np = pl.len();
-    let mut buf = pl.scratch.lock();
+    let mut guard = pl.scratch.lock();
+    let buf = &mut *guard;
     buf.pair.resize(W * np, 0.0);
+    buf.pair2.resize(NV * np, 0.0);
     let (pi, pj) = (&pl.i, &pl.j);
-    // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W
-    par_rows(&mut buf.pair[..W * np], W, |k, t| {
-        let (i, j) = (pi[k] as usize, pj[k] as usize);
-        let g = &dwdx[D * k..D * k + D];
-        match pair_pi(D, i, j, g, x, v, h, rho, c, coef) {
-            Some((piv, vd)) => {
-                for d in 0..D {
-                    t[d] = -(piv * g[d]);
-                }
-                t[D] = 0.5 * piv * vd;
-            }
-            None => {
-                // (a store of known length: `fill` would call memset for three values)
-                if let Ok(t) = <&mut [f64; W]>::try_from(t) {
-                    *t = [0.0; W];
-                }
-            }
-        }
-    });
+    // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
+    // pairs, the gathers first, then the arithmetic over contiguous arrays
+    let body = |b: usize, (t, tmp): (&mut [f64], &mut [f64])| {
+        block::<D, W>(pi, pj, dwdx, x, v, h, rho, c, coef, CHUNK * b, t, tmp)
+    };
+    let (tc, sc) = (&mut buf.pair[..W * np], &mut buf.pair2[..NV * np]);
+    if serial() {
+        tc.chunks_mut(W * CHUNK).zip(sc.chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+    } else {
+        tc.par_chunks_mut(W * CHUNK).zip(sc.par_chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+    }
     gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
 }
