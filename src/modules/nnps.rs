@@ -108,8 +108,6 @@ pub struct PairList {
     inc_start: Vec<u32>,
     inc: Vec<Inc>,
     inc_fill: Vec<u32>,
-    /// Per-task buckets of the parallel build: [j, pair, i].
-    inc_bufs: Vec<Vec<[u32; 3]>>,
     pub(crate) scratch: Scratch,
 }
 
@@ -122,16 +120,10 @@ impl PairList {
     }
 
     /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
-    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`. The
-    /// lists are a function of the pair list alone; a canonical list (rows ascending, i < j) with
-    /// several threads is sorted in parallel, anything else sequentially.
+    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
         assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
-        let threads = rayon::current_num_threads();
-        if threads > 1 && np >= 4 * CHUNK && self.canonical(ntotal) {
-            return self.build_incidence_par(ntotal, 4 * threads);
-        }
         let (pi, pj) = (&self.i[..np], &self.j[..np]);
         let start = &mut self.inc_start;
         start.clear();
@@ -156,102 +148,6 @@ impl PairList {
             inc[*fb as usize] = Inc { k: k as u32, o: a as u32 };
             *fb += 1;
         }
-    }
-
-    /// Rows ascending, 0 ≤ i < j < ntotal in every pair.
-    fn canonical(&self, ntotal: usize) -> bool {
-        let (pi, pj) = (&self.i, &self.j);
-        let ok = |c: usize| -> bool {
-            let (k0, k1) = (c * CHUNK, (c * CHUNK + CHUNK).min(pi.len()));
-            (k0..k1).all(|k| 0 <= pi[k] && pi[k] < pj[k] && (pj[k] as usize) < ntotal && (k == 0 || pi[k - 1] <= pi[k]))
-        };
-        (0..pi.len().div_ceil(CHUNK)).into_par_iter().all(ok)
-    }
-
-    /// The parallel build for a canonical list. Particle a's list is the pairs (x, a), x < a, in
-    /// ascending order (they lie in earlier rows), then its own row. The pairs are split into
-    /// `nt` ranges; each files the (pair, i) entries of its pairs under the bucket of their j
-    /// (ranges of particles); then each bucket, in its own slice of the output, sorts its entries
-    /// by particle (stably: the ranges in order, so ascending pair order) and appends the rows.
-    fn build_incidence_par(&mut self, ntotal: usize, nt: usize) {
-        let np = self.i.len();
-        let (pi, pj) = (&self.i, &self.j);
-        let nb = nt.min(ntotal.max(1));
-        let per = ntotal.div_ceil(nb);
-        let kper = np.div_ceil(nt);
-        if self.inc_bufs.len() < nt * nb {
-            self.inc_bufs.resize_with(nt * nb, Vec::new);
-        }
-        let bufs = &mut self.inc_bufs[..nt * nb];
-        bufs.par_chunks_mut(nb).enumerate().for_each(|(t, bb)| {
-            bb.iter_mut().for_each(Vec::clear);
-            for k in kper * t..(kper * t + kper).min(np) {
-                let b = pj[k] as usize;
-                bb[b / per].push([b as u32, k as u32, pi[k] as u32]);
-            }
-        });
-        let bufs = &self.inc_bufs[..nt * nb];
-        // the first pair of row a
-        let row = |a: usize| -> usize { pi.partition_point(|&x| (x as usize) < a) };
-        let bounds: Vec<(usize, usize)> =
-            (0..nb).map(|b| ((b * per).min(ntotal), ((b + 1) * per).min(ntotal))).collect();
-        let size = |b: usize| -> usize {
-            let (a0, a1) = bounds[b];
-            (0..nt).map(|t| bufs[t * nb + b].len()).sum::<usize>() + row(a1) - row(a0)
-        };
-        let sizes: Vec<usize> = (0..nb).map(size).collect();
-        self.inc.resize(2 * np, Inc::default());
-        self.inc_start.resize(ntotal + 1, 0);
-        self.inc_start[ntotal] = (2 * np) as u32;
-        let mut parts = Vec::with_capacity(nb);
-        let (mut rest, mut starts) = (&mut self.inc[..], &mut self.inc_start[..ntotal]);
-        let mut base = 0usize;
-        for b in 0..nb {
-            let (a0, a1) = bounds[b];
-            let (head, tail) = std::mem::take(&mut rest).split_at_mut(sizes[b]);
-            let (shead, stail) = std::mem::take(&mut starts).split_at_mut(a1 - a0);
-            parts.push((b, base, head, shead));
-            base += sizes[b];
-            rest = tail;
-            starts = stail;
-        }
-        parts.into_par_iter().for_each(|(b, base, out, starts)| {
-            let (a0, a1) = bounds[b];
-            let mut cnt = vec![0u32; a1 - a0 + 1];
-            for t in 0..nt {
-                for &[j, _, _] in &bufs[t * nb + b] {
-                    cnt[j as usize - a0 + 1] += 1;
-                }
-            }
-            let mut r = row(a0);
-            let mut rows = Vec::with_capacity(a1 - a0 + 1);
-            for a in a0..a1 {
-                rows.push(r);
-                while r < np && pi[r] as usize == a {
-                    r += 1;
-                }
-                cnt[a - a0 + 1] += (r - rows[a - a0]) as u32;
-            }
-            rows.push(r);
-            for l in 0..a1 - a0 {
-                cnt[l + 1] += cnt[l];
-                starts[l] = (base + cnt[l] as usize) as u32;
-            }
-            let mut fill = cnt[..a1 - a0].to_vec();
-            for t in 0..nt {
-                for &[j, k, i] in &bufs[t * nb + b] {
-                    let f = &mut fill[j as usize - a0];
-                    out[*f as usize] = Inc { k, o: i };
-                    *f += 1;
-                }
-            }
-            for a in a0..a1 {
-                let f = fill[a - a0] as usize;
-                for (m, k) in (rows[a - a0]..rows[a - a0 + 1]).enumerate() {
-                    out[f + m] = Inc { k: k as u32, o: pj[k] as u32 | SIDE_I };
-                }
-            }
-        });
     }
 
     /// The pairs touching particle `a`, ascending.
@@ -688,42 +584,6 @@ mod tests {
         for h in [vec![0.01; 7], vec![0.01, 0.01, 0.01, f64::INFINITY, 0.01, 0.01, f64::NAN]] {
             let want = lists(Backend::Fortran, false, 1, 6, &x, &h, 2.0);
             assert_eq!(lists(Backend::Rust, true, 1, 6, &x, &h, 2.0), want);
-        }
-    }
-
-    /// The parallel incidence build gives the sequential one's lists.
-    #[test]
-    fn incidence_parallel_equals_sequential() {
-        let mut rng = Rng(77);
-        let (dim, side) = (2, 60);
-        let n = side * side;
-        let mut x = vec![0.0; dim * n];
-        let mut h = vec![0.01; n];
-        for i in 0..n {
-            x[dim * i] = 0.01 * (i % side) as f64 + 0.003 * rng.f();
-            x[dim * i + 1] = 0.01 * (i / side) as f64 + 0.003 * rng.f();
-            h[i] *= 1.0 + rng.f();
-        }
-        let nreal = n - 300;
-        let mut pl = PairList::default();
-        search(Backend::Fortran, false, dim, nreal, &x, &h, 2.0, &mut pl);
-        let lists = |pl: &PairList| -> Vec<Vec<Inc>> { (0..n).map(|a| pl.incident(a).to_vec()).collect() };
-        let pool = |t: usize| rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
-        pool(1).install(|| pl.build_incidence(n));
-        let want = lists(&pl);
-        assert_eq!(want.iter().map(Vec::len).sum::<usize>(), 2 * pl.len());
-        for t in [2, 3, 8] {
-            let mut p2 = PairList { i: pl.i.clone(), j: pl.j.clone(), ..Default::default() };
-            pool(t).install(|| p2.build_incidence(n));
-            assert_eq!(lists(&p2), want, "{t} threads");
-            // and again into the same buffers, after a smaller list
-            let k = pl.len() / 3;
-            let mut p3 = PairList { i: pl.i[..k].to_vec(), j: pl.j[..k].to_vec(), ..Default::default() };
-            pool(t).install(|| p3.build_incidence(n));
-            p3.i.clone_from(&pl.i);
-            p3.j.clone_from(&pl.j);
-            pool(t).install(|| p3.build_incidence(n));
-            assert_eq!(lists(&p3), want, "{t} threads, reused");
         }
     }
 }
