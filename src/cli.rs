@@ -128,14 +128,26 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
     })
 }
 
+/// Builds the global pool of the Rust modules: `n` threads, or rayon's default.
 fn threads(n: Option<usize>) -> Result<()> {
-    if let Some(n) = n {
-        if n == 0 {
-            return Err(input("--threads 0: need at least one thread"));
-        }
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().map_err(|e| input(format!("--threads: {e}")))?;
+    if n == Some(0) {
+        return Err(input("--threads 0: need at least one thread"));
     }
-    Ok(())
+    // the whole run executes on a worker (see `on_pool`): give it the main thread's stack room
+    let built = rayon::ThreadPoolBuilder::new().num_threads(n.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
+    match (built, n) {
+        (Err(e), Some(_)) => Err(input(format!("--threads: {e}"))),
+        _ => Ok(()),
+    }
+}
+
+const STACK_BYTES: usize = 16 << 20;
+
+/// Runs `f` on a worker thread of the global pool. The Rust modules make a few dozen parallel
+/// calls per step; started from a worker, each runs inline with one thread, and with more it
+/// wakes the others instead of handing the whole call over from an outside thread and blocking.
+fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    rayon::scope(|_| f())
 }
 
 /// Entry point; returns the exit status.
@@ -162,7 +174,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Run { case, out, args, threads: th, quiet } => {
             threads(th)?;
             let opts = RunOptions { out, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
-            let r = runner::run(&case, &opts)?;
+            let r = on_pool(|| runner::run(&case, &opts))?;
             let s = &r.summary;
             println!(
                 "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s wall ({} backend), output in {}",
@@ -225,11 +237,11 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let dir = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
             std::fs::create_dir_all(&dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
             if free {
-                let rep = free_run(c, &ov, steps.unwrap_or(100), &dir)?;
+                let rep = on_pool(|| free_run(c, &ov, steps.unwrap_or(100), &dir))?;
                 println!("{rep}");
                 Ok(0)
             } else {
-                dual_run(c, &ov, steps.unwrap_or(100), &dir)
+                on_pool(|| dual_run(c, &ov, steps.unwrap_or(100), &dir))
             }
         }
     }

@@ -6,9 +6,12 @@
 //! Type II: mirror images of the real particles within κh of a wall (and images of those in a
 //! second wall, for corners), rebuilt every step after the real particles: ρ, p, c, e, h, m, mat
 //! copied; x, v (free slip or no slip) and τ (M τ M, M = I − 2 n nᵀ) reflected.
-//! Rust twin: same order, 0 ULP.
+//! Rust twin: same order, 0 ULP. The segment frames are computed once per call (the Fortran
+//! recomputes them per particle; same values). The wall force skips a segment whose line lies
+//! farther than 1.01 r0 from the particle: no wall particle on it can be within r0, so the
+//! Fortran adds nothing for it either.
 
-use super::Backend;
+use super::{Backend, CHUNK, par_rows, serial};
 use crate::legacy::{self, MirrorArrays, NSTR, Segments};
 use rayon::prelude::*;
 
@@ -58,19 +61,39 @@ pub fn wall_force(
     match b {
         Backend::Fortran => legacy::wall_force(dim, x, segs, spacing, r0, dcoef, n1, n2, dvdt),
         Backend::Rust => {
-            let frames: Vec<_> =
-                (0..segs.len()).map(|s| frame(dim, &segs.seg[3 * dim * s..3 * dim * (s + 1)])).collect();
-            dvdt.par_chunks_mut(dim).enumerate().for_each(|(i, acc)| {
-                acc.iter_mut().for_each(|v| *v = 0.0);
-                for (s, (t, el, _)) in frames.iter().enumerate() {
-                    let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+            struct Wall {
+                t: [f64; 3],
+                el: f64,
+                nk: i64,
+                ds: f64,
+            }
+            let walls: Vec<Wall> = (0..segs.len())
+                .map(|s| {
+                    let (t, el, _) = frame(dim, &segs.seg[3 * dim * s..3 * dim * (s + 1)]);
                     let nk = ((el / spacing).round() as i64).max(1);
-                    let ds = el / nk as f64;
+                    Wall { t, el, nk, ds: el / nk as f64 }
+                })
+                .collect();
+            let n = x.len() / dim.max(1);
+            let reach2 = (1.01 * r0) * (1.01 * r0);
+            par_rows(&mut dvdt[..dim * n], dim, |i, acc| {
+                let mut sum = [0.0f64; 3];
+                let xi = &x[dim * i..dim * i + dim];
+                for (s, w) in walls.iter().enumerate() {
+                    let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+                    let (t, el, nk, ds) = (&w.t, w.el, w.nk, w.ds);
                     let mut tp = 0.0;
+                    let mut ee = 0.0;
                     for d in 0..dim {
-                        tp += (x[d + dim * i] - sg[d]) * t[d];
+                        let e = xi[d] - sg[d];
+                        tp += e * t[d];
+                        ee += e * e;
                     }
-                    let (klo, khi) = if *el > 0.0 {
+                    let (klo, khi) = if el > 0.0 {
+                        // distance² to the wall's line, with room for rounding
+                        if dim > 1 && ee - tp * tp > reach2 + 1e-12 * ee {
+                            continue;
+                        }
                         let klo = (((tp - r0) / ds).ceil() as i64).max(0);
                         let khi = ((tp + r0) / ds).floor() as i64;
                         let khi = if segs.endnode[s] != 0 { khi.min(nk) } else { khi.min(nk - 1) };
@@ -82,25 +105,27 @@ pub fn wall_force(
                         let mut dx = [0.0; 3];
                         let mut r2 = 0.0;
                         for d in 0..dim {
-                            dx[d] = x[d + dim * i] - (sg[d] + k as f64 * ds * t[d]);
+                            dx[d] = xi[d] - (sg[d] + k as f64 * ds * t[d]);
                             r2 += dx[d] * dx[d];
                         }
                         if r2 < r0 * r0 {
                             let q = r0 / r2.sqrt();
                             let f = dcoef * (ipow(q, n1) - ipow(q, n2)) / r2;
                             for d in 0..dim {
-                                acc[d] += f * dx[d];
+                                sum[d] += f * dx[d];
                             }
                         }
                     }
                 }
+                acc.copy_from_slice(&sum[..dim]);
             });
         }
     }
 }
 
-fn in_band(dim: usize, sg: &[f64], y: &[f64], band: f64) -> bool {
-    let (t, el, nrm) = frame(dim, sg);
+fn in_band(dim: usize, sg: &[f64], fr: &([f64; 3], f64, [f64; 3]), y: &[f64], band: f64) -> bool {
+    let (t, el, nrm) = fr;
+    let el = *el;
     let mut dn = 0.0;
     let mut tp = 0.0;
     for d in 0..dim {
@@ -150,15 +175,27 @@ pub fn mirror_make(
             let n = h.len();
             let ns = segs.len();
             let sg = |s: usize| &segs.seg[3 * dim * s..3 * dim * (s + 1)];
-            gsrc.clear();
-            gseg.clear();
-            for i in 0..n {
-                for s in 0..ns {
-                    if in_band(dim, sg(s), &x[dim * i..dim * i + dim], kappa * h[i]) {
-                        gsrc.push(i as i32);
-                        gseg.extend_from_slice(&[s as i32, -1]);
+            let frames: Vec<_> = (0..ns).map(|s| frame(dim, sg(s))).collect();
+            // the first images, by particle then wall, in tasks of CHUNK particles
+            let task = |c: usize| -> Vec<[i32; 2]> {
+                let mut out = Vec::new();
+                for i in CHUNK * c..(CHUNK * c + CHUNK).min(n) {
+                    for s in 0..ns {
+                        if in_band(dim, sg(s), &frames[s], &x[dim * i..dim * i + dim], kappa * h[i]) {
+                            out.push([i as i32, s as i32]);
+                        }
                     }
                 }
+                out
+            };
+            let nc = n.div_ceil(CHUNK);
+            let found: Vec<Vec<[i32; 2]>> =
+                if serial() { (0..nc).map(task).collect() } else { (0..nc).into_par_iter().map(task).collect() };
+            gsrc.clear();
+            gseg.clear();
+            for &[i, s] in found.iter().flatten() {
+                gsrc.push(i);
+                gseg.extend_from_slice(&[s, -1]);
             }
             let ng1 = gsrc.len();
             for g in 0..ng1 {
@@ -168,7 +205,7 @@ pub fn mirror_make(
                 y[..dim].copy_from_slice(&x[dim * i..dim * i + dim]);
                 reflect(dim, sg(s), &mut y[..dim]);
                 for t in s + 1..ns {
-                    if in_band(dim, sg(t), &y[..dim], kappa * h[i]) {
+                    if in_band(dim, sg(t), &frames[t], &y[..dim], kappa * h[i]) {
                         gsrc.push(i as i32);
                         gseg.extend_from_slice(&[s as i32, t as i32]);
                     }

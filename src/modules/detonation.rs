@@ -2,17 +2,17 @@
 //! (s); its burn fraction λ_i = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))).
 //! The instantaneous burn needs no routine. Rust twin: same order, 0 ULP.
 
-use super::Backend;
+use super::{Backend, par_rows};
 use crate::legacy::{self, MatTable, NPAR, SPH_EOS_JWL};
-use rayon::prelude::*;
 
 const DET: usize = 6; // row of D (m/s) in a JWL column of mpar (0-based)
 
 pub fn light(b: Backend, dim: usize, x: &[f64], mat: &[i32], mt: &MatTable, xdet: &[f64], tlight: &mut [f64]) {
     match b {
         Backend::Fortran => legacy::detonation_light(dim, x, mat, mt, xdet, tlight),
-        Backend::Rust => tlight[..mat.len()].par_iter_mut().enumerate().for_each(|(i, t)| {
+        Backend::Rust => par_rows(&mut tlight[..mat.len()], 1, |i, t| {
             let m = mat[i] as usize;
+            let t = &mut t[0];
             *t = 0.0;
             if mt.mtype[m] == SPH_EOS_JWL as i32 {
                 let mut r2 = 0.0;
@@ -29,8 +29,8 @@ pub fn light(b: Backend, dim: usize, x: &[f64], mat: &[i32], mt: &MatTable, xdet
 pub fn burn(b: Backend, t: f64, mat: &[i32], mt: &MatTable, tlight: &[f64], h: &[f64], width: f64, lam: &mut [f64]) {
     match b {
         Backend::Fortran => legacy::detonation_burn(t, mat, mt, tlight, h, width, lam),
-        Backend::Rust => lam[..mat.len()].par_iter_mut().enumerate().for_each(|(i, l)| {
-            *l = if width <= 0.0 {
+        Backend::Rust => par_rows(&mut lam[..mat.len()], 1, |i, l| {
+            l[0] = if width <= 0.0 {
                 if t >= tlight[i] { 1.0 } else { 0.0 }
             } else {
                 let d = mt.mpar[DET + NPAR * mat[i] as usize];

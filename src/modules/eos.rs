@@ -8,9 +8,8 @@
 //! (ideal gas, water, soil); JWL calls `exp`, which both sides take from the C library — equal on
 //! one machine, but allowed a few ULP (see docs/migration.md).
 
-use super::Backend;
+use super::{Backend, par_rows2};
 use crate::legacy::{self, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
-use rayon::prelude::*;
 
 const RHO0: usize = 0;
 const E1: usize = 1;
@@ -100,12 +99,12 @@ pub fn eval(
         Backend::Fortran => legacy::eos_eval(mt, mat, burn, rho, e, p, c),
         Backend::Rust => {
             let n = mat.len();
-            p[..n].par_iter_mut().zip(c[..n].par_iter_mut()).enumerate().for_each(|(i, (pi, ci))| {
+            par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
                 let m = mat[i] as usize;
                 let lam = if burn.is_empty() { 1.0 } else { burn[i] };
                 let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
-                *pi = pp;
-                *ci = cc;
+                pi[0] = pp;
+                ci[0] = cc;
             });
         }
     }

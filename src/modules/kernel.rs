@@ -3,14 +3,17 @@
 //! gradient for q ≤ 1 is wrong and not reproduced), Wendland C2 (2h).
 //!
 //! ∇_i W_ij is written α g(q) (x_i − x_j)/h², so r = 0 is harmless. The Rust twin evaluates every
-//! expression in the Fortran's order: 0 ULP.
+//! expression in the Fortran's order: 0 ULP. The pair loop is monomorphised over the dimension and
+//! the kernel; the cubic spline runs in blocks of pairs over contiguous arrays, its branches as
+//! exact bit-mask selects, so that the square roots and divisions run on vectors (same operations
+//! per pair, same bits).
 
-use super::{Backend, nnps::PairList};
+use super::{Backend, CHUNK, nnps::PairList, par_rows, par_rows2, serial};
 use crate::case::KernelKind;
 use crate::legacy;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
+#[inline(always)]
 fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
     match kind {
         KernelKind::Cubic => match dim {
@@ -37,7 +40,7 @@ fn alpha(dim: usize, kind: KernelKind, h: f64) -> f64 {
 }
 
 /// W and ∇W for the separation `dx` (length `dim`) at distance `r`; writes ∇W into `dwdx`.
-#[inline]
+#[inline(always)]
 pub fn w_dw(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, dwdx: &mut [f64]) -> f64 {
     let q = r / h;
     let al = alpha(dim, kind, h);
@@ -119,20 +122,119 @@ pub fn pairs(
 ) {
     match b {
         Backend::Fortran => legacy::kernel_pairs(dim, kind.skf(), &pl.i, &pl.j, x, h, w, dwdx),
-        Backend::Rust => {
-            let np = pl.len();
-            w[..np].par_iter_mut().zip(dwdx[..dim * np].par_chunks_mut(dim)).enumerate().for_each(|(k, (wk, g))| {
-                let i = pl.i[k] as usize;
-                let j = pl.j[k] as usize;
-                let mut dx = [0.0; 3];
-                let mut r2 = 0.0;
-                for d in 0..dim {
-                    dx[d] = x[d + dim * i] - x[d + dim * j];
-                    r2 += dx[d] * dx[d];
-                }
-                let hij = 0.5 * (h[i] + h[j]);
-                *wk = w_dw(dim, kind, r2.sqrt(), &dx[..dim], hij, g);
-            });
+        Backend::Rust => match dim {
+            1 => pairs_d::<1>(kind, pl, x, h, w, dwdx),
+            2 => pairs_d::<2>(kind, pl, x, h, w, dwdx),
+            _ => pairs_d::<3>(kind, pl, x, h, w, dwdx),
+        },
+    }
+}
+
+const KINDS: [KernelKind; 4] = [KernelKind::Cubic, KernelKind::Gauss, KernelKind::Quintic, KernelKind::Wendland];
+
+fn pairs_d<const D: usize>(kind: KernelKind, pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
+    match kind {
+        KernelKind::Cubic => pairs_dk::<D, 0>(pl, x, h, w, dwdx),
+        KernelKind::Gauss => pairs_dk::<D, 1>(pl, x, h, w, dwdx),
+        KernelKind::Quintic => pairs_dk::<D, 2>(pl, x, h, w, dwdx),
+        KernelKind::Wendland => pairs_dk::<D, 3>(pl, x, h, w, dwdx),
+    }
+}
+
+/// The pair loop for one dimension and one kernel (`KINDS[K]`), so both are constants in it.
+fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
+    let np = pl.len();
+    let (pi, pj) = (&pl.i, &pl.j);
+    if K == 0 {
+        // the cubic spline in blocks, with a reused buffer of D + 2 values per pair
+        let mut buf = pl.scratch.lock();
+        buf.pair.resize((D + 2) * np, 0.0);
+        let tmp = &mut buf.pair[..(D + 2) * np];
+        let body = |c: usize, ((wb, gb), tb): ((&mut [f64], &mut [f64]), &mut [f64])| {
+            cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb, tb)
+        };
+        let (wc, gc, tc) =
+            (w[..np].chunks_mut(CHUNK), dwdx[..D * np].chunks_mut(D * CHUNK), tmp.chunks_mut((D + 2) * CHUNK));
+        if serial() {
+            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
+        } else {
+            use rayon::prelude::*;
+            let (wc, gc, tc) = (
+                w[..np].par_chunks_mut(CHUNK),
+                dwdx[..D * np].par_chunks_mut(D * CHUNK),
+                tmp.par_chunks_mut((D + 2) * CHUNK),
+            );
+            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
+        }
+        return;
+    }
+    par_rows2(&mut w[..np], 1, &mut dwdx[..D * np], D, |k, wk, g| {
+        let i = pi[k] as usize;
+        let j = pj[k] as usize;
+        let mut dx = [0.0; D];
+        let mut r2 = 0.0;
+        for d in 0..D {
+            dx[d] = x[d + D * i] - x[d + D * j];
+            r2 += dx[d] * dx[d];
+        }
+        let hij = 0.5 * (h[i] + h[j]);
+        wk[0] = w_dw(D, KINDS[K], r2.sqrt(), &dx, hij, g);
+    });
+}
+
+/// The cubic spline over a block of pairs, in loops over contiguous arrays (in `tmp`: D + 2 values
+/// per pair) so that the square roots and divisions, the branches written as selects, run on
+/// vectors: the same operations per pair, so the same bits.
+#[allow(clippy::too_many_arguments)]
+fn cubic_block<const D: usize>(
+    pi: &[i32],
+    pj: &[i32],
+    x: &[f64],
+    h: &[f64],
+    k0: usize,
+    w: &mut [f64],
+    g: &mut [f64],
+    tmp: &mut [f64],
+) {
+    let len = w.len();
+    let (dx, rest) = tmp.split_at_mut(D * len);
+    let (r2s, hs) = rest.split_at_mut(len);
+    for l in 0..len {
+        let (i, j) = (pi[k0 + l] as usize, pj[k0 + l] as usize);
+        let mut r2 = 0.0;
+        for d in 0..D {
+            let e = x[d + D * i] - x[d + D * j];
+            dx[d * len + l] = e;
+            r2 += e * e;
+        }
+        r2s[l] = r2;
+        hs[l] = 0.5 * (h[i] + h[j]);
+    }
+    // r2s becomes the gradient factor g(q)
+    for l in 0..len {
+        let hv = hs[l];
+        let q = r2s[l].sqrt() / hv;
+        let al = alpha(D, KernelKind::Cubic, hv);
+        let w1 = al * (2.0 / 3.0 - q * q + 0.5 * q * q * q);
+        let g1 = al * (-2.0 + 1.5 * q);
+        let a = 2.0 - q;
+        let w2 = al * (a * a * a / 6.0);
+        let g2 = -al * 0.5 * a * a / q;
+        // the branches as bit masks: exact selects, and they vectorise
+        let near = 0u64.wrapping_sub((q < 1.0) as u64);
+        let mid = 0u64.wrapping_sub((q < 2.0) as u64) & !near;
+        let pick = |a: f64, b: f64| f64::from_bits((a.to_bits() & near) | (b.to_bits() & mid));
+        w[l] = pick(w1, w2);
+        r2s[l] = pick(g1, g2);
+    }
+    for dxd in dx.chunks_exact_mut(len) {
+        for l in 0..len {
+            dxd[l] = r2s[l] * dxd[l] / (hs[l] * hs[l]);
+        }
+    }
+    for l in 0..len {
+        for d in 0..D {
+            g[D * l + d] = dx[d * len + l];
         }
     }
 }
@@ -143,9 +245,9 @@ pub fn self_w(b: Backend, dim: usize, kind: KernelKind, h: &[f64], w0: &mut [f64
         Backend::Fortran => legacy::kernel_self(dim, kind.skf(), h, w0),
         Backend::Rust => {
             let dx = [0.0; 3];
-            w0[..h.len()].par_iter_mut().zip(h.par_iter()).for_each(|(w, &hi)| {
+            par_rows(&mut w0[..h.len()], 1, |a, w| {
                 let mut g = [0.0; 3];
-                *w = w_dw(dim, kind, 0.0, &dx[..dim], hi, &mut g[..dim]);
+                w[0] = w_dw(dim, kind, 0.0, &dx[..dim], h[a], &mut g[..dim]);
             });
         }
     }

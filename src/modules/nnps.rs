@@ -4,10 +4,100 @@
 //! |x_i − x_j| < κ h_ij, h_ij = (h_i + h_j)/2 — sorted by i then j. Every search (direct or cell,
 //! Fortran or Rust) returns the same list, so later sums do not depend on the search.
 //! Indices are 0-based (`i32`, as at the C boundary).
+//!
+//! The Rust cell search sizes its cells from the mean h (edge κ h̄/2), not from the largest h as
+//! the Fortran does, so that a few expanded particles (detonation products, h up to 5× the rest)
+//! do not multiply everyone's candidates. Each pair is found once, by its *owner*: the particle
+//! with the clearly larger h (h_a > h_b (1 + 1/16)), or, between similar h, the one that comes
+//! first in cell order; the owner's box of half-width κ h_owner (1 + 1/16) ≥ κ h_ij holds every
+//! partner. Between similar h a particle thus looks only forward in cell order (half the box), and
+//! backward only through rows that hold a clearly smaller h. The test itself is the Fortran's,
+//! evaluated with i < j:
+//! `s = κ (0.5 (h_i + h_j)); r² < s²`. The pairs are then sorted into the canonical order
+//! (counting sort by i, each row sorted by j), so the list is the Fortran's, whatever the order
+//! in which they were found and however many threads found them.
 
-use super::Backend;
+use super::{Backend, CHUNK, serial};
 use crate::legacy;
 use rayon::prelude::*;
+use std::sync::{Mutex, MutexGuard};
+
+/// One entry of a particle's incidence list: a pair touching it and the pair's other particle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Inc {
+    k: u32,
+    o: u32,
+}
+
+const SIDE_I: u32 = 1 << 31;
+
+impl Inc {
+    /// The pair's index in the list.
+    #[inline]
+    pub fn pair(self) -> usize {
+        self.k as usize
+    }
+    /// The pair's other particle.
+    #[inline]
+    pub fn other(self) -> usize {
+        (self.o & !SIDE_I) as usize
+    }
+    /// True when this particle is the pair's `i` (then the other is its `j`).
+    #[inline]
+    pub fn is_i(self) -> bool {
+        self.o & SIDE_I != 0
+    }
+}
+
+/// Work buffers that the Rust twins reuse from step to step (never part of a result): the pair
+/// terms of the pair-sum modules, a per-particle array, per-task lists, and the cell search's
+/// grid. Behind a mutex so that modules handed `&PairList` can use them; the solver calls one
+/// module at a time, so the lock is never contended. Cloning gives empty buffers.
+#[derive(Default)]
+pub struct Scratch {
+    inner: Mutex<Bufs>,
+}
+
+#[derive(Default)]
+pub(crate) struct Bufs {
+    /// Pair terms, `width` values per pair, and a second pair array.
+    pub pair: Vec<f64>,
+    pub pair2: Vec<f64>,
+    /// One value per particle.
+    pub part: Vec<f64>,
+    /// Per-task buffers of pair indices or pairs.
+    pub idx_tasks: Vec<Vec<u32>>,
+    pub pair_tasks: Vec<Vec<[u32; 2]>>,
+    /// Cell grid: cell of each particle, first slot of each cell, particles in cell order, their
+    /// positions and h in that order.
+    pub cell_of: Vec<u32>,
+    pub start: Vec<u32>,
+    pub order: Vec<u32>,
+    pub xs: Vec<f64>,
+    pub hs: Vec<f64>,
+    pub fill: Vec<u32>,
+}
+
+impl Clone for Scratch {
+    fn clone(&self) -> Scratch {
+        Scratch::default()
+    }
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
+impl Scratch {
+    pub(crate) fn lock(&self) -> MutexGuard<'_, Bufs> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+    fn get_mut(&mut self) -> &mut Bufs {
+        self.inner.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+}
 
 /// The pair list shared by both backends, and (for the Rust gathers) the incidence lists: for each
 /// particle, the pairs that touch it in ascending pair order.
@@ -15,9 +105,10 @@ use rayon::prelude::*;
 pub struct PairList {
     pub i: Vec<i32>,
     pub j: Vec<i32>,
-    pub inc_start: Vec<u32>,
-    pub inc: Vec<u32>,
+    inc_start: Vec<u32>,
+    inc: Vec<Inc>,
     inc_fill: Vec<u32>,
+    pub(crate) scratch: Scratch,
 }
 
 impl PairList {
@@ -28,34 +119,40 @@ impl PairList {
         self.i.is_empty()
     }
 
-    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic).
+    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
+    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
-        self.inc_start.clear();
-        self.inc_start.resize(ntotal + 1, 0);
-        for k in 0..np {
-            self.inc_start[self.i[k] as usize + 1] += 1;
-            self.inc_start[self.j[k] as usize + 1] += 1;
+        assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
+        let (pi, pj) = (&self.i[..np], &self.j[..np]);
+        let start = &mut self.inc_start;
+        start.clear();
+        start.resize(ntotal + 1, 0);
+        for (&a, &b) in pi.iter().zip(pj) {
+            start[a as usize + 1] += 1;
+            start[b as usize + 1] += 1;
         }
         for a in 0..ntotal {
-            self.inc_start[a + 1] += self.inc_start[a];
+            start[a + 1] += start[a];
         }
-        self.inc.resize(2 * np, 0);
-        self.inc_fill.clear();
-        self.inc_fill.extend_from_slice(&self.inc_start[..ntotal]);
-        for k in 0..np {
-            let a = self.i[k] as usize;
-            self.inc[self.inc_fill[a] as usize] = k as u32;
-            self.inc_fill[a] += 1;
-            let b = self.j[k] as usize;
-            self.inc[self.inc_fill[b] as usize] = k as u32;
-            self.inc_fill[b] += 1;
+        self.inc.resize(2 * np, Inc::default());
+        let fill = &mut self.inc_fill;
+        fill.clear();
+        fill.extend_from_slice(&start[..ntotal]);
+        let inc = &mut self.inc[..];
+        for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
+            let fa = &mut fill[a as usize];
+            inc[*fa as usize] = Inc { k: k as u32, o: b as u32 | SIDE_I };
+            *fa += 1;
+            let fb = &mut fill[b as usize];
+            inc[*fb as usize] = Inc { k: k as u32, o: a as u32 };
+            *fb += 1;
         }
     }
 
     /// The pairs touching particle `a`, ascending.
     #[inline]
-    pub fn incident(&self, a: usize) -> &[u32] {
+    pub fn incident(&self, a: usize) -> &[Inc] {
         &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize]
     }
 }
@@ -78,11 +175,9 @@ pub fn search(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[
             }
         }
         Backend::Rust => {
-            if cell {
-                rust_cell(dim, nreal, x, h, kappa, pl)
-            } else {
-                rust_direct(dim, nreal, x, h, kappa, pl)
-            }
+            assert!(x.len() >= dim * h.len(), "nnps: x has {} values, need {}", x.len(), dim * h.len());
+            let nreal = nreal.min(h.len());
+            if cell { rust_cell(dim, nreal, x, h, kappa, pl) } else { rust_direct(dim, nreal, x, h, kappa, pl) }
         }
     }
 }
@@ -98,142 +193,397 @@ fn within(dim: usize, x: &[f64], h: &[f64], kappa: f64, i: usize, j: usize) -> b
     r2 < s * s
 }
 
+/// Runs `f(task, buffer)` for `ntask` tasks, each with its own cleared buffer.
+fn tasks<T: Send, F>(bufs: &mut Vec<Vec<T>>, ntask: usize, f: F)
+where
+    F: Fn(usize, &mut Vec<T>) + Sync + Send,
+{
+    if bufs.len() < ntask {
+        bufs.resize_with(ntask, Vec::new);
+    }
+    let run = |(t, b): (usize, &mut Vec<T>)| {
+        b.clear();
+        f(t, b)
+    };
+    if serial() {
+        bufs[..ntask].iter_mut().enumerate().for_each(run);
+    } else {
+        bufs[..ntask].par_iter_mut().enumerate().for_each(run);
+    }
+}
+
 fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
-    let rows: Vec<Vec<i32>> = (0..nreal)
-        .into_par_iter()
-        .map(|i| ((i + 1)..nt).filter(|&j| within(dim, x, h, kappa, i, j)).map(|j| j as i32).collect())
-        .collect();
-    fill(pl, &rows);
-}
-
-fn fill(pl: &mut PairList, rows: &[Vec<i32>]) {
-    pl.i.clear();
-    pl.j.clear();
-    for (i, r) in rows.iter().enumerate() {
-        for &j in r {
-            pl.i.push(i as i32);
-            pl.j.push(j);
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    let s = scratch.get_mut();
+    let ntask = nreal.div_ceil(64);
+    tasks(&mut s.pair_tasks, ntask, |t, buf| {
+        for i in 64 * t..(64 * t + 64).min(nreal) {
+            for j in i + 1..nt {
+                if within(dim, x, h, kappa, i, j) {
+                    buf.push([i as u32, j as u32]);
+                }
+            }
+        }
+    });
+    pi.clear();
+    pj.clear();
+    for buf in &s.pair_tasks[..ntask] {
+        for &[i, j] in buf {
+            pi.push(i as i32);
+            pj.push(j as i32);
         }
     }
 }
 
-/// A uniform grid of cells of edge ≥ κ max(h), particles sorted by cell (counting sort).
-pub struct CellGrid {
-    pub dim: usize,
-    pub nc: [usize; 3],
-    pub lo: [f64; 3],
-    pub cs: f64,
-    /// First slot of each cell in `order` (ncell + 1).
-    pub start: Vec<u32>,
-    /// Particle indices sorted by cell, ascending within a cell.
-    pub order: Vec<u32>,
-    pub cell_of: Vec<u32>,
+/// Two h are "similar" unless one exceeds the other times ONEP (an exact binary fraction).
+const ONEP: f64 = 1.0 + 1.0 / 16.0;
+
+/// A cell grid over the particles sorted by cell.
+struct Grid<'a> {
+    lo: [f64; 3],
+    /// 1 / cell edge.
+    inv: f64,
+    nc: [usize; 3],
+    start: &'a [u32],
+    order: &'a [u32],
+    xs: &'a [f64],
+    hs: &'a [f64],
+    kappa: f64,
+    nreal: usize,
 }
 
-impl CellGrid {
-    pub fn build(dim: usize, x: &[f64], h: &[f64], kappa: f64) -> CellGrid {
-        let nt = h.len();
-        let hmax = h.iter().cloned().fold(0.0_f64, f64::max);
-        let mut lo = [0.0; 3];
-        let mut hi = [0.0; 3];
-        for d in 0..dim {
-            lo[d] = f64::INFINITY;
-            hi[d] = f64::NEG_INFINITY;
-            for i in 0..nt {
-                lo[d] = lo[d].min(x[d + dim * i]);
-                hi[d] = hi[d].max(x[d + dim * i]);
+impl Grid<'_> {
+    /// The pairs owned by the particles in `slots` (cell order), as [i, j] into `bufs[i / rows]`.
+    fn find<const D: usize>(&self, slots: std::ops::Range<usize>, rows: usize, bufs: &mut [Vec<[u32; 2]>]) {
+        let Grid { lo, inv, nc, start, order, xs, hs, kappa, nreal } = *self;
+        for slot in slots {
+            let a = order[slot] as usize;
+            let ha = hs[slot];
+            let xa: [f64; D] = xs[D * slot..D * slot + D].try_into().unwrap_or([0.0; D]);
+            // the box holds every partner a owns: r < κ (h_a + h_b)/2 ≤ κ h_a ONEP
+            let rad = kappa * (ha * ONEP);
+            let rad = rad + rad * 1e-9;
+            let mut clo = [0usize; 3];
+            let mut chi = [0usize; 3];
+            for d in 0..D {
+                let k0 = ((xa[d] - rad - lo[d]) * inv) as isize;
+                let k1 = ((xa[d] + rad - lo[d]) * inv) as isize;
+                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
+                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
             }
-        }
-        let mut cs = kappa * hmax;
-        loop {
-            let mut prod: u64 = 1;
-            for d in 0..dim {
-                prod = prod.saturating_mul(((hi[d] - lo[d]) / cs) as u64 + 1);
-            }
-            if prod <= (8 * nt as u64).max(64) {
-                break;
-            }
-            cs *= 2.0;
-        }
-        let mut nc = [1usize; 3];
-        for d in 0..dim {
-            nc[d] = ((hi[d] - lo[d]) / cs) as usize + 1;
-        }
-        let ncell = nc[0] * nc[1] * nc[2];
-        let mut cell_of = vec![0u32; nt];
-        let mut count = vec![0u32; ncell + 1];
-        for i in 0..nt {
-            let mut c = [0usize; 3];
-            for d in 0..dim {
-                let k = ((x[d + dim * i] - lo[d]) / cs) as isize;
-                c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
-            }
-            let ic = c[0] + nc[0] * (c[1] + nc[1] * c[2]);
-            cell_of[i] = ic as u32;
-            count[ic + 1] += 1;
-        }
-        for c in 0..ncell {
-            count[c + 1] += count[c];
-        }
-        let start = count.clone();
-        let mut fillp = count;
-        let mut order = vec![0u32; nt];
-        for i in 0..nt {
-            let c = cell_of[i] as usize;
-            order[fillp[c] as usize] = i as u32;
-            fillp[c] += 1;
-        }
-        CellGrid { dim, nc, lo, cs, start, order, cell_of }
-    }
-
-    /// Calls `f(j)` for every particle in the 3^dim cells around particle `i`'s cell.
-    #[inline]
-    pub fn around<F: FnMut(usize)>(&self, i: usize, mut f: F) {
-        let ic = self.cell_of[i] as usize;
-        let c2 = ic / (self.nc[0] * self.nc[1]);
-        let c1 = (ic - c2 * self.nc[0] * self.nc[1]) / self.nc[0];
-        let c0 = ic - self.nc[0] * (c1 + self.nc[1] * c2);
-        let c = [c0, c1, c2];
-        let mut lo = [0usize; 3];
-        let mut hi = [0usize; 3];
-        for d in 0..self.dim {
-            lo[d] = c[d].saturating_sub(1);
-            hi[d] = (c[d] + 1).min(self.nc[d] - 1);
-        }
-        for z in lo[2]..=hi[2] {
-            for y in lo[1]..=hi[1] {
-                let row = self.nc[0] * (y + self.nc[1] * z);
-                let s = self.start[row + lo[0]] as usize;
-                let e = self.start[row + hi[0] + 1] as usize;
-                for &j in &self.order[s..e] {
-                    f(j as usize);
+            let mut test = |sb: usize| {
+                let b = order[sb] as usize;
+                let i = a.min(b);
+                if i >= nreal {
+                    return;
+                }
+                let hb = hs[sb];
+                let xb = &xs[D * sb..D * sb + D];
+                // (x_i − x_j)² = (x_a − x_b)² and h_i + h_j = h_a + h_b, exactly
+                let mut r2 = 0.0;
+                for d in 0..D {
+                    let dxd = xa[d] - xb[d];
+                    r2 += dxd * dxd;
+                }
+                let sr = kappa * (0.5 * (ha + hb));
+                if r2 < sr * sr {
+                    bufs[i / rows].push([i as u32, a.max(b) as u32]);
+                }
+            };
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    let row = nc[0] * (y + nc[1] * z);
+                    let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
+                    // later slots: a owns b unless b is clearly larger
+                    for sb in s0.max(slot + 1)..s1 {
+                        let b_larger = hs[sb] > ha * ONEP;
+                        if b_larger {
+                            continue;
+                        }
+                        test(sb);
+                    }
+                    // earlier slots: a owns b only if a is clearly larger (rarely any)
+                    let back = s0..s1.min(slot).max(s0);
+                    if hs[back.clone()].iter().any(|&hb| ha > hb * ONEP) {
+                        for sb in back {
+                            if ha > hs[sb] * ONEP {
+                                test(sb);
+                            }
+                        }
+                    }
                 }
             }
         }
     }
 }
 
+/// The cell search: a uniform grid of edge ≈ κ h̄/2 (h̄ the mean h), particles sorted by cell
+/// (counting sort, ascending index within a cell); each particle looks through the cells that
+/// meet the box of half-width κ h_a around it and keeps the pairs it owns.
 fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    match dim {
+        1 => rust_cell_d::<1>(nreal, x, h, kappa, pl),
+        2 => rust_cell_d::<2>(nreal, x, h, kappa, pl),
+        _ => rust_cell_d::<3>(nreal, x, h, kappa, pl),
+    }
+}
+
+fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
-    if nt == 0 {
-        pl.i.clear();
-        pl.j.clear();
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    pi.clear();
+    pj.clear();
+    if nt == 0 || nreal == 0 {
         return;
     }
-    let grid = CellGrid::build(dim, x, h, kappa);
-    let rows: Vec<Vec<i32>> = (0..nreal)
-        .into_par_iter()
-        .map(|i| {
-            let mut r = Vec::new();
-            grid.around(i, |j| {
-                if j > i && within(dim, x, h, kappa, i, j) {
-                    r.push(j as i32);
+    let s = scratch.get_mut();
+    // the grid: bounding box, smallest and mean h, in tasks of CHUNK particles (the partial sums
+    // added in task order, so h̄ does not depend on the thread count)
+    let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+        for i in CHUNK * c..(CHUNK * c + CHUNK).min(nt) {
+            for d in 0..D {
+                lo[d] = lo[d].min(x[d + D * i]);
+                hi[d] = hi[d].max(x[d + D * i]);
+            }
+            hsum += h[i];
+            hmin = hmin.min(h[i]);
+        }
+        (lo, hi, hsum, hmin)
+    };
+    let nchunk = nt.div_ceil(CHUNK);
+    let parts: Vec<_> =
+        if serial() { (0..nchunk).map(stats).collect() } else { (0..nchunk).into_par_iter().map(stats).collect() };
+    let mut lo = [0.0f64; 3];
+    let mut hi = [0.0f64; 3];
+    lo[..D].fill(f64::INFINITY);
+    hi[..D].fill(f64::NEG_INFINITY);
+    let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+    for (plo, phi, ps, pm) in parts {
+        for d in 0..D {
+            lo[d] = lo[d].min(plo[d]);
+            hi[d] = hi[d].max(phi[d]);
+        }
+        hsum += ps;
+        hmin = hmin.min(pm);
+    }
+    if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
+        // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
+        return rust_direct(D, nreal, x, h, kappa, pl);
+    }
+    let hmean = hsum / nt as f64;
+    let mut cs = 0.5 * kappa * hmean;
+    if !(cs > 0.0 && cs.is_finite()) {
+        cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
+    }
+    // no more than a few cells per particle (sparse clouds)
+    loop {
+        let mut prod: u64 = 1;
+        for d in 0..D {
+            prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
+        }
+        if prod <= (4 * nt as u64).max(64) {
+            break;
+        }
+        cs *= 2.0;
+    }
+    let inv = 1.0 / cs;
+    let mut nc = [1usize; 3];
+    for d in 0..D {
+        nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
+    }
+    let ncell = nc[0] * nc[1] * nc[2];
+    // a particle's cell; the box search below uses the same map, which is monotone in x
+    let cell = |p: &[f64]| -> usize {
+        let mut c = [0usize; 3];
+        for d in 0..D {
+            let k = ((p[d] - lo[d]) * inv) as isize;
+            c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
+        }
+        c[0] + nc[0] * (c[1] + nc[1] * c[2])
+    };
+    s.cell_of.resize(nt, 0);
+    let cells = |(c, out): (usize, &mut [u32])| {
+        for (l, o) in out.iter_mut().enumerate() {
+            let i = CHUNK * c + l;
+            *o = cell(&x[D * i..D * i + D]) as u32;
+        }
+    };
+    if serial() {
+        s.cell_of.chunks_mut(CHUNK).enumerate().for_each(cells);
+    } else {
+        s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
+    }
+    let start = &mut s.start;
+    start.clear();
+    start.resize(ncell + 1, 0);
+    for &c in &s.cell_of {
+        start[c as usize + 1] += 1;
+    }
+    for c in 0..ncell {
+        start[c + 1] += start[c];
+    }
+    let fill = &mut s.fill;
+    fill.clear();
+    fill.extend_from_slice(&start[..ncell]);
+    s.order.resize(nt, 0);
+    s.xs.resize(D * nt, 0.0);
+    s.hs.resize(nt, 0.0);
+    let (order, xs, hs) = (&mut s.order[..], &mut s.xs[..], &mut s.hs[..]);
+    for (i, (p, &c)) in x[..D * nt].chunks_exact(D).zip(&s.cell_of).enumerate() {
+        let f = &mut fill[c as usize];
+        let slot = *f as usize;
+        *f += 1;
+        order[slot] = i as u32;
+        xs[D * slot..D * slot + D].copy_from_slice(p);
+        hs[slot] = h[i];
+    }
+    // each particle (in cell order) finds the pairs it owns, into per-task buffers, one per
+    // bucket of rows (the pair's i). The list is canonical whatever the split, so the split may
+    // follow the thread count: a few tasks and buckets per thread keep the buffers O(threads²).
+    let g = Grid { lo, inv, nc, start: &s.start, order: &s.order, xs: &s.xs, hs: &s.hs, kappa, nreal };
+    let per = 4 * rayon::current_num_threads();
+    let ntask = nt.div_ceil(CHUNK).min(per);
+    let slots = nt.div_ceil(ntask);
+    let nb = nreal.div_ceil(CHUNK).min(per);
+    let rows = nreal.div_ceil(nb);
+    if s.pair_tasks.len() < ntask * nb {
+        s.pair_tasks.resize_with(ntask * nb, Vec::new);
+    }
+    let find = |(t, bufs): (usize, &mut [Vec<[u32; 2]>])| {
+        bufs.iter_mut().for_each(Vec::clear);
+        g.find::<D>(slots * t..(slots * t + slots).min(nt), rows, bufs);
+    };
+    let found = &mut s.pair_tasks[..ntask * nb];
+    if serial() {
+        found.chunks_mut(nb).enumerate().for_each(find);
+    } else {
+        found.par_chunks_mut(nb).enumerate().for_each(find);
+    }
+    // canonical order, bucket by bucket: a counting sort by i, then each row by j
+    let found = &s.pair_tasks[..ntask * nb];
+    let size = |b: usize| -> usize { (0..ntask).map(|t| found[t * nb + b].len()).sum() };
+    let np: usize = (0..nb).map(size).sum();
+    pi.resize(np, 0);
+    pj.resize(np, 0);
+    let mut parts: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nb);
+    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    for b in 0..nb {
+        let len = size(b);
+        let (head_i, tail_i) = std::mem::take(&mut ri).split_at_mut(len);
+        let (head_j, tail_j) = std::mem::take(&mut rj).split_at_mut(len);
+        parts.push((b, head_i, head_j));
+        ri = tail_i;
+        rj = tail_j;
+    }
+    let place = |(b, ri, rj): (usize, &mut [i32], &mut [i32])| {
+        let a0 = rows * b;
+        let nr = rows.min(nreal - a0);
+        let mut cnt = vec![0u32; nr + 1];
+        for t in 0..ntask {
+            for &[i, _] in &found[t * nb + b] {
+                cnt[i as usize - a0 + 1] += 1;
+            }
+        }
+        for r in 0..nr {
+            cnt[r + 1] += cnt[r];
+        }
+        let mut fill = cnt[..nr].to_vec();
+        for t in 0..ntask {
+            for &[i, j] in &found[t * nb + b] {
+                let f = &mut fill[i as usize - a0];
+                rj[*f as usize] = j as i32;
+                *f += 1;
+            }
+        }
+        for r in 0..nr {
+            let (r0, r1) = (cnt[r] as usize, cnt[r + 1] as usize);
+            ri[r0..r1].fill((a0 + r) as i32);
+            rj[r0..r1].sort_unstable();
+        }
+    };
+    if serial() {
+        parts.into_iter().for_each(place);
+    } else {
+        parts.into_par_iter().for_each(place);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// xorshift64*, seeded.
+    struct Rng(u64);
+    impl Rng {
+        fn f(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn lists(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64) -> Vec<(i32, i32)> {
+        let mut pl = PairList::default();
+        search(b, cell, dim, nreal, x, h, kappa, &mut pl);
+        pl.i.iter().copied().zip(pl.j.iter().copied()).collect()
+    }
+
+    /// The owner-based cell search returns the Fortran's direct list: lattices with equal h (ties),
+    /// a few particles with h up to 5×, duplicated positions, points exactly at the support
+    /// radius, a far outlier, and the fallbacks (negative h, non-finite values).
+    #[test]
+    fn cell_search_equals_direct() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let mut checked = 0;
+        for dim in 1..=3 {
+            let side = [400, 24, 8][dim - 1];
+            let n = [side, side * side, side * side * side][dim - 1];
+            for case in 0..6 {
+                let mut x = vec![0.0; dim * n];
+                let mut h = vec![0.01; n];
+                for i in 0..n {
+                    let mut r = i;
+                    for d in 0..dim {
+                        let jitter = if case % 2 == 0 { 0.0 } else { 0.004 * (rng.f() - 0.5) };
+                        x[d + dim * i] = 0.01 * (r % side) as f64 + jitter;
+                        r /= side;
+                    }
+                    if case >= 2 && rng.f() < 0.03 {
+                        h[i] = 0.01 * (1.0 + 4.0 * rng.f());
+                    }
+                    if case >= 4 && rng.f() < 0.3 {
+                        h[i] = 0.01 * (0.9 + 0.2 * rng.f());
+                    }
                 }
-            });
-            r.sort_unstable();
-            r
-        })
-        .collect();
-    fill(pl, &rows);
+                if case == 3 {
+                    // a duplicate, and a far outlier with a huge h
+                    x[dim] = x[0];
+                    x[dim * (n - 1)] = 50.0;
+                    h[n - 1] = 0.3;
+                }
+                if case == 5 {
+                    h[7] = -0.01;
+                }
+                let nreal = n - n / 7;
+                for kappa in [2.0, 3.0] {
+                    let want = lists(Backend::Fortran, false, dim, nreal, &x, &h, kappa);
+                    assert!(!want.is_empty());
+                    assert_eq!(lists(Backend::Rust, true, dim, nreal, &x, &h, kappa), want, "{dim}D case {case}");
+                    assert_eq!(lists(Backend::Rust, false, dim, nreal, &x, &h, kappa), want, "{dim}D case {case}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 36);
+        // non-finite values
+        let x = vec![0.0, 0.01, f64::NAN, 0.03, 0.04, f64::INFINITY, 0.06];
+        for h in [vec![0.01; 7], vec![0.01, 0.01, 0.01, f64::INFINITY, 0.01, 0.01, f64::NAN]] {
+            let want = lists(Backend::Fortran, false, 1, 6, &x, &h, 2.0);
+            assert_eq!(lists(Backend::Rust, true, 1, 6, &x, &h, 2.0), want);
+        }
+    }
 }

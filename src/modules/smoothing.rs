@@ -3,15 +3,14 @@
 //! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Rust twin: same order; 0 ULP in 1D and
 //! 2D (division, √), a few ULP in 3D (`powf(1/3)`).
 
-use super::Backend;
+use super::{Backend, par_rows};
 use crate::legacy;
-use rayon::prelude::*;
 
 pub fn from_density(b: Backend, dim: usize, rho: &[f64], h0: &[f64], rho0: &[f64], h: &mut [f64]) {
     match b {
         Backend::Fortran => legacy::smoothing_density(dim, rho, h0, rho0, h),
-        Backend::Rust => h.par_iter_mut().enumerate().for_each(|(i, hi)| {
-            *hi = match dim {
+        Backend::Rust => par_rows(h, 1, |i, hi| {
+            hi[0] = match dim {
                 1 => h0[i] * (rho0[i] / rho[i]),
                 2 => h0[i] * (rho0[i] / rho[i]).sqrt(),
                 _ => h0[i] * (rho0[i] / rho[i]).powf(1.0 / 3.0),
@@ -23,8 +22,8 @@ pub fn from_density(b: Backend, dim: usize, rho: &[f64], h0: &[f64], rho0: &[f64
 pub fn rate(b: Backend, dim: usize, rho: &[f64], h: &[f64], drho: &[f64], dhdt: &mut [f64]) {
     match b {
         Backend::Fortran => legacy::smoothing_rate(dim, rho, h, drho, dhdt),
-        Backend::Rust => dhdt.par_iter_mut().enumerate().for_each(|(i, d)| {
-            *d = -(h[i] / (rho[i] * dim as f64)) * drho[i];
+        Backend::Rust => par_rows(dhdt, 1, |i, d| {
+            d[0] = -(h[i] / (rho[i] * dim as f64)) * drho[i];
         }),
     }
 }
@@ -34,7 +33,7 @@ pub fn advance(b: Backend, dt: f64, theta: f64, dhdt: &[f64], h: &mut [f64]) {
         Backend::Fortran => legacy::smoothing_advance(dt, theta, dhdt, h),
         Backend::Rust => {
             let n = dhdt.len();
-            h[..n].par_iter_mut().zip(dhdt.par_iter()).for_each(|(hi, d)| *hi += theta * dt * d);
+            par_rows(&mut h[..n], 1, |i, hi| hi[0] += theta * dt * dhdt[i]);
         }
     }
 }

@@ -3,11 +3,13 @@
 //! Jaumann dτ/dt = 2G(ε̇ − ⅓ tr ε̇ I) + τ Rᵀ + R τ (Pa/s); deviatoric work τ:ε̇/ρ (J/kg/s).
 //! Drucker–Prager return: Y = 3 α_φ p + k; Y ≤ 0 → τ = 0 (tension cut-off); √J2 > Y → τ ← τ Y/√J2.
 //! Plane strain: out-of-plane rates zero, τ_zz kept. Stress order xx, yy, zz, xy, xz, yz.
-//! Rust twin: gather, same order, 0 ULP.
+//! Rust twin: m/ρ of every particle first (the value the Fortran computes per pair), then each
+//! particle gathers L over its pairs in ascending pair order (the Fortran's scatter order), with
+//! v_j − v_i taken in pair order; then ε̇, R and the Jaumann rate. 0 ULP, independent of the
+//! thread count.
 
-use super::{Backend, nnps::PairList};
+use super::{Backend, by_dim, nnps::PairList, par_rows, par_rows2};
 use crate::legacy::{self, MatTable, NPAR, NSTR, SPH_MP_ALPHA_PHI, SPH_MP_COHESION, SPH_MP_SHEAR};
-use rayon::prelude::*;
 
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
@@ -45,80 +47,95 @@ pub fn rates(
         Backend::Rust => {
             let nt = mass.len();
             let shear = (SPH_MP_SHEAR - 1) as usize;
-            out.eps[..NSTR * nt].par_chunks_mut(NSTR).zip(out.rot[..3 * nt].par_chunks_mut(3)).enumerate().for_each(
-                |(a, (eps, rot))| {
-                    let mut gl = [[0.0f64; 3]; 3];
-                    for &k in pl.incident(a) {
-                        let k = k as usize;
-                        let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                        let mi = mass[i] / rho[i];
-                        let mj = mass[j] / rho[j];
-                        let f = if a == i { mj } else { mi };
-                        for al in 0..dim {
-                            let dva = v[al + dim * j] - v[al + dim * i];
-                            for be in 0..dim {
-                                gl[al][be] += f * dva * dwdx[be + dim * k];
-                            }
-                        }
-                    }
-                    let mut e3 = [[0.0f64; 3]; 3];
-                    let mut r3 = [[0.0f64; 3]; 3];
-                    for al in 0..dim {
-                        for be in 0..dim {
-                            e3[al][be] = 0.5 * (gl[al][be] + gl[be][al]);
-                            r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
-                        }
-                    }
-                    eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
-                    rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);
-                },
-            );
+            let mut buf = pl.scratch.lock();
+            buf.part.resize(nt, 0.0);
+            par_rows(&mut buf.part[..nt], 1, |a, r| r[0] = mass[a] / rho[a]);
+            let vol: &[f64] = &buf.part;
+            by_dim!(dim, 0, velocity_gradient(pl, dwdx, vol, v, &mut out.eps[..NSTR * nt], &mut out.rot[..3 * nt]));
             let eps: &[f64] = out.eps;
             let rot: &[f64] = out.rot;
-            out.dtau[..NSTR * nreal].par_chunks_mut(NSTR).zip(out.dedt[..nreal].par_iter_mut()).enumerate().for_each(
-                |(i, (dt, de))| {
-                    let m = mat[i] as usize;
-                    let g = mt.mpar[shear + NPAR * m];
-                    dt.iter_mut().for_each(|x| *x = 0.0);
-                    *de = 0.0;
-                    if g <= 0.0 {
-                        return;
+            par_rows2(&mut out.dtau[..NSTR * nreal], NSTR, &mut out.dedt[..nreal], 1, |i, dt, de| {
+                let m = mat[i] as usize;
+                let g = mt.mpar[shear + NPAR * m];
+                if let Ok(dt) = <&mut [f64; NSTR]>::try_from(&mut *dt) {
+                    *dt = [0.0; NSTR];
+                }
+                de[0] = 0.0;
+                if g <= 0.0 {
+                    return;
+                }
+                let e = &eps[NSTR * i..NSTR * i + NSTR];
+                let r = &rot[3 * i..3 * i + 3];
+                let e3 = [[e[0], e[3], e[4]], [e[3], e[1], e[5]], [e[4], e[5], e[2]]];
+                let r3 = [[0.0, r[0], r[1]], [-r[0], 0.0, r[2]], [-r[1], -r[2], 0.0]];
+                let mut t3 = [[0.0f64; 3]; 3];
+                for al in 0..3 {
+                    for be in 0..3 {
+                        t3[al][be] = tau[IV[al][be] + NSTR * i];
                     }
-                    let e = &eps[NSTR * i..NSTR * i + NSTR];
-                    let r = &rot[3 * i..3 * i + 3];
-                    let e3 = [[e[0], e[3], e[4]], [e[3], e[1], e[5]], [e[4], e[5], e[2]]];
-                    let r3 = [[0.0, r[0], r[1]], [-r[0], 0.0, r[2]], [-r[1], -r[2], 0.0]];
-                    let mut t3 = [[0.0f64; 3]; 3];
-                    for al in 0..3 {
-                        for be in 0..3 {
-                            t3[al][be] = tau[IV[al][be] + NSTR * i];
+                }
+                let tr = e3[0][0] + e3[1][1] + e3[2][2];
+                for al in 0..3 {
+                    for be in al..3 {
+                        let mut s = 2.0 * g * e3[al][be];
+                        if al == be {
+                            s -= 2.0 * g * tr / 3.0;
                         }
-                    }
-                    let tr = e3[0][0] + e3[1][1] + e3[2][2];
-                    for al in 0..3 {
-                        for be in al..3 {
-                            let mut s = 2.0 * g * e3[al][be];
-                            if al == be {
-                                s -= 2.0 * g * tr / 3.0;
-                            }
-                            for q in 0..3 {
-                                s += t3[al][q] * r3[be][q];
-                                s += r3[al][q] * t3[q][be];
-                            }
-                            dt[IV[al][be]] = s;
+                        for q in 0..3 {
+                            s += t3[al][q] * r3[be][q];
+                            s += r3[al][q] * t3[q][be];
                         }
+                        dt[IV[al][be]] = s;
                     }
-                    let mut s = 0.0;
-                    for al in 0..3 {
-                        for be in 0..3 {
-                            s += t3[al][be] * e3[al][be];
-                        }
+                }
+                let mut s = 0.0;
+                for al in 0..3 {
+                    for be in 0..3 {
+                        s += t3[al][be] * e3[al][be];
                     }
-                    *de = s / rho[i];
-                },
-            );
+                }
+                de[0] = s / rho[i];
+            });
         }
     }
+}
+
+/// ε̇ and R of every particle from L = Σ_j (m_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij, gathered in pair order.
+fn velocity_gradient<const D: usize, const W: usize>(
+    pl: &PairList,
+    dwdx: &[f64],
+    vol: &[f64],
+    v: &[f64],
+    eps: &mut [f64],
+    rot: &mut [f64],
+) {
+    par_rows2(eps, NSTR, rot, 3, |a, eps, rot| {
+        let mut gl = [[0.0f64; 3]; 3];
+        let va = &v[D * a..D * a + D];
+        for e in pl.incident(a) {
+            let (k, o) = (e.pair(), e.other());
+            let f = vol[o];
+            let vo = &v[D * o..D * o + D];
+            let g = &dwdx[D * k..D * k + D];
+            for al in 0..D {
+                // v_j − v_i in pair order
+                let dva = if e.is_i() { vo[al] - va[al] } else { va[al] - vo[al] };
+                for be in 0..D {
+                    gl[al][be] += f * dva * g[be];
+                }
+            }
+        }
+        let mut e3 = [[0.0f64; 3]; 3];
+        let mut r3 = [[0.0f64; 3]; 3];
+        for al in 0..D {
+            for be in 0..D {
+                e3[al][be] = 0.5 * (gl[al][be] + gl[be][al]);
+                r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
+            }
+        }
+        eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
+        rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);
+    });
 }
 
 /// Drucker–Prager radial return of τ for the first `mat.len()` particles.
@@ -130,7 +147,7 @@ pub fn yield_return(b: Backend, mat: &[i32], mt: &MatTable, p: &[f64], tau: &mut
             let shear = (SPH_MP_SHEAR - 1) as usize;
             let aphi = (SPH_MP_ALPHA_PHI - 1) as usize;
             let coh = (SPH_MP_COHESION - 1) as usize;
-            tau[..NSTR * n].par_chunks_mut(NSTR).enumerate().for_each(|(i, t)| {
+            par_rows(&mut tau[..NSTR * n], NSTR, |i, t| {
                 let m = mat[i] as usize;
                 let par = &mt.mpar[NPAR * m..NPAR * (m + 1)];
                 if par[shear] <= 0.0 {

@@ -1,51 +1,18 @@
 //! Monaghan artificial viscosity (thesis (4-47), (4-48); Liu's art_visc), for approaching pairs:
 //! μ_ij = h_ij v_ij·x_ij/(|x_ij|² + φ²), φ = etq h_ij; Π_ij = (β μ_ij − α c̄_ij) μ_ij / ρ̄_ij;
 //! Dv_i/Dt −= Σ_j m_j Π_ij ∇_i W_ij (m/s²); De_i/Dt += ½ Σ_j m_j Π_ij v_ij·∇_i W_ij (J/kg/s).
-//! Rust twin: gather, 0 ULP.
+//!
+//! Rust twin: one parallel pass over the pairs computes −Π_ij ∇_i W_ij and ½ Π_ij v_ij·∇_i W_ij
+//! (the Fortran's expressions, i and j in pair order; zeros for receding pairs) into a reused
+//! buffer, in blocks of pairs whose arithmetic runs on vectors; one parallel pass over the
+//! particles adds, over each particle's pairs in ascending pair order (the Fortran's scatter
+//! order), ± m_other × those terms into both outputs. A receding pair adds ±0, which leaves the
+//! sum unchanged: an accumulator that starts at +0 is never −0 under round-to-nearest, and
+//! x ± 0 = x for every other x. 0 ULP, independent of the thread count.
 
-use super::{Backend, nnps::PairList, par_rows};
+use super::{Backend, CHUNK, by_dim, gather_signed, nnps::PairList, serial};
 use crate::legacy;
-
-/// Π_ij of pair k (0 for receding pairs) and v_ij·∇W.
-#[inline]
-#[allow(clippy::too_many_arguments)]
-fn pair_pi(
-    dim: usize,
-    i: usize,
-    j: usize,
-    g: &[f64],
-    x: &[f64],
-    v: &[f64],
-    h: &[f64],
-    rho: &[f64],
-    c: &[f64],
-    coef: (f64, f64, f64),
-) -> Option<(f64, f64)> {
-    let (alpha, beta, etq) = coef;
-    let mut vr = 0.0;
-    let mut r2 = 0.0;
-    let mut dv = [0.0; 3];
-    for d in 0..dim {
-        dv[d] = v[d + dim * i] - v[d + dim * j];
-        let dx = x[d + dim * i] - x[d + dim * j];
-        vr += dv[d] * dx;
-        r2 += dx * dx;
-    }
-    if vr < 0.0 {
-        let hij = 0.5 * (h[i] + h[j]);
-        let muv = hij * vr / (r2 + (etq * hij) * (etq * hij));
-        let mc = 0.5 * (c[i] + c[j]);
-        let mrho = 0.5 * (rho[i] + rho[j]);
-        let piv = (beta * muv - alpha * mc) * muv / mrho;
-        let mut vd = 0.0;
-        for d in 0..dim {
-            vd += dv[d] * g[d];
-        }
-        Some((piv, vd))
-    } else {
-        None
-    }
-}
+use rayon::prelude::*;
 
 #[allow(clippy::too_many_arguments)]
 pub fn monaghan(
@@ -68,37 +35,109 @@ pub fn monaghan(
             legacy::viscosity_monaghan(dim, &pl.i, &pl.j, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt)
         }
         Backend::Rust => {
-            let nt = mass.len();
-            par_rows(&mut dedt[..nt], 1, |a, out| {
-                let mut de = 0.0;
-                for &k in pl.incident(a) {
-                    let k = k as usize;
-                    let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    if let Some((piv, vd)) = pair_pi(dim, i, j, &dwdx[dim * k..dim * k + dim], x, v, h, rho, c, coef) {
-                        let other = if a == i { j } else { i };
-                        de += mass[other] * (0.5 * piv * vd);
-                    }
-                }
-                out[0] = de;
-            });
-            par_rows(&mut dvdt[..dim * nt], dim, |a, acc| {
-                acc.iter_mut().for_each(|x| *x = 0.0);
-                for &k in pl.incident(a) {
-                    let k = k as usize;
-                    let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
-                    let g = &dwdx[dim * k..dim * k + dim];
-                    if let Some((piv, _)) = pair_pi(dim, i, j, g, x, v, h, rho, c, coef) {
-                        for d in 0..dim {
-                            let f = piv * g[d];
-                            if a == i {
-                                acc[d] -= mass[j] * f;
-                            } else {
-                                acc[d] += mass[i] * f;
-                            }
-                        }
-                    }
-                }
-            });
+            by_dim!(dim, 1, rust(pl, dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt))
         }
     }
+}
+
+/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄.
+const NV: usize = 6;
+
+/// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
+/// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a receding pair gets
+/// +0), so that the divisions run on vectors.
+#[allow(clippy::too_many_arguments)]
+fn block<const D: usize, const W: usize>(
+    pi: &[i32],
+    pj: &[i32],
+    dwdx: &[f64],
+    x: &[f64],
+    v: &[f64],
+    h: &[f64],
+    rho: &[f64],
+    c: &[f64],
+    coef: (f64, f64, f64),
+    k0: usize,
+    t: &mut [f64],
+    tmp: &mut [f64],
+) {
+    let (alpha, beta, etq) = coef;
+    let len = t.len() / W;
+    let (vr, rest) = tmp.split_at_mut(len);
+    let (r2, rest) = rest.split_at_mut(len);
+    let (vd, rest) = rest.split_at_mut(len);
+    let (hij, rest) = rest.split_at_mut(len);
+    let (mc, mrho) = rest.split_at_mut(len);
+    for l in 0..len {
+        let k = k0 + l;
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let g = &dwdx[D * k..D * k + D];
+        let (mut s_vr, mut s_r2, mut s_vd) = (0.0, 0.0, 0.0);
+        for d in 0..D {
+            let dv = v[d + D * i] - v[d + D * j];
+            let dx = x[d + D * i] - x[d + D * j];
+            s_vr += dv * dx;
+            s_r2 += dx * dx;
+            s_vd += dv * g[d];
+        }
+        vr[l] = s_vr;
+        r2[l] = s_r2;
+        vd[l] = s_vd;
+        hij[l] = 0.5 * (h[i] + h[j]);
+        mc[l] = 0.5 * (c[i] + c[j]);
+        mrho[l] = 0.5 * (rho[i] + rho[j]);
+    }
+    // Π of every pair, masked to +0 where the pair recedes; vd becomes ½ Π v·∇W
+    for l in 0..len {
+        let hv = hij[l];
+        let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
+        let piv = (beta * muv - alpha * mc[l]) * muv / mrho[l];
+        let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
+        let de = 0.5 * piv * vd[l];
+        hij[l] = f64::from_bits(piv.to_bits() & on);
+        vd[l] = f64::from_bits(de.to_bits() & on);
+        vr[l] = f64::from_bits(on);
+    }
+    for l in 0..len {
+        let g = &dwdx[D * (k0 + l)..D * (k0 + l) + D];
+        let on = vr[l].to_bits();
+        for d in 0..D {
+            t[W * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
+        }
+        t[W * l + D] = vd[l];
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn rust<const D: usize, const W: usize>(
+    pl: &PairList,
+    dwdx: &[f64],
+    x: &[f64],
+    v: &[f64],
+    h: &[f64],
+    rho: &[f64],
+    c: &[f64],
+    mass: &[f64],
+    coef: (f64, f64, f64),
+    dvdt: &mut [f64],
+    dedt: &mut [f64],
+) {
+    let np = pl.len();
+    let mut guard = pl.scratch.lock();
+    let buf = &mut *guard;
+    buf.pair.resize(W * np, 0.0);
+    buf.pair2.resize(NV * np, 0.0);
+    let (pi, pj) = (&pl.i, &pl.j);
+    // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
+    // pairs, the gathers first, then the arithmetic over contiguous arrays
+    let body = |b: usize, (t, tmp): (&mut [f64], &mut [f64])| {
+        block::<D, W>(pi, pj, dwdx, x, v, h, rho, c, coef, CHUNK * b, t, tmp)
+    };
+    let (tc, sc) = (&mut buf.pair[..W * np], &mut buf.pair2[..NV * np]);
+    if serial() {
+        tc.chunks_mut(W * CHUNK).zip(sc.chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+    } else {
+        tc.par_chunks_mut(W * CHUNK).zip(sc.par_chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+    }
+    gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
 }
