@@ -50,6 +50,10 @@ fn idx(m: Module) -> usize {
     Module::ALL.iter().position(|x| *x == m).unwrap_or(0)
 }
 
+/// Particles per chunk of the solver's own parallel passes (fixed, so that their sums do not
+/// depend on the thread count).
+const CHUNK: usize = 1024;
+
 /// Terms of the acceleration sum, in the order they are added.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AccTerm {
@@ -902,10 +906,16 @@ impl Sim {
 
     /// Stops on a non-finite rate, naming the particle and the term (force, viscosity, ...).
     fn check_rates(&mut self) -> Result<()> {
+        use rayon::prelude::*;
         let dim = self.cfg.dim;
         let n = self.p.nreal;
         let lda = dim * self.p.ntotal;
         let nt = self.p.ntotal;
+        let ok = self.w.dv[..dim * n].par_chunks(CHUNK).all(|c| c.iter().all(|v| v.is_finite()))
+            && self.w.de[..n].par_chunks(CHUNK).all(|c| c.iter().all(|v| v.is_finite()));
+        if ok {
+            return Ok(());
+        }
         for i in 0..n {
             let dv_ok = (0..dim).all(|d| self.w.dv[d + dim * i].is_finite());
             if dv_ok && self.w.de[i].is_finite() {
@@ -974,29 +984,180 @@ impl Sim {
         ))
     }
 
-    /// Work of the wall, penalty and gravity forces over the step (v at t).
+    /// Work of the wall, penalty and gravity forces over the step (v at t). One parallel pass;
+    /// the sums are taken per fixed chunk of particles, then over the chunks in order, so they do
+    /// not depend on the thread count.
     fn account(&mut self, dt: f64) {
+        use rayon::prelude::*;
         let dim = self.cfg.dim;
         let n = self.p.nreal;
-        let nt = self.p.ntotal;
-        let lda = dim * nt;
-        let power = |slot: usize| -> f64 {
+        let lda = dim * self.p.ntotal;
+        let (sw, sp) = (self.cfg.acc_slot(AccTerm::Wall), self.cfg.acc_slot(AccTerm::Penalty));
+        let (acc, v, m, g) = (&self.w.acc, &self.p.v, &self.p.mass, &self.cfg.grav);
+        let power = |slot: usize, i: usize| -> f64 {
             if slot == usize::MAX {
                 return 0.0;
             }
-            let a = &self.w.acc[slot * lda..slot * lda + dim * n];
-            (0..n).map(|i| self.p.mass[i] * (0..dim).map(|d| a[d + dim * i] * self.p.v[d + dim * i]).sum::<f64>()).sum()
+            let mut s = 0.0;
+            for d in 0..dim {
+                s += acc[slot * lda + d + dim * i] * v[d + dim * i];
+            }
+            m[i] * s
         };
-        self.book.work_wall += dt * power(self.cfg.acc_slot(AccTerm::Wall));
-        self.book.work_penalty += dt * power(self.cfg.acc_slot(AccTerm::Penalty));
-        let g = &self.cfg.grav;
-        let pg: f64 =
-            (0..n).map(|i| self.p.mass[i] * (0..dim).map(|d| g[d] * self.p.v[d + dim * i]).sum::<f64>()).sum();
-        self.book.work_gravity += dt * pg;
+        let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut t = [0.0; 3];
+                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    t[0] += power(sw, i);
+                    t[1] += power(sp, i);
+                    let mut s = 0.0;
+                    for d in 0..dim {
+                        s += g[d] * v[d + dim * i];
+                    }
+                    t[2] += m[i] * s;
+                }
+                t
+            })
+            .collect();
+        let tot = parts.iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+        self.book.work_wall += dt * tot[0];
+        self.book.work_penalty += dt * tot[1];
+        self.book.work_gravity += dt * tot[2];
     }
 
     /// Stops a run that went unstable, naming the step, the particle and the quantity.
     fn check(&mut self) -> Result<()> {
+        if let Some(ok) = self.scan() {
+            return ok;
+        }
+        self.check_slow()
+    }
+
+    /// The health of the state in one parallel pass (fixed chunks, combined in order). Returns
+    /// None when something is wrong, so that `check_slow` names the first culprit; else updates
+    /// the statistics and applies the energy and step checks.
+    fn scan(&mut self) -> Option<Result<()>> {
+        use rayon::prelude::*;
+        #[derive(Clone, Copy)]
+        struct Part {
+            bad: bool,
+            energy: f64,
+            ke_max: (f64, usize),
+            hr: (f64, f64),
+            pen: f64,
+            out: usize,
+        }
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let p = &self.p;
+        let h_init = &self.h_init;
+        let segs = &self.cfg.all_segs;
+        let frames: Vec<([f64; 3], f64)> = (0..segs.len())
+            .map(|s| {
+                let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+                let mut t = [0.0; 3];
+                let mut el = 0.0;
+                for d in 0..dim {
+                    t[d] = sg[dim + d] - sg[d];
+                    el += t[d] * t[d];
+                }
+                (t, el.sqrt())
+            })
+            .collect();
+        let limit = 0.5 * self.cfg.dx_min;
+        let domain = self.case.domain.as_ref();
+        let parts: Vec<Part> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut q =
+                    Part { bad: false, energy: 0.0, ke_max: (0.0, 0), hr: (f64::INFINITY, 0.0), pen: 0.0, out: 0 };
+                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    let mut v2 = 0.0;
+                    for d in 0..dim {
+                        q.bad |= !p.x[d + dim * i].is_finite() || !p.v[d + dim * i].is_finite();
+                        v2 += p.v[d + dim * i] * p.v[d + dim * i];
+                    }
+                    q.bad |= !p.rho[i].is_finite() || p.rho[i] <= 0.0 || !p.e[i].is_finite() || !p.p[i].is_finite();
+                    if !p.tau.is_empty() {
+                        q.bad |= !p.tau[NSTR * i..NSTR * i + NSTR].iter().all(|t| t.is_finite());
+                    }
+                    let r = p.h[i] / h_init[i];
+                    q.bad |= !r.is_finite() || r < 1e-3;
+                    q.hr = (q.hr.0.min(r), q.hr.1.max(r));
+                    let ke = 0.5 * p.mass[i] * v2;
+                    q.energy += ke + p.mass[i] * p.e[i];
+                    if ke > q.ke_max.0 {
+                        q.ke_max = (ke, i);
+                    }
+                    for (s, (t, el)) in frames.iter().enumerate() {
+                        let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
+                        let (mut dn, mut tp) = (0.0, 0.0);
+                        for d in 0..dim {
+                            let r = p.x[d + dim * i] - sg[d];
+                            dn += r * sg[2 * dim + d];
+                            if *el > 0.0 {
+                                tp += r * t[d] / el;
+                            }
+                        }
+                        if tp >= 0.0 && tp <= *el && dn < 0.0 {
+                            q.pen = q.pen.max(-dn);
+                        }
+                    }
+                    if let Some(dm) = domain
+                        && (0..dim).any(|d| p.x[d + dim * i] < dm.lo_m[d] || p.x[d + dim * i] > dm.hi_m[d])
+                    {
+                        q.out += 1;
+                    }
+                }
+                q
+            })
+            .collect();
+        let mut all = Part { bad: false, energy: 0.0, ke_max: (0.0, 0), hr: (f64::INFINITY, 0.0), pen: 0.0, out: 0 };
+        for q in &parts {
+            all.bad |= q.bad;
+            all.energy += q.energy;
+            if q.ke_max.0 > all.ke_max.0 {
+                all.ke_max = q.ke_max;
+            }
+            all.hr = (all.hr.0.min(q.hr.0), all.hr.1.max(q.hr.1));
+            all.pen = all.pen.max(q.pen);
+            all.out += q.out;
+        }
+        let stop_on_exit = domain.is_some_and(|d| d.stop_on_exit) && all.out > 0;
+        if all.bad || all.pen > limit || stop_on_exit {
+            return None;
+        }
+        let st = &mut self.stab;
+        st.h_ratio_min = st.h_ratio_min.min(all.hr.0);
+        st.h_ratio_max = st.h_ratio_max.max(all.hr.1);
+        st.max_wall_penetration_m = st.max_wall_penetration_m.max(all.pen);
+        st.left_domain = st.left_domain.max(all.out);
+        let step = self.nstep;
+        let budget = self.e_initial + self.book.work_wall + self.book.work_penalty + self.book.work_gravity;
+        if all.energy - budget > self.e_initial.abs().max(f64::MIN_POSITIVE) {
+            let (ke, i) = all.ke_max;
+            return Some(Err(SphError::Unstable(format!(
+                "step {step} (t = {:.6e} s): total energy {:e} J exceeds the initial {:e} J plus the work of external forces by more than the initial energy; fastest particle {} (material {}), |v| = {:e} m/s",
+                self.t,
+                all.energy,
+                self.e_initial,
+                self.p.id[i],
+                self.case.materials[self.p.mat[i] as usize].name,
+                (2.0 * ke / self.p.mass[i]).sqrt()
+            ))));
+        }
+        if self.nstep >= self.cfg.max_steps && self.t < self.cfg.end {
+            return Some(Err(SphError::Unstable(format!(
+                "step {step}: time.max_steps reached at t = {:.6e} s before the end time",
+                self.t
+            ))));
+        }
+        Some(Ok(()))
+    }
+
+    /// The sequential check: finds and names the first particle in trouble.
+    fn check_slow(&mut self) -> Result<()> {
         let dim = self.cfg.dim;
         let n = self.p.nreal;
         let step = self.nstep;
