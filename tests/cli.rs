@@ -171,7 +171,7 @@ fn check_prints_the_module_plan_of_the_shock_tube() {
             .to_string()
     };
     for m in ["nnps", "kernel", "density", "eos", "force", "viscosity", "integrator"] {
-        assert!(line(m).contains("fortran"), "{m} runs in Fortran: {}", line(m));
+        assert!(line(m).contains("rust"), "{m} runs in Rust by default: {}", line(m));
     }
     for m in ["boundary", "strength", "penalty", "detonation", "smoothing", "xsph"] {
         assert!(line(m).contains("skipped"), "{m} is not needed: {}", line(m));
@@ -179,11 +179,13 @@ fn check_prints_the_module_plan_of_the_shock_tube() {
     assert!(line("nnps").contains("direct"));
     assert!(line("density").contains("summation"));
     // flags change the plan
-    let out = blastsph(&["check", "cases/shock_tube.toml", "--rust", "eos", "--nnps", "cell"]);
+    let out = blastsph(&["check", "cases/shock_tube.toml", "--backend", "fortran", "--rust", "eos", "--nnps", "cell"]);
     let so = text(&out.stdout);
     assert_eq!(out.status.code(), Some(0));
     let eos = so.lines().find(|l| l.trim_start().starts_with("eos")).unwrap();
     assert!(eos.contains("rust"), "{eos}");
+    let force = so.lines().find(|l| l.trim_start().starts_with("force")).unwrap();
+    assert!(force.contains("fortran"), "{force}");
     let nnps = so.lines().find(|l| l.trim_start().starts_with("nnps")).unwrap();
     assert!(nnps.contains("cell"), "{nnps}");
 }
@@ -253,7 +255,7 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
         .expect("summary.json is JSON");
     assert_eq!(s["case"], "shock_tube");
-    assert_eq!(s["backend"], "fortran");
+    assert_eq!(s["backend"], "rust");
     assert_eq!(s["dim"], 1);
     assert_eq!(s["particles"], 400);
     assert_eq!(s["steps"], 40);
