@@ -263,7 +263,7 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     assert!(s["wall_seconds"].as_f64().unwrap() >= 0.0);
     let modules = s["modules"].as_object().expect("modules is an object");
     for m in ["nnps", "kernel", "density", "eos", "force", "viscosity", "integrator"] {
-        assert_eq!(modules[m], "fortran", "modules.{m}");
+        assert_eq!(modules[m], "rust", "modules.{m}");
     }
     assert!(modules.values().all(|v| v == "fortran" || v == "rust"));
     for k in ["initial", "final"] {
