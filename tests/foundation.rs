@@ -685,7 +685,8 @@ fn eos_pressure_floor_and_material_table_from_a_case() {
 #[test]
 fn one_shock_tube_step_through_the_fortran_modules() {
     let c = case::load(&common::case_path("shock_tube.toml"), &[]).expect("shock_tube.toml");
-    let mut sim = Sim::new(c, &Overrides::default()).expect("Sim::new");
+    let fortran = Overrides { backend: Some(Backend::Fortran), ..Default::default() };
+    let mut sim = Sim::new(c, &fortran).expect("Sim::new");
     for m in Module::ALL {
         if sim.plan.is_active(m) {
             assert_eq!(sim.plan.backend(m), Backend::Fortran, "{m:?} must run in Fortran");

@@ -28,7 +28,8 @@ fn every_case_runs_a_few_steps() {
     assert!(files.len() >= 14, "expected the thesis scenes in cases/, found {}", files.len());
     for f in files {
         let c = case::load(&f, &[]).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        let mut sim = Sim::new(c, &Overrides::default()).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let fortran = Overrides { backend: Some(blastsph::modules::Backend::Fortran), ..Default::default() };
+        let mut sim = Sim::new(c, &fortran).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         let m0 = sim.total_mass();
         let x0 = sim.p.x.clone();
         for _ in 0..3 {

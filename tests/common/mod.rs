@@ -65,7 +65,9 @@ impl TubeRun {
 /// Runs `cases/shock_tube.toml` with `--set` overrides `sets` into `dir` through the library
 /// (the same path as `blastsph run`), and reads the run back.
 pub fn run_tube(sets: &[String], dir: &Path) -> TubeRun {
-    let opts = RunOptions { out: Some(dir.to_path_buf()), sets: sets.to_vec(), quiet: true, ..Default::default() };
+    // the legacy Fortran modules (the Rust twins give the same bits: tests/dual.rs)
+    let ov = blastsph::sim::Overrides { backend: Some(blastsph::modules::Backend::Fortran), ..Default::default() };
+    let opts = RunOptions { out: Some(dir.to_path_buf()), sets: sets.to_vec(), quiet: true, ov, ..Default::default() };
     let r = runner::run(&case_path("shock_tube.toml"), &opts).expect("shock tube run failed");
     let frames = read_frames(&dir.join("particles.h5")).expect("cannot read particles.h5");
     let (exact, x0) = riemann_of(&r.sim.case).expect("no exact solution for the shock tube");
