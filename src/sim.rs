@@ -50,6 +50,31 @@ fn idx(m: Module) -> usize {
     Module::ALL.iter().position(|x| *x == m).unwrap_or(0)
 }
 
+/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off) and the
+/// positions of the first `n` particles, borrowed from the state.
+fn leapfrog_parts<'a>(
+    p: &'a mut Particles,
+    w: &'a mut Work,
+    dim: usize,
+    n: usize,
+    ntau: usize,
+) -> (crate::legacy::Leapfrog<'a>, crate::legacy::Rates<'a>, &'a [f64], &'a mut [f64]) {
+    let Work { rho_min, e_min, v_min, tau_min, drho, de, dv, dtau, av, .. } = w;
+    let s = crate::legacy::Leapfrog {
+        rho: &mut p.rho[..n],
+        e: &mut p.e[..n],
+        v: &mut p.v[..dim * n],
+        tau: &mut p.tau[..ntau],
+        rho_min,
+        e_min,
+        v_min,
+        tau_min,
+    };
+    let r = crate::legacy::Rates { drho: &drho[..n], de, dv, dtau: &dtau[..ntau] };
+    let av: &[f64] = if av.is_empty() { &[] } else { &av[..dim * n] };
+    (s, r, av, &mut p.x[..dim * n])
+}
+
 /// Particles per chunk of the solver's own parallel passes (fixed, so that their sums do not
 /// depend on the thread count).
 const CHUNK: usize = 1024;
@@ -809,6 +834,7 @@ impl Sim {
         for (k, &id) in self.p.id[..n].iter().enumerate() {
             self.index_of_id[id as usize] = k as u32;
         }
+        self.w.pairs.invalidate();
         self.timers[13] += t0.elapsed().as_secs_f64();
     }
 
@@ -836,17 +862,7 @@ impl Sim {
                 Module::Integrator,
                 &[F::Rho, F::E, F::V, F::Tau, F::RhoMin, F::EMin, F::VMin, F::TauMin],
                 |b, p, w, _| {
-                    let s = crate::legacy::Leapfrog {
-                        rho: &mut p.rho[..n],
-                        e: &mut p.e[..n],
-                        v: &mut p.v[..dim * n],
-                        tau: &mut p.tau[..ntau],
-                        rho_min: &mut w.rho_min,
-                        e_min: &mut w.e_min,
-                        v_min: &mut w.v_min,
-                        tau_min: &mut w.tau_min,
-                    };
-                    let r = crate::legacy::Rates { drho: &w.drho[..n], de: &w.de, dv: &w.dv, dtau: &w.dtau[..ntau] };
+                    let (s, r, _, _) = leapfrog_parts(p, w, dim, n, ntau);
                     md::integrator::predict(b, dim, n, dtp, cont, s, r);
                 },
             );
@@ -874,19 +890,8 @@ impl Sim {
         self.account(dt);
         let dtp = self.dt_prev;
         self.exec(Module::Integrator, &[F::Rho, F::E, F::V, F::Tau, F::X], |b, p, w, _| {
-            let s = crate::legacy::Leapfrog {
-                rho: &mut p.rho[..n],
-                e: &mut p.e[..n],
-                v: &mut p.v[..dim * n],
-                tau: &mut p.tau[..ntau],
-                rho_min: &mut w.rho_min,
-                e_min: &mut w.e_min,
-                v_min: &mut w.v_min,
-                tau_min: &mut w.tau_min,
-            };
-            let r = crate::legacy::Rates { drho: &w.drho[..n], de: &w.de, dv: &w.dv, dtau: &w.dtau[..ntau] };
-            let av: &[f64] = if w.av.is_empty() { &[] } else { &w.av[..dim * n] };
-            md::integrator::advance(b, dim, n, first, dtp, dt, cont, s, r, av, &mut p.x[..dim * n]);
+            let (s, r, av, x) = leapfrog_parts(p, w, dim, n, ntau);
+            md::integrator::advance(b, dim, n, first, dtp, dt, cont, s, r, av, x);
         });
         if self.plan.is_active(Module::Strength) {
             self.exec(Module::Strength, &[F::Tau], |b, p, _, c| {

@@ -76,6 +76,8 @@ pub(crate) struct Bufs {
     pub xs: Vec<f64>,
     pub hs: Vec<f64>,
     pub fill: Vec<u32>,
+    /// Candidate lists kept from step to step (see [`Verlet`]).
+    pub verlet: Verlet,
 }
 
 impl Clone for Scratch {
@@ -150,6 +152,12 @@ impl PairList {
         }
     }
 
+    /// Forgets the candidate lists the Rust cell search keeps between calls: to be called when
+    /// the particles change places in memory (the lists hold particle indices).
+    pub fn invalidate(&mut self) {
+        self.scratch.get_mut().verlet.valid = false;
+    }
+
     /// The pairs touching particle `a`, ascending.
     #[inline]
     pub fn incident(&self, a: usize) -> &[Inc] {
@@ -177,7 +185,7 @@ pub fn search(b: Backend, cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[
         Backend::Rust => {
             assert!(x.len() >= dim * h.len(), "nnps: x has {} values, need {}", x.len(), dim * h.len());
             let nreal = nreal.min(h.len());
-            if cell { rust_cell(dim, nreal, x, h, kappa, pl) } else { rust_direct(dim, nreal, x, h, kappa, pl) }
+            if cell { verlet(dim, nreal, x, h, kappa, pl) } else { rust_direct(dim, nreal, x, h, kappa, pl) }
         }
     }
 }
@@ -511,6 +519,384 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     }
 }
 
+/// Candidate lists kept between calls of the Rust cell search (a Verlet list with a skin s).
+///
+/// At a rebuild, the candidates of each real particle i are the real j > i with
+/// r_ij < κ h_ij + s (the owner-based cell search run with every h raised by s/κ). A particle's
+/// drift since then is δ_a = |x_a − x_a^b| + κ max(0, h_a − h_a^b)/2. A pair of real particles that
+/// is not a candidate had r ≥ κ h_ij + s at the rebuild, so now r ≥ κ h_ij + s − δ_i − δ_j: it
+/// cannot be a pair while δ_i + δ_j < s. Particles with δ > 0.45 s ("fast") have their pairs
+/// searched afresh every call, and so have the mirror particles (rebuilt every step); every
+/// other pair comes from filtering the candidates with the exact test. The result is merged into
+/// the canonical list, identical to the Fortran's. When more than an eighth of the particles are
+/// fast, or the particle set changed, the lists are rebuilt.
+#[derive(Default)]
+pub(crate) struct Verlet {
+    pub(crate) valid: bool,
+    nreal: usize,
+    dim: usize,
+    kappa: f64,
+    skin: f64,
+    xb: Vec<f64>,
+    hb: Vec<f64>,
+    /// Candidate rows (CSR over the real particles) and their keep flags.
+    cstart: Vec<u32>,
+    cand: Vec<u32>,
+    keep: Vec<u8>,
+    /// Fast flags and the fast particles.
+    fast: Vec<u8>,
+    fast_list: Vec<u32>,
+    /// Raised h of a rebuild.
+    hraise: Vec<f64>,
+    /// Pairs with a fast particle or a mirror, per task, then merged.
+    extra_tasks: Vec<Vec<[u32; 2]>>,
+    extra: Vec<[u32; 2]>,
+    /// A grid over the real particles: first slot of each cell, particles by cell.
+    gstart: Vec<u32>,
+    gorder: Vec<u32>,
+    gcell: Vec<u32>,
+    /// Per-row counts and offsets of the result.
+    off: Vec<u32>,
+    /// Number of rebuilds (for tests and diagnostics).
+    pub(crate) builds: u64,
+}
+
+/// Fast threshold, as a fraction of the skin (below 1/2, so two slow drifts stay under the skin
+/// with a margin far above rounding).
+const FAST: f64 = 0.45;
+
+fn verlet(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    match dim {
+        1 => verlet_d::<1>(nreal, x, h, kappa, pl),
+        2 => verlet_d::<2>(nreal, x, h, kappa, pl),
+        _ => verlet_d::<3>(nreal, x, h, kappa, pl),
+    }
+}
+
+fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    let nt = h.len();
+    let hreal = &h[..nreal];
+    // anything outside the plain case (no particles, odd h or κ, non-finite values) goes to the
+    // cell search, which has its own fallbacks
+    let (hsum, hmin, finite) =
+        hreal.iter().fold((0.0, f64::INFINITY, true), |(s, m, f), &v| (s + v, m.min(v), f && v.is_finite()));
+    let plain = nreal > 0
+        && kappa > 0.0
+        && kappa.is_finite()
+        && hmin > 0.0
+        && finite
+        && x[..D * nt].iter().all(|v| v.is_finite())
+        && h[nreal..nt].iter().all(|v| v.is_finite() && *v > 0.0);
+    if !plain {
+        pl.invalidate();
+        return rust_cell(D, nreal, x, h, kappa, pl);
+    }
+    let mut v = std::mem::take(&mut pl.scratch.get_mut().verlet);
+    // drift since the last rebuild, and the fast particles
+    let mut rebuild = !(v.valid && v.nreal == nreal && v.dim == D && v.kappa == kappa);
+    if !rebuild {
+        let lim = FAST * v.skin;
+        v.fast.resize(nreal, 0);
+        let (xb, hb) = (&v.xb, &v.hb);
+        let mark = |(c, f): (usize, &mut [u8])| {
+            for (l, fl) in f.iter_mut().enumerate() {
+                let a = CHUNK * c + l;
+                let mut d2 = 0.0;
+                for d in 0..D {
+                    let dd = x[d + D * a] - xb[d + D * a];
+                    d2 += dd * dd;
+                }
+                let drift = d2.sqrt() + 0.5 * kappa * (h[a] - hb[a]).max(0.0);
+                // a NaN drift counts as fast
+                *fl = u8::from(drift.is_nan() || drift > lim);
+            }
+        };
+        if serial() {
+            v.fast.chunks_mut(CHUNK).enumerate().for_each(mark);
+        } else {
+            v.fast.par_chunks_mut(CHUNK).enumerate().for_each(mark);
+        }
+        v.fast_list.clear();
+        v.fast_list.extend((0..nreal as u32).filter(|&a| v.fast[a as usize] != 0));
+        rebuild = v.fast_list.len() > nreal / 8;
+    }
+    if rebuild {
+        v.skin = 0.5 * (hsum / nreal as f64);
+        v.hraise.clear();
+        v.hraise.extend(hreal.iter().map(|&a| a + v.skin / kappa));
+        rust_cell_d::<D>(nreal, &x[..D * nreal], &v.hraise, kappa, pl);
+        v.cstart.clear();
+        v.cstart.resize(nreal + 1, 0);
+        for &i in &pl.i {
+            v.cstart[i as usize + 1] += 1;
+        }
+        for a in 0..nreal {
+            v.cstart[a + 1] += v.cstart[a];
+        }
+        v.cand.clear();
+        v.cand.extend(pl.j.iter().map(|&j| j as u32));
+        v.xb.clear();
+        v.xb.extend_from_slice(&x[..D * nreal]);
+        v.hb.clear();
+        v.hb.extend_from_slice(hreal);
+        v.fast.clear();
+        v.fast.resize(nreal, 0);
+        v.fast_list.clear();
+        v.nreal = nreal;
+        v.dim = D;
+        v.kappa = kappa;
+        v.valid = true;
+        v.builds += 1;
+    }
+    let test = |i: usize, j: usize| -> bool {
+        let mut r2 = 0.0;
+        for d in 0..D {
+            let dxd = x[d + D * i] - x[d + D * j];
+            r2 += dxd * dxd;
+        }
+        let s = kappa * (0.5 * (h[i] + h[j]));
+        r2 < s * s
+    };
+    // 1. the candidates between slow particles, filtered by the exact test
+    v.keep.resize(v.cand.len(), 0);
+    {
+        let (cstart, cand, fast) = (&v.cstart, &v.cand, &v.fast);
+        let rows = |(c, keep): (usize, &mut [u8])| {
+            let k0 = CHUNK * c;
+            // the row of the first candidate of this chunk, then walk forward
+            let mut i = cstart.partition_point(|&s| (s as usize) <= k0) - 1;
+            for (l, kp) in keep.iter_mut().enumerate() {
+                let k = k0 + l;
+                while cstart[i + 1] as usize <= k {
+                    i += 1;
+                }
+                let j = cand[k] as usize;
+                *kp = u8::from(fast[i] == 0 && fast[j] == 0 && test(i, j));
+            }
+        };
+        if serial() {
+            v.keep.chunks_mut(CHUNK).enumerate().for_each(rows);
+        } else {
+            v.keep.par_chunks_mut(CHUNK).enumerate().for_each(rows);
+        }
+    }
+    // 2. pairs with a fast particle or a mirror, searched in a grid over the real particles
+    v.extra.clear();
+    let nsearch = v.fast_list.len() + (nt - nreal);
+    if nsearch > 0 {
+        let bbox = |c: usize| -> ([f64; 3], [f64; 3], f64) {
+            let (mut lo, mut hi, mut hm) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], 0.0f64);
+            for a in CHUNK * c..(CHUNK * c + CHUNK).min(nreal) {
+                for d in 0..D {
+                    lo[d] = lo[d].min(x[d + D * a]);
+                    hi[d] = hi[d].max(x[d + D * a]);
+                }
+                hm = hm.max(h[a]);
+            }
+            (lo, hi, hm)
+        };
+        let nchunk = nreal.div_ceil(CHUNK);
+        let parts: Vec<_> =
+            if serial() { (0..nchunk).map(bbox).collect() } else { (0..nchunk).into_par_iter().map(bbox).collect() };
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let mut hmax: f64 = 0.0;
+        for (plo, phi, pm) in parts {
+            for d in 0..D {
+                lo[d] = lo[d].min(plo[d]);
+                hi[d] = hi[d].max(phi[d]);
+            }
+            hmax = hmax.max(pm);
+        }
+        let mut cs = 0.5 * kappa * (hsum / nreal as f64);
+        loop {
+            let mut prod: u64 = 1;
+            for d in 0..D {
+                prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
+            }
+            if prod <= (4 * nreal as u64).max(64) {
+                break;
+            }
+            cs *= 2.0;
+        }
+        let inv = 1.0 / cs;
+        let mut nc = [1usize; 3];
+        for d in 0..D {
+            nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
+        }
+        let ncell = nc[0] * nc[1] * nc[2];
+        let cell_at = |p: &[f64]| -> [usize; 3] {
+            let mut c = [0usize; 3];
+            for d in 0..D {
+                let k = ((p[d] - lo[d]) * inv) as isize;
+                c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
+            }
+            c
+        };
+        v.gcell.resize(nreal, 0);
+        let cells = |(c, out): (usize, &mut [u32])| {
+            for (l, o) in out.iter_mut().enumerate() {
+                let a = CHUNK * c + l;
+                let q = cell_at(&x[D * a..D * a + D]);
+                *o = (q[0] + nc[0] * (q[1] + nc[1] * q[2])) as u32;
+            }
+        };
+        if serial() {
+            v.gcell.chunks_mut(CHUNK).enumerate().for_each(cells);
+        } else {
+            v.gcell.par_chunks_mut(CHUNK).enumerate().for_each(cells);
+        }
+        v.gstart.clear();
+        v.gstart.resize(ncell + 1, 0);
+        for &c in &v.gcell {
+            v.gstart[c as usize + 1] += 1;
+        }
+        for c in 0..ncell {
+            v.gstart[c + 1] += v.gstart[c];
+        }
+        v.gorder.resize(nreal, 0);
+        let mut fill = v.gstart[..ncell].to_vec();
+        for (a, &c) in v.gcell.iter().enumerate() {
+            v.gorder[fill[c as usize] as usize] = a as u32;
+            fill[c as usize] += 1;
+        }
+        let (gstart, gorder, fast, fast_list) = (&v.gstart, &v.gorder, &v.fast, &v.fast_list);
+        // searcher a (a fast real particle, or a mirror): every real partner b in its box
+        let around = |a: usize, buf: &mut Vec<[u32; 2]>| {
+            let rad = kappa * (0.5 * (h[a] + hmax));
+            let rad = rad + rad * 1e-9;
+            let mut clo = [0usize; 3];
+            let mut chi = [0usize; 3];
+            for d in 0..D {
+                let k0 = ((x[d + D * a] - rad - lo[d]) * inv) as isize;
+                let k1 = ((x[d + D * a] + rad - lo[d]) * inv) as isize;
+                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
+                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
+            }
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    let row = nc[0] * (y + nc[1] * z);
+                    for &b in &gorder[gstart[row + clo[0]] as usize..gstart[row + chi[0] + 1] as usize] {
+                        let b = b as usize;
+                        // a fast-fast pair is kept by its first particle only
+                        if b == a || (a < nreal && fast[b] != 0 && b < a) {
+                            continue;
+                        }
+                        let (i, j) = (a.min(b), a.max(b));
+                        if test(i, j) {
+                            buf.push([i as u32, j as u32]);
+                        }
+                    }
+                }
+            }
+        };
+        let per = 64;
+        let ntask = nsearch.div_ceil(per);
+        let searcher = |t: usize| -> usize {
+            if t < fast_list.len() { fast_list[t] as usize } else { nreal + (t - fast_list.len()) }
+        };
+        tasks(&mut v.extra_tasks, ntask, |t, buf| {
+            for q in per * t..(per * t + per).min(nsearch) {
+                around(searcher(q), buf);
+            }
+        });
+        for b in &v.extra_tasks[..ntask] {
+            v.extra.extend_from_slice(b);
+        }
+        if serial() {
+            v.extra.sort_unstable();
+        } else {
+            v.extra.par_sort_unstable();
+        }
+    }
+    // 3. the canonical list: per row, the kept candidates and the extra pairs, merged by j; the
+    //    rows in chunks, each writing its own slice of the list
+    let nchunk = nreal.div_ceil(CHUNK);
+    v.off.clear();
+    v.off.resize(nreal + 1, 0);
+    {
+        let (keep, cstart, extra) = (&v.keep, &v.cstart, &v.extra);
+        let count = |(c, out): (usize, &mut [u32])| {
+            let a0 = CHUNK * c;
+            let mut e = extra.partition_point(|p| (p[0] as usize) < a0);
+            for (l, o) in out.iter_mut().enumerate() {
+                let a = a0 + l;
+                let mut n = keep[cstart[a] as usize..cstart[a + 1] as usize].iter().filter(|&&k| k != 0).count();
+                while e < extra.len() && extra[e][0] as usize == a {
+                    n += 1;
+                    e += 1;
+                }
+                *o = n as u32;
+            }
+        };
+        let counts = &mut v.off[1..];
+        if serial() {
+            counts.chunks_mut(CHUNK).enumerate().for_each(count);
+        } else {
+            counts.par_chunks_mut(CHUNK).enumerate().for_each(count);
+        }
+    }
+    for a in 0..nreal {
+        v.off[a + 1] += v.off[a];
+    }
+    let np = v.off[nreal] as usize;
+    let PairList { i: pi, j: pj, .. } = pl;
+    pi.clear();
+    pj.clear();
+    pi.resize(np, 0);
+    pj.resize(np, 0);
+    let mut slices: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nchunk);
+    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    for c in 0..nchunk {
+        let len = (v.off[(CHUNK * c + CHUNK).min(nreal)] - v.off[CHUNK * c]) as usize;
+        let (hi_, ti) = std::mem::take(&mut ri).split_at_mut(len);
+        let (hj, tj) = std::mem::take(&mut rj).split_at_mut(len);
+        slices.push((c, hi_, hj));
+        ri = ti;
+        rj = tj;
+    }
+    let (keep, cstart, cand, extra, off) = (&v.keep, &v.cstart, &v.cand, &v.extra, &v.off);
+    let fill = |(c, si, sj): (usize, &mut [i32], &mut [i32])| {
+        let a0 = CHUNK * c;
+        let base = off[a0] as usize;
+        let mut e = extra.partition_point(|p| (p[0] as usize) < a0);
+        let mut w = 0usize;
+        for a in a0..(a0 + CHUNK).min(nreal) {
+            let (k0, k1) = (cstart[a] as usize, cstart[a + 1] as usize);
+            let mut k = k0;
+            while e < extra.len() && extra[e][0] as usize == a {
+                let je = extra[e][1];
+                while k < k1 && cand[k] < je {
+                    if keep[k] != 0 {
+                        si[w] = a as i32;
+                        sj[w] = cand[k] as i32;
+                        w += 1;
+                    }
+                    k += 1;
+                }
+                si[w] = a as i32;
+                sj[w] = je as i32;
+                w += 1;
+                e += 1;
+            }
+            while k < k1 {
+                if keep[k] != 0 {
+                    si[w] = a as i32;
+                    sj[w] = cand[k] as i32;
+                    w += 1;
+                }
+                k += 1;
+            }
+            debug_assert_eq!(base + w, off[a + 1] as usize);
+        }
+    };
+    if serial() {
+        slices.into_iter().for_each(fill);
+    } else {
+        slices.into_par_iter().for_each(fill);
+    }
+    pl.scratch.get_mut().verlet = v;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -585,5 +971,59 @@ mod tests {
             let want = lists(Backend::Fortran, false, 1, 6, &x, &h, 2.0);
             assert_eq!(lists(Backend::Rust, true, 1, 6, &x, &h, 2.0), want);
         }
+    }
+    /// The candidate lists kept between calls give the Fortran's list at every call: a 2D cloud
+    /// whose particles mostly drift slowly, a few jump far (fast), some h grow, and a changing
+    /// set of virtual particles is appended each call.
+    #[test]
+    fn kept_candidates_equal_direct_over_many_calls() {
+        let mut rng = Rng(0x0123_4567_89AB_CDEF);
+        let (side, dx) = (24usize, 0.01);
+        let nreal = side * side;
+        let mut x = Vec::new();
+        let mut h = Vec::new();
+        for j in 0..side {
+            for i in 0..side {
+                x.extend([(i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx]);
+                h.push(dx * (1.0 + 0.2 * rng.f()));
+            }
+        }
+        let mut pl = PairList::default();
+        let mut rebuilds = 0;
+        let mut incremental = 0;
+        for call in 0..80 {
+            // every 25 calls the whole cloud moves by a spacing: the lists must be rebuilt
+            let shift = if call % 25 == 24 { dx } else { 0.0 };
+            for a in 0..nreal {
+                x[2 * a] += shift;
+                let fast = rng.f() < 0.03;
+                let step = if fast { 0.004 } else { 0.0002 };
+                x[2 * a] += step * (rng.f() - 0.5);
+                x[2 * a + 1] += step * (rng.f() - 0.5);
+                if rng.f() < 0.05 {
+                    h[a] *= 1.0 + 0.01 * rng.f();
+                }
+            }
+            // mirrors of the particles near x = 0, rebuilt every call
+            let mut xt = x.clone();
+            let mut ht = h.clone();
+            for a in 0..nreal {
+                if x[2 * a] < 2.0 * h[a] && x[2 * a] >= 0.0 {
+                    xt.extend([-x[2 * a], x[2 * a + 1]]);
+                    ht.push(h[a]);
+                }
+            }
+            let before = pl.scratch.get_mut().verlet.builds;
+            search(Backend::Rust, true, 2, nreal, &xt, &ht, 2.0, &mut pl);
+            let got: Vec<(i32, i32)> = pl.i.iter().copied().zip(pl.j.iter().copied()).collect();
+            let want = lists(Backend::Fortran, false, 2, nreal, &xt, &ht, 2.0);
+            assert_eq!(got, want, "call {call}: kept candidates differ from the direct search");
+            if pl.scratch.get_mut().verlet.builds == before {
+                incremental += 1;
+            } else {
+                rebuilds += 1;
+            }
+        }
+        assert!(incremental > 10 && rebuilds > 1, "both paths taken: {incremental} incremental, {rebuilds} rebuilds");
     }
 }
