@@ -337,6 +337,28 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
     }
 }
 
+/// The grid over the box lo…hi with cells of side `cs` (m), doubled until there are no more than
+/// a few cells per particle (sparse clouds): 1/side and the cells per axis.
+fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n: usize) -> (f64, [usize; 3]) {
+    let mut cs = cs;
+    loop {
+        let mut prod: u64 = 1;
+        for d in 0..D {
+            prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
+        }
+        if prod <= (4 * n as u64).max(64) {
+            break;
+        }
+        cs *= 2.0;
+    }
+    let inv = 1.0 / cs;
+    let mut nc = [1usize; 3];
+    for d in 0..D {
+        nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
+    }
+    (inv, nc)
+}
+
 fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let nt = h.len();
     let PairList { i: pi, j: pj, scratch, .. } = pl;
@@ -386,22 +408,7 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     if !(cs > 0.0 && cs.is_finite()) {
         cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
     }
-    // no more than a few cells per particle (sparse clouds)
-    loop {
-        let mut prod: u64 = 1;
-        for d in 0..D {
-            prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
-        }
-        if prod <= (4 * nt as u64).max(64) {
-            break;
-        }
-        cs *= 2.0;
-    }
-    let inv = 1.0 / cs;
-    let mut nc = [1usize; 3];
-    for d in 0..D {
-        nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
-    }
+    let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nt);
     let ncell = nc[0] * nc[1] * nc[2];
     // a particle's cell; the box search below uses the same map, which is monotone in x
     let cell = |p: &[f64]| -> usize {
@@ -555,6 +562,7 @@ pub(crate) struct Verlet {
     gstart: Vec<u32>,
     gorder: Vec<u32>,
     gcell: Vec<u32>,
+    gfill: Vec<u32>,
     /// Per-row counts and offsets of the result.
     off: Vec<u32>,
     /// Number of rebuilds (for tests and diagnostics).
@@ -707,22 +715,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
             }
             hmax = hmax.max(pm);
         }
-        let mut cs = 0.5 * kappa * (hsum / nreal as f64);
-        loop {
-            let mut prod: u64 = 1;
-            for d in 0..D {
-                prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
-            }
-            if prod <= (4 * nreal as u64).max(64) {
-                break;
-            }
-            cs *= 2.0;
-        }
-        let inv = 1.0 / cs;
-        let mut nc = [1usize; 3];
-        for d in 0..D {
-            nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
-        }
+        let (inv, nc) = grid_dims::<D>(&lo, &hi, 0.5 * kappa * (hsum / nreal as f64), nreal);
         let ncell = nc[0] * nc[1] * nc[2];
         let cell_at = |p: &[f64]| -> [usize; 3] {
             let mut c = [0usize; 3];
@@ -754,10 +747,11 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
             v.gstart[c + 1] += v.gstart[c];
         }
         v.gorder.resize(nreal, 0);
-        let mut fill = v.gstart[..ncell].to_vec();
+        v.gfill.clear();
+        v.gfill.extend_from_slice(&v.gstart[..ncell]);
         for (a, &c) in v.gcell.iter().enumerate() {
-            v.gorder[fill[c as usize] as usize] = a as u32;
-            fill[c as usize] += 1;
+            v.gorder[v.gfill[c as usize] as usize] = a as u32;
+            v.gfill[c as usize] += 1;
         }
         let (gstart, gorder, fast, fast_list) = (&v.gstart, &v.gorder, &v.fast, &v.fast_list);
         // searcher a (a fast real particle, or a mirror): every real partner b in its box
