@@ -25,11 +25,17 @@ fn run(name: &str, end: Option<f64>) -> (Value, blastsph::sim::Sim, tempfile::Te
 
 /// The invariants every hard case must keep.
 fn common(name: &str, s: &Value, energy_bound: f64) {
+    assert_eq!(s["stability"]["left_domain"], 0, "{name}: particles lost");
+    common_but_domain(name, s, energy_bound);
+}
+
+/// The invariants but the count of particles outside `[domain]` (for runs whose ejecta may fly
+/// beyond it: the caller checks where they went).
+fn common_but_domain(name: &str, s: &Value, energy_bound: f64) {
     assert_eq!(s["status"], "ok", "{name}: {}", s["diagnostic"]);
     assert_eq!(s["mass"]["initial"], s["mass"]["final"], "{name}: mass must be exact");
     let st = &s["stability"];
     assert_eq!(st["nan"], false, "{name}");
-    assert_eq!(st["left_domain"], 0, "{name}: particles lost");
     let res = s["energy"]["balance_residual_relative"].as_f64().expect("energy residual");
     assert!(res.abs() < energy_bound, "{name}: energy balance residual {res:e} (bound {energy_bound})");
 }
@@ -130,12 +136,29 @@ fn long_surface_blast_first_tenth_of_a_millisecond() {
     assert!(s["stability"]["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
 }
 
-/// The whole 5 ms (about a minute with the Rust backend on 2 cores).
+/// The whole 5 ms (6859 steps, about 20 s with the Rust backend on 2 cores). Over 5 ms the
+/// detonation products and the fastest ejecta (hundreds of m/s to km/s) fly beyond the case's
+/// `[domain]` (3 × 4.1 m), which is a bookkeeping box, not a wall: what must hold is that every particle
+/// outside it left through the free surface — above the original ground (y = 1 m), moving up —
+/// and none through the walls.
 #[test]
 #[ignore = "long: run with --ignored"]
 fn long_surface_full() {
     let (s, sim, _d) = run("long_surface", None);
-    common("long_surface", &s, 0.02);
+    common_but_domain("long_surface", &s, 0.02);
+    let p = &sim.p;
+    let dom = sim.case.domain.as_ref().expect("long_surface has a [domain]");
+    let mut out: usize = 0;
+    for a in 0..p.nreal {
+        let (x, y) = (p.x[2 * a], p.x[2 * a + 1]);
+        if (dom.lo_m[0]..=dom.hi_m[0]).contains(&x) && (dom.lo_m[1]..=dom.hi_m[1]).contains(&y) {
+            continue;
+        }
+        out += 1;
+        assert!(y > 1.0 && p.v[2 * a + 1] > 0.0, "particle {a} left the domain at ({x}, {y}) m, not as ejecta");
+    }
+    assert_eq!(s["stability"]["left_domain"].as_u64(), Some(out as u64), "summary.json counts the particles outside");
+    assert!(out < p.nreal / 50, "{out} particles left: more than 2 % of the scene");
     assert!(s["stability"]["max_wall_penetration_m"].as_f64().unwrap() < 0.1 * dx_of(&sim));
     let gap = s["stability"]["min_interface_gap_dx"].as_f64().expect("gap");
     assert!(gap > 0.3, "materials came within {gap} dx");
