@@ -337,6 +337,19 @@ fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mu
     }
 }
 
+/// CSR offsets of `n` bins from the bin of each item (a counting sort's first half):
+/// `out[b]..out[b + 1]` is the range of bin b.
+fn offsets(out: &mut Vec<u32>, n: usize, bins: impl Iterator<Item = usize>) {
+    out.clear();
+    out.resize(n + 1, 0);
+    for b in bins {
+        out[b + 1] += 1;
+    }
+    for b in 0..n {
+        out[b + 1] += out[b];
+    }
+}
+
 /// The grid over the box lo…hi with cells of side `cs` (m), doubled until there are no more than
 /// a few cells per particle (sparse clouds): 1/side and the cells per axis.
 fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n: usize) -> (f64, [usize; 3]) {
@@ -431,15 +444,8 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
     } else {
         s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
     }
-    let start = &mut s.start;
-    start.clear();
-    start.resize(ncell + 1, 0);
-    for &c in &s.cell_of {
-        start[c as usize + 1] += 1;
-    }
-    for c in 0..ncell {
-        start[c + 1] += start[c];
-    }
+    offsets(&mut s.start, ncell, s.cell_of.iter().map(|&c| c as usize));
+    let start = &s.start;
     let fill = &mut s.fill;
     fill.clear();
     fill.extend_from_slice(&start[..ncell]);
@@ -633,14 +639,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         v.hraise.clear();
         v.hraise.extend(hreal.iter().map(|&a| a + v.skin / kappa));
         rust_cell_d::<D>(nreal, &x[..D * nreal], &v.hraise, kappa, pl);
-        v.cstart.clear();
-        v.cstart.resize(nreal + 1, 0);
-        for &i in &pl.i {
-            v.cstart[i as usize + 1] += 1;
-        }
-        for a in 0..nreal {
-            v.cstart[a + 1] += v.cstart[a];
-        }
+        offsets(&mut v.cstart, nreal, pl.i.iter().map(|&i| i as usize));
         v.cand.clear();
         v.cand.extend(pl.j.iter().map(|&j| j as u32));
         v.xb.clear();
@@ -738,14 +737,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         } else {
             v.gcell.par_chunks_mut(CHUNK).enumerate().for_each(cells);
         }
-        v.gstart.clear();
-        v.gstart.resize(ncell + 1, 0);
-        for &c in &v.gcell {
-            v.gstart[c as usize + 1] += 1;
-        }
-        for c in 0..ncell {
-            v.gstart[c + 1] += v.gstart[c];
-        }
+        offsets(&mut v.gstart, ncell, v.gcell.iter().map(|&c| c as usize));
         v.gorder.resize(nreal, 0);
         v.gfill.clear();
         v.gfill.extend_from_slice(&v.gstart[..ncell]);
