@@ -1,8 +1,8 @@
 //! Parity tests: every module function that has both a Fortran and a Rust implementation, run on
 //! the same seeded random inputs of realistic ranges, the two outputs compared value by value in
 //! units in the last place (`blastsph::dual::ulp_diff`) at the module's tier
-//! (`blastsph::dual::tolerance`: 0 ULP everywhere, 4 ULP for eos and smoothing, which call
-//! `exp` / `pow`).
+//! (`blastsph::dual::tolerance`: 0 ULP everywhere, eos and smoothing included, whose `exp` / `pow`
+//! both sides take from the same C library).
 //!
 //! Pair-sum modules see realistic neighbourhoods: the pair lists come from the real neighbour
 //! search over jittered lattices with a per-particle h and a layer of virtual particles

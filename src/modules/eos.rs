@@ -5,8 +5,8 @@
 //! floored at the material's pmin.
 //!
 //! Rust twin: same operations in the same order. Tier: 0 ULP where only + − × ÷ √ are involved
-//! (ideal gas, water, soil); JWL calls `exp`, which both sides take from the C library — equal on
-//! one machine, but allowed a few ULP (see docs/migration.md).
+//! (ideal gas, water, soil); JWL calls `exp`, which both sides take from the same C library, so
+//! it is 0 ULP too (see docs/migration.md).
 
 use super::{Backend, par_rows2};
 use crate::legacy::{self, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};

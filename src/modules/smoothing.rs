@@ -1,7 +1,7 @@
 //! Smoothing-length evolution (thesis (2-15), (2-16); Liu's h_upgrade):
 //! from density h_i = h0_i (ρ0_i/ρ_i)^{1/d}; rate dh_i/dt = −(h_i/(ρ_i d)) Dρ_i/Dt (m/s), with
 //! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Rust twin: same order; 0 ULP in 1D and
-//! 2D (division, √), a few ULP in 3D (`powf(1/3)`).
+//! 2D (division, √), and in 3D (`powf(1/3)`, the same C library `pow` on both sides).
 
 use super::{Backend, par_rows};
 use crate::legacy;
