@@ -541,7 +541,7 @@ fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, p
 /// cannot be a pair while δ_i + δ_j < s. Particles with δ > 0.45 s ("fast") have their pairs
 /// searched afresh every call, and so have the mirror particles (rebuilt every step); every
 /// other pair comes from filtering the candidates with the exact test. The result is merged into
-/// the canonical list, identical to the Fortran's. When more than an eighth of the particles are
+/// the canonical list, identical to the Fortran's. When more than 1/32 of the particles are
 /// fast, or the particle set changed, the lists are rebuilt.
 #[derive(Default)]
 pub(crate) struct Verlet {
@@ -561,9 +561,10 @@ pub(crate) struct Verlet {
     fast_list: Vec<u32>,
     /// Raised h of a rebuild.
     hraise: Vec<f64>,
-    /// Pairs with a fast particle or a mirror, per task, then merged.
-    extra_tasks: Vec<Vec<[u32; 2]>>,
-    extra: Vec<[u32; 2]>,
+    /// Pairs with a fast particle or a mirror, per task, then merged, as keys i·2³² + j (which
+    /// sort as the pairs do).
+    extra_tasks: Vec<Vec<u64>>,
+    extra: Vec<u64>,
     /// A grid over the real particles: first slot of each cell, particles by cell.
     gstart: Vec<u32>,
     gorder: Vec<u32>,
@@ -573,6 +574,17 @@ pub(crate) struct Verlet {
     off: Vec<u32>,
     /// Number of rebuilds (for tests and diagnostics).
     pub(crate) builds: u64,
+}
+
+/// A pair as a sort key, and the key's row (its i).
+#[inline]
+fn key(i: usize, j: usize) -> u64 {
+    ((i as u64) << 32) | j as u64
+}
+
+#[inline]
+fn row(k: u64) -> usize {
+    (k >> 32) as usize
 }
 
 /// Fast threshold, as a fraction of the skin (below 1/2, so two slow drifts stay under the skin
@@ -592,15 +604,17 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
     let hreal = &h[..nreal];
     // anything outside the plain case (no particles, odd h or κ, non-finite values) goes to the
     // cell search, which has its own fallbacks
-    let (hsum, hmin, finite) =
-        hreal.iter().fold((0.0, f64::INFINITY, true), |(s, m, f), &v| (s + v, m.min(v), f && v.is_finite()));
-    let plain = nreal > 0
-        && kappa > 0.0
-        && kappa.is_finite()
-        && hmin > 0.0
-        && finite
-        && x[..D * nt].iter().all(|v| v.is_finite())
-        && h[nreal..nt].iter().all(|v| v.is_finite() && *v > 0.0);
+    // (per fixed chunk, combined in order: the same values whatever the thread count)
+    let part = |c: usize| -> (f64, bool) {
+        let (a0, a1) = (CHUNK * c, (CHUNK * c + CHUNK).min(nt));
+        let ok = x[D * a0..D * a1].iter().all(|v| v.is_finite()) && h[a0..a1].iter().all(|v| v.is_finite() && *v > 0.0);
+        (h[a0..a1.min(nreal).max(a0)].iter().sum(), ok)
+    };
+    let nchunk_t = nt.div_ceil(CHUNK);
+    let parts: Vec<(f64, bool)> =
+        if serial() { (0..nchunk_t).map(part).collect() } else { (0..nchunk_t).into_par_iter().map(part).collect() };
+    let hsum: f64 = parts.iter().map(|p| p.0).sum();
+    let plain = nreal > 0 && kappa > 0.0 && kappa.is_finite() && parts.iter().all(|p| p.1);
     if !plain {
         pl.invalidate();
         return rust_cell(D, nreal, x, h, kappa, pl);
@@ -632,7 +646,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         }
         v.fast_list.clear();
         v.fast_list.extend((0..nreal as u32).filter(|&a| v.fast[a as usize] != 0));
-        rebuild = v.fast_list.len() > nreal / 8;
+        rebuild = v.fast_list.len() > nreal / 32;
     }
     if rebuild {
         v.skin = 0.5 * (hsum / nreal as f64);
@@ -747,7 +761,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         }
         let (gstart, gorder, fast, fast_list) = (&v.gstart, &v.gorder, &v.fast, &v.fast_list);
         // searcher a (a fast real particle, or a mirror): every real partner b in its box
-        let around = |a: usize, buf: &mut Vec<[u32; 2]>| {
+        let around = |a: usize, buf: &mut Vec<u64>| {
             let rad = kappa * (0.5 * (h[a] + hmax));
             let rad = rad + rad * 1e-9;
             let mut clo = [0usize; 3];
@@ -769,7 +783,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
                         }
                         let (i, j) = (a.min(b), a.max(b));
                         if test(i, j) {
-                            buf.push([i as u32, j as u32]);
+                            buf.push(key(i, j));
                         }
                     }
                 }
@@ -803,11 +817,11 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         let (keep, cstart, extra) = (&v.keep, &v.cstart, &v.extra);
         let count = |(c, out): (usize, &mut [u32])| {
             let a0 = CHUNK * c;
-            let mut e = extra.partition_point(|p| (p[0] as usize) < a0);
+            let mut e = extra.partition_point(|&p| row(p) < a0);
             for (l, o) in out.iter_mut().enumerate() {
                 let a = a0 + l;
                 let mut n = keep[cstart[a] as usize..cstart[a + 1] as usize].iter().filter(|&&k| k != 0).count();
-                while e < extra.len() && extra[e][0] as usize == a {
+                while e < extra.len() && row(extra[e]) == a {
                     n += 1;
                     e += 1;
                 }
@@ -844,13 +858,13 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
     let fill = |(c, si, sj): (usize, &mut [i32], &mut [i32])| {
         let a0 = CHUNK * c;
         let base = off[a0] as usize;
-        let mut e = extra.partition_point(|p| (p[0] as usize) < a0);
+        let mut e = extra.partition_point(|&p| row(p) < a0);
         let mut w = 0usize;
         for a in a0..(a0 + CHUNK).min(nreal) {
             let (k0, k1) = (cstart[a] as usize, cstart[a + 1] as usize);
             let mut k = k0;
-            while e < extra.len() && extra[e][0] as usize == a {
-                let je = extra[e][1];
+            while e < extra.len() && row(extra[e]) == a {
+                let je = extra[e] as u32;
                 while k < k1 && cand[k] < je {
                     if keep[k] != 0 {
                         si[w] = a as i32;
