@@ -206,7 +206,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             }
             let opts =
                 RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet: true, threads: th };
-            let md = crate::validate::validate(&cases, &out, &opts, &only)?;
+            let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
             println!("{md}");
             println!("written: {}", out.join("validation.md").display());
             Ok(0)
@@ -216,7 +216,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
             if !o.dry_run {
                 threads(o.threads)?;
             }
-            let b = crate::bench::bench(&o)?;
+            // on a pool worker, as `run` is: the runs' parallel calls then start from a worker
+            let b = on_pool(|| crate::bench::bench(&o))?;
             print!("{}", b.text);
             for f in &b.files {
                 println!("written: {}", f.display());
