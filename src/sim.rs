@@ -1000,28 +1000,42 @@ impl Sim {
         let lda = dim * self.p.ntotal;
         let (sw, sp) = (self.cfg.acc_slot(AccTerm::Wall), self.cfg.acc_slot(AccTerm::Penalty));
         let (acc, v, m, g) = (&self.w.acc, &self.p.v, &self.p.mass, &self.cfg.grav);
-        let power = |slot: usize, i: usize| -> f64 {
-            if slot == usize::MAX {
-                return 0.0;
+        // Σ_i m_i (f_i·v_i) over the particles of chunk c, for the force array `f` (the
+        // particles in order, each dot product from +0 over the components)
+        let power = |f: &[f64], c: usize| -> f64 {
+            let (a0, a1) = (c * CHUNK, ((c + 1) * CHUNK).min(n));
+            let mut t = 0.0;
+            for (k, (fi, vi)) in f[dim * a0..dim * a1].chunks_exact(dim).zip(v[dim * a0..dim * a1].chunks_exact(dim)).enumerate() {
+                let mut s = 0.0;
+                for d in 0..dim {
+                    s += fi[d] * vi[d];
+                }
+                t += m[a0 + k] * s;
             }
-            let mut s = 0.0;
-            for d in 0..dim {
-                s += acc[slot * lda + d + dim * i] * v[d + dim * i];
-            }
-            m[i] * s
+            t
         };
+        let slot = |s: usize| if s == usize::MAX { None } else { Some(&acc[s * lda..s * lda + dim * n]) };
+        let (fw, fp) = (slot(sw), slot(sp));
+        // without gravity every term of its sum is +0 (the check stops a run with a non-finite v)
+        let gravity = g[..dim].iter().any(|&x| x != 0.0);
         let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 let mut t = [0.0; 3];
-                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                    t[0] += power(sw, i);
-                    t[1] += power(sp, i);
-                    let mut s = 0.0;
-                    for d in 0..dim {
-                        s += g[d] * v[d + dim * i];
+                if let Some(f) = fw {
+                    t[0] = power(f, c);
+                }
+                if let Some(f) = fp {
+                    t[1] = power(f, c);
+                }
+                if gravity {
+                    for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                        let mut s = 0.0;
+                        for d in 0..dim {
+                            s += g[d] * v[d + dim * i];
+                        }
+                        t[2] += m[i] * s;
                     }
-                    t[2] += m[i] * s;
                 }
                 t
             })

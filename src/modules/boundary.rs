@@ -123,6 +123,7 @@ pub fn wall_force(
     }
 }
 
+#[inline(always)]
 fn in_band(dim: usize, sg: &[f64], fr: &([f64; 3], f64, [f64; 3]), y: &[f64], band: f64) -> bool {
     let (t, el, nrm) = fr;
     let el = *el;
@@ -133,6 +134,28 @@ fn in_band(dim: usize, sg: &[f64], fr: &([f64; 3], f64, [f64; 3]), y: &[f64], ba
         tp += (y[d] - sg[d]) * t[d];
     }
     dn >= 0.0 && dn < band && tp >= -band && tp <= el + band
+}
+
+/// The (particle, wall) pairs of the particles `rows` that lie in a wall's band, by particle then
+/// wall: [`in_band`] with the dimension a constant, so its loops unroll (the same operations).
+fn first_images<const D: usize>(
+    rows: std::ops::Range<usize>,
+    x: &[f64],
+    h: &[f64],
+    kappa: f64,
+    segs: &Segments,
+    frames: &[([f64; 3], f64, [f64; 3])],
+    out: &mut Vec<[i32; 2]>,
+) {
+    for i in rows {
+        let band = kappa * h[i];
+        let y = &x[D * i..D * i + D];
+        for (s, fr) in frames.iter().enumerate() {
+            if in_band(D, &segs.seg[3 * D * s..3 * D * (s + 1)], fr, y, band) {
+                out.push([i as i32, s as i32]);
+            }
+        }
+    }
 }
 
 fn reflect(dim: usize, sg: &[f64], y: &mut [f64]) {
@@ -179,12 +202,11 @@ pub fn mirror_make(
             // the first images, by particle then wall, in tasks of CHUNK particles
             let task = |c: usize| -> Vec<[i32; 2]> {
                 let mut out = Vec::new();
-                for i in CHUNK * c..(CHUNK * c + CHUNK).min(n) {
-                    for s in 0..ns {
-                        if in_band(dim, sg(s), &frames[s], &x[dim * i..dim * i + dim], kappa * h[i]) {
-                            out.push([i as i32, s as i32]);
-                        }
-                    }
+                let rows = CHUNK * c..(CHUNK * c + CHUNK).min(n);
+                match dim {
+                    1 => first_images::<1>(rows, x, h, kappa, segs, &frames, &mut out),
+                    2 => first_images::<2>(rows, x, h, kappa, segs, &frames, &mut out),
+                    _ => first_images::<3>(rows, x, h, kappa, segs, &frames, &mut out),
                 }
                 out
             };
