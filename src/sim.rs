@@ -1082,7 +1082,7 @@ impl Sim {
                     t[d] = sg[dim + d] - sg[d];
                     el += t[d] * t[d];
                 }
-                (t, el.sqrt())
+                (unit_tangent(dim, t, el.sqrt()), el.sqrt())
             })
             .collect();
         let limit = 0.5 * self.cfg.dx_min;
@@ -1116,9 +1116,7 @@ impl Sim {
                         for d in 0..dim {
                             let r = p.x[d + dim * i] - sg[d];
                             dn += r * sg[2 * dim + d];
-                            if *el > 0.0 {
-                                tp += r * t[d] / el;
-                            }
+                            tp += r * t[d];
                         }
                         if tp >= 0.0 && tp <= *el && dn < 0.0 {
                             q.pen = q.pen.max(-dn);
@@ -1263,15 +1261,14 @@ impl Sim {
                 el += t[d] * t[d];
             }
             let el = el.sqrt();
+            let ut = unit_tangent(dim, t, el);
             for i in 0..n {
                 let mut dn = 0.0;
                 let mut tp = 0.0;
                 for d in 0..dim {
                     let r = p.x[d + dim * i] - sg[d];
                     dn += r * sg[2 * dim + d];
-                    if el > 0.0 {
-                        tp += r * t[d] / el;
-                    }
+                    tp += r * ut[d];
                 }
                 if tp >= 0.0 && tp <= el && dn < 0.0 {
                     let depth = -dn;
@@ -1374,4 +1371,16 @@ impl Sim {
     pub fn total_mass(&self) -> f64 {
         self.p.mass[..self.p.nreal].iter().sum()
     }
+}
+
+/// The unit tangent t/|t| of a wall segment (zeros for a degenerate one), for the penetration
+/// checks: the distance along the wall is Σ r_d u_d.
+fn unit_tangent(dim: usize, t: [f64; 3], el: f64) -> [f64; 3] {
+    let mut u = [0.0; 3];
+    if el > 0.0 {
+        for d in 0..dim {
+            u[d] = t[d] / el;
+        }
+    }
+    u
 }
