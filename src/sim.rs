@@ -1005,7 +1005,9 @@ impl Sim {
         let power = |f: &[f64], c: usize| -> f64 {
             let (a0, a1) = (c * CHUNK, ((c + 1) * CHUNK).min(n));
             let mut t = 0.0;
-            for (k, (fi, vi)) in f[dim * a0..dim * a1].chunks_exact(dim).zip(v[dim * a0..dim * a1].chunks_exact(dim)).enumerate() {
+            for (k, (fi, vi)) in
+                f[dim * a0..dim * a1].chunks_exact(dim).zip(v[dim * a0..dim * a1].chunks_exact(dim)).enumerate()
+            {
                 let mut s = 0.0;
                 for d in 0..dim {
                     s += fi[d] * vi[d];

@@ -123,16 +123,33 @@ impl PairList {
 
     /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
     /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
+    /// With more than one thread the particles are split into a few ranges, each counting and
+    /// placing the entries of its own particles (every range reads the whole pair list, in
+    /// order, so each list is still in ascending pair order).
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
         assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
+        let nr = if serial() || np < 4096 { 1 } else { rayon::current_num_threads().min(4) };
+        let rsize = ntotal.div_ceil(nr).max(1);
         let (pi, pj) = (&self.i[..np], &self.j[..np]);
         let start = &mut self.inc_start;
         start.clear();
         start.resize(ntotal + 1, 0);
-        for (&a, &b) in pi.iter().zip(pj) {
-            start[a as usize + 1] += 1;
-            start[b as usize + 1] += 1;
+        // counts of range r's particles, in start[a + 1]
+        let count = |(r, cnt): (usize, &mut [u32])| {
+            let a0 = r * rsize;
+            for (&a, &b) in pi.iter().zip(pj) {
+                for p in [a as usize, b as usize] {
+                    if let Some(c) = p.checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
+                        *c += 1;
+                    }
+                }
+            }
+        };
+        if nr == 1 {
+            count((0, &mut start[1..]));
+        } else {
+            start[1..].par_chunks_mut(rsize).enumerate().for_each(count);
         }
         for a in 0..ntotal {
             start[a + 1] += start[a];
@@ -141,14 +158,33 @@ impl PairList {
         let fill = &mut self.inc_fill;
         fill.clear();
         fill.extend_from_slice(&start[..ntotal]);
-        let inc = &mut self.inc[..];
-        for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
-            let fa = &mut fill[a as usize];
-            inc[*fa as usize] = Inc { k: k as u32, o: b as u32 | SIDE_I };
-            *fa += 1;
-            let fb = &mut fill[b as usize];
-            inc[*fb as usize] = Inc { k: k as u32, o: a as u32 };
-            *fb += 1;
+        // range r writes the slots of its particles, start[a0] .. start[a1]
+        let mut parts: Vec<(usize, &mut [u32], &mut [Inc])> = Vec::with_capacity(nr);
+        let mut rest = &mut self.inc[..];
+        let mut base = 0usize;
+        for (r, f) in fill.chunks_mut(rsize).enumerate() {
+            let a1 = ((r + 1) * rsize).min(ntotal);
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(start[a1] as usize - base);
+            base = start[a1] as usize;
+            parts.push((r, f, mine));
+            rest = tail;
+        }
+        let place = |(r, f, mine): (usize, &mut [u32], &mut [Inc])| {
+            let a0 = r * rsize;
+            let off = f.first().copied().unwrap_or(0) as usize;
+            for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
+                for (p, q, side) in [(a as usize, b as u32, SIDE_I), (b as usize, a as u32, 0)] {
+                    if let Some(fp) = p.checked_sub(a0).and_then(|l| f.get_mut(l)) {
+                        mine[*fp as usize - off] = Inc { k: k as u32, o: q | side };
+                        *fp += 1;
+                    }
+                }
+            }
+        };
+        if nr == 1 {
+            parts.into_iter().for_each(place);
+        } else {
+            parts.into_par_iter().for_each(place);
         }
     }
 
