@@ -146,25 +146,20 @@ fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64],
     let np = pl.len();
     let (pi, pj) = (&pl.i, &pl.j);
     if K == 0 {
-        // the cubic spline in blocks, with a reused buffer of D + 2 values per pair
-        let mut buf = pl.scratch.lock();
-        buf.pair.resize((D + 2) * np, 0.0);
-        let tmp = &mut buf.pair[..(D + 2) * np];
-        let body = |c: usize, ((wb, gb), tb): ((&mut [f64], &mut [f64]), &mut [f64])| {
-            cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb, tb)
+        // the cubic spline in blocks, with a per-thread buffer of D + 2 values per pair
+        let mut guard = pl.scratch.lock();
+        guard.per_thread.ensure();
+        let tls = &guard.per_thread;
+        let body = |c: usize, (wb, gb): (&mut [f64], &mut [f64])| {
+            tls.with((D + 2) * wb.len(), |tb| cubic_block::<D>(pi, pj, x, h, CHUNK * c, wb, gb, tb))
         };
-        let (wc, gc, tc) =
-            (w[..np].chunks_mut(CHUNK), dwdx[..D * np].chunks_mut(D * CHUNK), tmp.chunks_mut((D + 2) * CHUNK));
+        let (wc, gc) = (w[..np].chunks_mut(CHUNK), dwdx[..D * np].chunks_mut(D * CHUNK));
         if serial() {
-            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
+            wc.zip(gc).enumerate().for_each(|(c, b)| body(c, b));
         } else {
             use rayon::prelude::*;
-            let (wc, gc, tc) = (
-                w[..np].par_chunks_mut(CHUNK),
-                dwdx[..D * np].par_chunks_mut(D * CHUNK),
-                tmp.par_chunks_mut((D + 2) * CHUNK),
-            );
-            wc.zip(gc).zip(tc).enumerate().for_each(|(c, b)| body(c, b));
+            let (wc, gc) = (w[..np].par_chunks_mut(CHUNK), dwdx[..D * np].par_chunks_mut(D * CHUNK));
+            wc.zip(gc).enumerate().for_each(|(c, b)| body(c, b));
         }
         return;
     }

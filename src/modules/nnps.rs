@@ -60,9 +60,8 @@ pub struct Scratch {
 
 #[derive(Default)]
 pub(crate) struct Bufs {
-    /// Pair terms, `width` values per pair, and a second pair array.
+    /// Pair terms, `width` values per pair.
     pub pair: Vec<f64>,
-    pub pair2: Vec<f64>,
     /// One value per particle.
     pub part: Vec<f64>,
     /// Per-task buffers of pair indices or pairs.
@@ -78,6 +77,35 @@ pub(crate) struct Bufs {
     pub fill: Vec<u32>,
     /// Candidate lists kept from step to step (see [`Verlet`]).
     pub verlet: Verlet,
+    /// Small per-thread work arrays (a block's intermediate values stay in cache).
+    pub per_thread: PerThread,
+}
+
+/// One work array per pool thread, each behind its own (never contended) lock.
+#[derive(Default)]
+pub(crate) struct PerThread(Vec<Mutex<Vec<f64>>>);
+
+impl PerThread {
+    /// One array for each thread of the current pool.
+    pub(crate) fn ensure(&mut self) {
+        let n = rayon::current_num_threads();
+        if self.0.len() < n {
+            self.0.resize_with(n, Default::default);
+        }
+    }
+
+    /// Runs `f` on the calling thread's array, `len` values long (contents unspecified).
+    pub(crate) fn with<R>(&self, len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+        let k = rayon::current_thread_index().unwrap_or(0) % self.0.len().max(1);
+        let mut g = match self.0.get(k) {
+            Some(m) => m.lock().unwrap_or_else(|e| e.into_inner()),
+            None => return f(&mut vec![0.0; len]),
+        };
+        if g.len() < len {
+            g.resize(len, 0.0);
+        }
+        f(&mut g[..len])
+    }
 }
 
 impl Clone for Scratch {

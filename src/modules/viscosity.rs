@@ -126,18 +126,19 @@ fn rust<const D: usize, const W: usize>(
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
     buf.pair.resize(W * np, 0.0);
-    buf.pair2.resize(NV * np, 0.0);
+    buf.per_thread.ensure();
+    let tls = &buf.per_thread;
     let (pi, pj) = (&pl.i, &pl.j);
     // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
-    // pairs, the gathers first, then the arithmetic over contiguous arrays
-    let body = |b: usize, (t, tmp): (&mut [f64], &mut [f64])| {
-        block::<D, W>(pi, pj, dwdx, x, v, h, rho, c, coef, CHUNK * b, t, tmp)
+    // pairs, the gathers first (into a per-thread array), then the arithmetic over it
+    let body = |b: usize, t: &mut [f64]| {
+        tls.with(NV * (t.len() / W), |tmp| block::<D, W>(pi, pj, dwdx, x, v, h, rho, c, coef, CHUNK * b, t, tmp))
     };
-    let (tc, sc) = (&mut buf.pair[..W * np], &mut buf.pair2[..NV * np]);
+    let tc = &mut buf.pair[..W * np];
     if serial() {
-        tc.chunks_mut(W * CHUNK).zip(sc.chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+        tc.chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
     } else {
-        tc.par_chunks_mut(W * CHUNK).zip(sc.par_chunks_mut(NV * CHUNK)).enumerate().for_each(|(b, p)| body(b, p));
+        tc.par_chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
     }
     gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
 }
