@@ -7,7 +7,7 @@
 //! later: u(t_{n+1/2}) = u_min + (Δt_{n−1} + Δt_n)/2 · du(t_n); then x += Δt (v + av).
 //! With a fixed step this is Liu's scheme exactly. CFL (s):
 //! Δt = C min_i min(h_i/(c_i + |v_i|), √(h_i/|a_i|)). Rust twin: elementwise, same order, 0 ULP;
-//! one fused pass per staggered variable, in tasks of a few thousand values (the CFL minimum is
+//! one parallel pass over blocks of particles updates every staggered variable (the CFL minimum is
 //! taken per task in index order, then over the tasks in order, so it does not depend on the
 //! thread count).
 
@@ -15,21 +15,52 @@ use super::{Backend, CHUNK, par_rows, serial};
 use crate::legacy::{self, Leapfrog, NSTR, Rates};
 use rayon::prelude::*;
 
-/// Values per task of the elementwise updates.
-const EW: usize = 8 * CHUNK;
+/// One staggered variable for [`zip_vars`]: u, u_min, du, values per particle.
+type Var<'a> = (&'a mut [f64], &'a mut [f64], &'a [f64], usize);
 
-/// `f(u, umin, du)` over matching blocks of three arrays.
-fn zip3<F>(u: &mut [f64], umin: &mut [f64], du: &[f64], f: F)
+/// A block's share of one variable: u, u_min, du.
+type Part<'a> = (&'a mut [f64], &'a mut [f64], &'a [f64]);
+
+/// `f(u, umin, du)` over every variable, in one parallel pass over blocks of particles (each
+/// block handles the block's values of every variable, in the order given).
+fn zip_vars<F>(n: usize, vars: Vec<Var<'_>>, f: F)
 where
     F: Fn(&mut [f64], &mut [f64], &[f64]) + Sync + Send,
 {
-    let n = u.len();
-    let (umin, du) = (&mut umin[..n], &du[..n]);
-    if serial() {
-        u.chunks_mut(EW).zip(umin.chunks_mut(EW)).zip(du.chunks(EW)).for_each(|((a, b), c)| f(a, b, c));
-    } else {
-        u.par_chunks_mut(EW).zip(umin.par_chunks_mut(EW)).zip(du.par_chunks(EW)).for_each(|((a, b), c)| f(a, b, c));
+    // particles per block
+    let rows = 4 * CHUNK;
+    let nb = n.div_ceil(rows);
+    let mut blocks: Vec<Vec<Part<'_>>> = (0..nb).map(|_| Vec::with_capacity(vars.len())).collect();
+    for (u, um, du, w) in vars {
+        let parts =
+            u[..w * n].chunks_mut(w * rows).zip(um[..w * n].chunks_mut(w * rows)).zip(du[..w * n].chunks(w * rows));
+        for (blk, ((a, b), c)) in blocks.iter_mut().zip(parts) {
+            blk.push((a, b, c));
+        }
     }
+    let run = |blk: Vec<Part<'_>>| {
+        for (a, b, c) in blk {
+            f(a, b, c);
+        }
+    };
+    if serial() {
+        blocks.into_iter().for_each(run);
+    } else {
+        blocks.into_par_iter().for_each(run);
+    }
+}
+
+/// The staggered variables of the leapfrog that are present: e, ρ (continuity), v, τ (strength).
+fn vars<'b>(dim: usize, n: usize, cont: bool, s: &'b mut Leapfrog<'_>, r: &'b Rates<'_>) -> Vec<Var<'b>> {
+    let mut out: Vec<Var<'b>> = vec![(&mut s.e[..n], &mut s.e_min[..n], &r.de[..n], 1)];
+    if cont {
+        out.push((&mut s.rho[..n], &mut s.rho_min[..n], &r.drho[..n], 1));
+    }
+    out.push((&mut s.v[..dim * n], &mut s.v_min[..dim * n], &r.dv[..dim * n], dim));
+    if !s.tau.is_empty() {
+        out.push((&mut s.tau[..NSTR * n], &mut s.tau_min[..NSTR * n], &r.dtau[..NSTR * n], NSTR));
+    }
+    out
 }
 
 /// `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks `nterm` arrays of `lda` values.
@@ -73,14 +104,8 @@ pub fn predict(b: Backend, dim: usize, n: usize, dt_prev: f64, cont: bool, s: Le
                     *u += half * d;
                 }
             };
-            zip3(&mut s.e[..n], &mut s.e_min[..n], &r.de[..n], step);
-            if cont {
-                zip3(&mut s.rho[..n], &mut s.rho_min[..n], &r.drho[..n], step);
-            }
-            zip3(&mut s.v[..dim * n], &mut s.v_min[..dim * n], &r.dv[..dim * n], step);
-            if !s.tau.is_empty() {
-                zip3(&mut s.tau[..NSTR * n], &mut s.tau_min[..NSTR * n], &r.dtau[..NSTR * n], step);
-            }
+            let mut s = s;
+            zip_vars(n, vars(dim, n, cont, &mut s, &r), step);
         }
     }
 }
@@ -103,7 +128,7 @@ pub fn advance(
         Backend::Fortran => legacy::integrator_advance(dim, n, first, dt_prev, dt, cont, s, r, av, x),
         Backend::Rust => {
             let sc = if first { 0.5 * dt } else { 0.5 * (dt_prev + dt) };
-            // (u_min is read, not written: zip3 hands it over mutably only to share the helper)
+            // (u_min is read, not written: it comes mutably only to share the helper)
             let upd = |u: &mut [f64], umin: &mut [f64], du: &[f64]| {
                 if first {
                     for l in 0..u.len() {
@@ -115,14 +140,8 @@ pub fn advance(
                     }
                 }
             };
-            zip3(&mut s.e[..n], &mut s.e_min[..n], &r.de[..n], upd);
-            if cont {
-                zip3(&mut s.rho[..n], &mut s.rho_min[..n], &r.drho[..n], upd);
-            }
-            zip3(&mut s.v[..dim * n], &mut s.v_min[..dim * n], &r.dv[..dim * n], upd);
-            if !s.tau.is_empty() {
-                zip3(&mut s.tau[..NSTR * n], &mut s.tau_min[..NSTR * n], &r.dtau[..NSTR * n], upd);
-            }
+            let mut s = s;
+            zip_vars(n, vars(dim, n, cont, &mut s, &r), upd);
             let v: &[f64] = s.v;
             if av.is_empty() {
                 par_rows(&mut x[..dim * n], dim, |i, xi| {
