@@ -113,6 +113,8 @@ pub struct Config {
     pub mirror_segs: Segments,
     pub wall_segs: Segments,
     pub all_segs: Segments,
+    /// Unit tangent, length and normal of each of `all_segs` (for the penetration checks).
+    pub all_frames: Vec<([f64; 3], f64, [f64; 3])>,
     pub wall: (f64, f64, f64, i32, i32),
     pub noslip: bool,
     pub grav: Vec<f64>,
@@ -388,6 +390,9 @@ impl Sim {
             mt,
             mirror_segs,
             wall_segs,
+            all_frames: (0..all_segs.len())
+                .map(|s| md::boundary::frame(dim, &all_segs.seg[3 * dim * s..3 * dim * (s + 1)]))
+                .collect(),
             all_segs,
             wall: (
                 b.wall_spacing_m.unwrap_or(0.25 * init.dx_min),
@@ -1075,18 +1080,7 @@ impl Sim {
         let p = &self.p;
         let h_init = &self.h_init;
         let segs = &self.cfg.all_segs;
-        let frames: Vec<([f64; 3], f64)> = (0..segs.len())
-            .map(|s| {
-                let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
-                let mut t = [0.0; 3];
-                let mut el = 0.0;
-                for d in 0..dim {
-                    t[d] = sg[dim + d] - sg[d];
-                    el += t[d] * t[d];
-                }
-                (unit_tangent(dim, t, el.sqrt()), el.sqrt())
-            })
-            .collect();
+        let frames = &self.cfg.all_frames;
         let limit = 0.5 * self.cfg.dx_min;
         let domain = self.case.domain.as_ref();
         let parts: Vec<Part> = (0..n.div_ceil(CHUNK))
@@ -1112,16 +1106,11 @@ impl Sim {
                     if ke > q.ke_max.0 {
                         q.ke_max = (ke, i);
                     }
-                    for (s, (t, el)) in frames.iter().enumerate() {
-                        let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
-                        let (mut dn, mut tp) = (0.0, 0.0);
-                        for d in 0..dim {
-                            let r = p.x[d + dim * i] - sg[d];
-                            dn += r * sg[2 * dim + d];
-                            tp += r * t[d];
-                        }
-                        if tp >= 0.0 && tp <= *el && dn < 0.0 {
-                            q.pen = q.pen.max(-dn);
+                    for (s, fr) in frames.iter().enumerate() {
+                        if let Some(depth) =
+                            behind_wall(dim, &p.x[dim * i..dim * i + dim], &segs.seg[3 * dim * s..], fr)
+                        {
+                            q.pen = q.pen.max(depth);
                         }
                     }
                     if let Some(dm) = domain
@@ -1254,26 +1243,9 @@ impl Sim {
         }
         // wall crossing: a particle behind a wall line, within the wall's extent
         let segs = &self.cfg.all_segs;
-        for s in 0..segs.len() {
-            let sg = &segs.seg[3 * dim * s..3 * dim * (s + 1)];
-            let mut t = [0.0; 3];
-            let mut el = 0.0;
-            for d in 0..dim {
-                t[d] = sg[dim + d] - sg[d];
-                el += t[d] * t[d];
-            }
-            let el = el.sqrt();
-            let ut = unit_tangent(dim, t, el);
+        for (s, fr) in self.cfg.all_frames.iter().enumerate() {
             for i in 0..n {
-                let mut dn = 0.0;
-                let mut tp = 0.0;
-                for d in 0..dim {
-                    let r = p.x[d + dim * i] - sg[d];
-                    dn += r * sg[2 * dim + d];
-                    tp += r * ut[d];
-                }
-                if tp >= 0.0 && tp <= el && dn < 0.0 {
-                    let depth = -dn;
+                if let Some(depth) = behind_wall(dim, &p.x[dim * i..dim * i + dim], &segs.seg[3 * dim * s..], fr) {
                     if depth > self.stab.max_wall_penetration_m {
                         self.stab.max_wall_penetration_m = depth;
                     }
@@ -1375,14 +1347,17 @@ impl Sim {
     }
 }
 
-/// The unit tangent t/|t| of a wall segment (zeros for a degenerate one), for the penetration
-/// checks: the distance along the wall is Σ r_d u_d.
-fn unit_tangent(dim: usize, t: [f64; 3], el: f64) -> [f64; 3] {
-    let mut u = [0.0; 3];
-    if el > 0.0 {
-        for d in 0..dim {
-            u[d] = t[d] / el;
-        }
+/// How far (m) the point `x` lies behind the line of the wall segment `sg` (from, then the
+/// normal at `2 dim`) whose frame is `fr` (boundary::frame), if it is behind it and within the
+/// segment's extent along it.
+#[inline]
+fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &([f64; 3], f64, [f64; 3])) -> Option<f64> {
+    let (ut, el, nrm) = fr;
+    let (mut dn, mut tp) = (0.0, 0.0);
+    for d in 0..dim {
+        let r = x[d] - sg[d];
+        dn += r * nrm[d];
+        tp += r * ut[d];
     }
-    u
+    (tp >= 0.0 && tp <= *el && dn < 0.0).then_some(-dn)
 }

@@ -17,8 +17,9 @@ use rayon::prelude::*;
 
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
-/// Tangent, length and normal of segment s.
-fn frame(dim: usize, sg: &[f64]) -> ([f64; 3], f64, [f64; 3]) {
+/// Unit tangent (zeros for a degenerate segment), length (m) and unit normal of the segment
+/// `sg` (from, to, normal; `dim` values each).
+pub(crate) fn frame(dim: usize, sg: &[f64]) -> ([f64; 3], f64, [f64; 3]) {
     let mut t = [0.0; 3];
     let mut nrm = [0.0; 3];
     let mut el = 0.0;
