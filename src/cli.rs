@@ -3,7 +3,7 @@
 use crate::case;
 use crate::dual::Comparator;
 use crate::error::{Result, SphError, input};
-use crate::modules::{Backend, Module};
+use crate::modules::Backend;
 use crate::runner::{self, RunOptions};
 use crate::sim::{Overrides, Sim};
 use clap::{Parser, Subcommand};
@@ -248,7 +248,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
     }
 }
 
-/// The text of `blastsph check`.
+/// The text of `blastsph check`: the case, the time rule, and the plan (modules and the
+/// ordered stages of a step).
 pub fn check_text(sim: &Sim) -> String {
     let c = &sim.case;
     let mut s = format!("case {}: dim {}, {} particles", c.name(), c.dim, sim.p.nreal);
@@ -268,22 +269,13 @@ pub fn check_text(sim: &Sim) -> String {
         },
         c.time.output_interval_s
     );
-    s += "module plan:\n";
-    for m in Module::ALL {
-        let k = Module::ALL.iter().position(|x| *x == m).unwrap_or(0);
-        if sim.plan.is_active(m) {
-            s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), sim.plan.backend(m).name(), sim.plan.why[k], m.what());
-        } else {
-            s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", sim.plan.why[k]);
-        }
-    }
-    s
+    s + &sim.plan.text()
 }
 
 /// `blastsph dual`: returns exit 0 when every module is within tolerance, 4 otherwise.
 pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<i32> {
     let mut sim = Sim::new(c, ov)?;
-    sim.enable_dual(Comparator::new(sim.cfg.dim, crate::setup::has_jwl(&sim.cfg.mt)));
+    sim.enable_dual(Comparator::new(sim.cfg.dim));
     let mut done = 0;
     let mut diag = None;
     while done < steps && sim.t < sim.cfg.end * (1.0 - 1e-12) {

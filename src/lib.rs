@@ -16,7 +16,6 @@ pub mod case;
 pub mod cli;
 pub mod dual;
 pub mod error;
-pub mod legacy;
 pub mod modules;
 pub mod output;
 pub mod plot;

@@ -3,7 +3,7 @@
 //! attribute), `gauges.csv`, and `summary.json`.
 
 use crate::error::{Result, SphError};
-use crate::legacy::NSTR;
+use crate::modules::param::NSTR;
 use crate::sim::Sim;
 use std::io::Write;
 use std::path::Path;

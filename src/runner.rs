@@ -3,7 +3,6 @@
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
 use crate::error::{Result, SphError};
-use crate::modules::Module;
 use crate::output::{Gauges, H5Part};
 use crate::sim::{Overrides, Sim};
 use serde::Serialize;
@@ -145,16 +144,15 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
     let e1 = energy(&sim);
     let m1 = sim.total_mass();
 
-    let modules: serde_json::Map<String, serde_json::Value> = Module::ALL
+    let modules: serde_json::Map<String, serde_json::Value> = sim
+        .plan
+        .modules
         .iter()
-        .filter(|m| sim.plan.is_active(**m))
-        .map(|m| (m.name().to_string(), json!(sim.plan.backend(*m).name())))
+        .filter(|(_, p)| p.active)
+        .map(|(m, p)| (m.name().to_string(), json!(p.backend.name())))
         .collect();
-    let skipped: serde_json::Map<String, serde_json::Value> = Module::ALL
-        .iter()
-        .filter(|m| !sim.plan.is_active(**m))
-        .map(|m| (m.name().to_string(), json!(sim.plan.why[Module::ALL.iter().position(|x| *x == *m).unwrap_or(0)])))
-        .collect();
+    let skipped: serde_json::Map<String, serde_json::Value> =
+        sim.plan.modules.iter().filter(|(_, p)| !p.active).map(|(m, p)| (m.name().to_string(), json!(p.why))).collect();
     let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
     let residual = e1.total - e0.total - work;
     let mut summary = json!({
@@ -180,7 +178,7 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
             "balance_residual_relative": residual / e0.total.abs().max(1e-300),
         },
         "stability": sim.stab,
-        "module_seconds": Module::ALL.iter().filter(|m| sim.plan.is_active(**m)).map(|m| (m.name().to_string(), json!(sim.timers[Module::ALL.iter().position(|x| x == m).unwrap_or(0)]))).chain(std::iter::once(("incidence".to_string(), json!(sim.timers[13])))).collect::<serde_json::Map<_, _>>(),
+        "module_seconds": sim.seconds(),
         "outputs": h5.steps,
         "version": env!("CARGO_PKG_VERSION"),
         "case_sha256": sha256_hex(case_text.as_bytes()),

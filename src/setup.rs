@@ -3,7 +3,7 @@
 
 use crate::case::{BurnMode, Case, EosCfg, Shape, WallKind};
 use crate::error::{Result, input};
-use crate::legacy::{MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments};
+use crate::modules::param::{MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments};
 
 /// Particles as generated, before the solver takes them.
 #[derive(Debug, Clone, Default)]

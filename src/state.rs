@@ -2,9 +2,15 @@
 //! routines read and write it without copies. Particles `0..nreal` are real; `nreal..ntotal` are
 //! the mirror particles of type II walls, rebuilt every step. Arrays a case does not need are left
 //! empty (no stress for fluids, no burn state without a programmed burn).
+//!
+//! Every array a module reads or writes has a name, [`Field`]; [`Field::of`] and [`Field::of_mut`]
+//! find it in the state. The dual run, the parity harness and `blastsph check` work through these
+//! names: a module declares which fields its stages read and write, and nothing else needs to know
+//! which array a field is.
 
-use crate::legacy::NSTR;
 use crate::modules::nnps::PairList;
+use crate::modules::param::NSTR;
+use serde::Serialize;
 
 #[derive(Debug, Clone, Default)]
 pub struct Particles {
@@ -95,4 +101,219 @@ pub struct Work {
     pub gseg: Vec<i32>,
     /// The step the CFL rule proposes (s), as a one-value array (so the dual run compares it).
     pub dt_cfl: Vec<f64>,
+}
+
+/// Where a step stands: the time a stage evaluates at and the steps around it (s).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Clock {
+    /// Time of the state (s).
+    pub t: f64,
+    /// The step being taken (s); known from the step-size stage on.
+    pub dt: f64,
+    /// The previous step (s); 0 before the first.
+    pub dt_prev: f64,
+    /// True during the first step (Liu's half-step start of the leapfrog).
+    pub first: bool,
+}
+
+/// How a field is indexed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Per {
+    /// One row per particle (real and mirror).
+    Particle,
+    /// One row per pair of the neighbour list.
+    Pair,
+    /// Rows of stacked terms, each `dim × ntotal` (acc) or `ntotal` (dde) long.
+    Term,
+    /// A single value.
+    One,
+}
+
+/// The named arrays of the state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Field {
+    X,
+    V,
+    Rho,
+    P,
+    C,
+    E,
+    H,
+    Mass,
+    Mat,
+    Tau,
+    Burn,
+    Tlight,
+    PairI,
+    PairJ,
+    W,
+    Dwdx,
+    W0,
+    Drho,
+    Acc,
+    Dde,
+    Dv,
+    De,
+    Eps,
+    Rot,
+    Dtau,
+    Av,
+    Dhdt,
+    RhoMin,
+    EMin,
+    VMin,
+    TauMin,
+    Gsrc,
+    Gseg,
+    DtCfl,
+}
+
+/// A field's array, borrowed.
+pub enum Array<'a> {
+    F(&'a [f64]),
+    I(&'a [i32]),
+}
+
+/// A field's array, to write.
+pub enum ArrayMut<'a> {
+    F(&'a mut Vec<f64>),
+    I(&'a mut Vec<i32>),
+}
+
+/// A copy of one field.
+#[derive(Debug, Clone)]
+pub enum Snap {
+    F(Vec<f64>),
+    I(Vec<i32>),
+}
+
+impl Field {
+    /// Snake-case name, as in reports (`rho_min`, `pair_i`).
+    pub fn name(self) -> String {
+        let mut s = String::new();
+        for (k, ch) in format!("{self:?}").chars().enumerate() {
+            if ch.is_ascii_uppercase() && k > 0 {
+                s.push('_');
+            }
+            s.push(ch.to_ascii_lowercase());
+        }
+        s
+    }
+
+    /// How the field is indexed and how many values a row holds (`dim` in the space dimension).
+    pub fn layout(self, dim: usize) -> (Per, usize) {
+        use Field::*;
+        match self {
+            X | V | Av | VMin | Dv => (Per::Particle, dim),
+            Tau | Eps | Dtau | TauMin => (Per::Particle, NSTR),
+            Rot => (Per::Particle, 3),
+            Gseg => (Per::Particle, 2),
+            Dwdx => (Per::Pair, dim),
+            W | PairI | PairJ => (Per::Pair, 1),
+            Acc => (Per::Term, dim),
+            Dde => (Per::Term, 1),
+            DtCfl => (Per::One, 1),
+            _ => (Per::Particle, 1),
+        }
+    }
+
+    /// The field's array in the state.
+    pub fn of<'a>(self, p: &'a Particles, w: &'a Work) -> Array<'a> {
+        use Field::*;
+        Array::F(match self {
+            Mat => return Array::I(&p.mat),
+            PairI => return Array::I(&w.pairs.i),
+            PairJ => return Array::I(&w.pairs.j),
+            Gsrc => return Array::I(&w.gsrc),
+            Gseg => return Array::I(&w.gseg),
+            X => &p.x,
+            V => &p.v,
+            Rho => &p.rho,
+            P => &p.p,
+            C => &p.c,
+            E => &p.e,
+            H => &p.h,
+            Mass => &p.mass,
+            Tau => &p.tau,
+            Burn => &p.burn,
+            Tlight => &p.tlight,
+            W => &w.w,
+            Dwdx => &w.dwdx,
+            W0 => &w.w0,
+            Drho => &w.drho,
+            Acc => &w.acc,
+            Dde => &w.dde,
+            Dv => &w.dv,
+            De => &w.de,
+            Eps => &w.eps,
+            Rot => &w.rot,
+            Dtau => &w.dtau,
+            Av => &w.av,
+            Dhdt => &w.dhdt,
+            RhoMin => &w.rho_min,
+            EMin => &w.e_min,
+            VMin => &w.v_min,
+            TauMin => &w.tau_min,
+            DtCfl => &w.dt_cfl,
+        })
+    }
+
+    /// A copy of the field.
+    pub fn snap(self, p: &Particles, w: &Work) -> Snap {
+        match self.of(p, w) {
+            Array::F(a) => Snap::F(a.to_vec()),
+            Array::I(a) => Snap::I(a.to_vec()),
+        }
+    }
+
+    /// The field's array in the state, to write.
+    pub fn of_mut<'a>(self, p: &'a mut Particles, w: &'a mut Work) -> ArrayMut<'a> {
+        use Field::*;
+        ArrayMut::F(match self {
+            Mat => return ArrayMut::I(&mut p.mat),
+            PairI => return ArrayMut::I(&mut w.pairs.i),
+            PairJ => return ArrayMut::I(&mut w.pairs.j),
+            Gsrc => return ArrayMut::I(&mut w.gsrc),
+            Gseg => return ArrayMut::I(&mut w.gseg),
+            X => &mut p.x,
+            V => &mut p.v,
+            Rho => &mut p.rho,
+            P => &mut p.p,
+            C => &mut p.c,
+            E => &mut p.e,
+            H => &mut p.h,
+            Mass => &mut p.mass,
+            Tau => &mut p.tau,
+            Burn => &mut p.burn,
+            Tlight => &mut p.tlight,
+            W => &mut w.w,
+            Dwdx => &mut w.dwdx,
+            W0 => &mut w.w0,
+            Drho => &mut w.drho,
+            Acc => &mut w.acc,
+            Dde => &mut w.dde,
+            Dv => &mut w.dv,
+            De => &mut w.de,
+            Eps => &mut w.eps,
+            Rot => &mut w.rot,
+            Dtau => &mut w.dtau,
+            Av => &mut w.av,
+            Dhdt => &mut w.dhdt,
+            RhoMin => &mut w.rho_min,
+            EMin => &mut w.e_min,
+            VMin => &mut w.v_min,
+            TauMin => &mut w.tau_min,
+            DtCfl => &mut w.dt_cfl,
+        })
+    }
+
+    /// Puts a copy back (the array takes the copy's length).
+    pub fn restore(self, p: &mut Particles, w: &mut Work, s: Snap) {
+        match (self.of_mut(p, w), s) {
+            (ArrayMut::F(a), Snap::F(v)) => *a = v,
+            (ArrayMut::I(a), Snap::I(v)) => *a = v,
+            _ => {}
+        }
+    }
 }

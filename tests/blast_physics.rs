@@ -1,9 +1,13 @@
-//! The thesis's blast routines of the legacy Fortran core, through their safe wrappers, against
-//! values computed by hand: Drucker–Prager radial return, the Jaumann rate under rigid rotation,
-//! the penalty force, mirror particles, the type I wall force, the programmed burn.
+//! The thesis's blast routines of the legacy Fortran core, through their argument lists run with
+//! `Backend::Fortran`, against values computed by hand: Drucker–Prager radial return, the
+//! Jaumann rate under rigid rotation, the penalty force, mirror particles, the type I wall force,
+//! the programmed burn.
 
-use blastsph::legacy::{self, MatTable, MirrorArrays, NPAR, NSTR, Segments};
-use blastsph::modules::nnps::PairList;
+use blastsph::case::KernelKind;
+use blastsph::modules::Backend::Fortran as F;
+use blastsph::modules::nnps::{PairList, Search};
+use blastsph::modules::param::{MatTable, NPAR, NSTR, SPH_EOS_JWL, SPH_EOS_SOIL, Segments};
+use blastsph::modules::{Twin, boundary, detonation, eos, kernel, penalty, strength};
 
 /// One soil-like material with strength (G, α_φ, k) and one without (G = 0).
 fn soil_table(g: f64, alpha: f64, k: f64) -> MatTable {
@@ -18,7 +22,7 @@ fn soil_table(g: f64, alpha: f64, k: f64) -> MatTable {
     mpar[8] = g;
     mpar[9] = alpha;
     mpar[10] = k;
-    MatTable { mtype: vec![legacy::SPH_EOS_SOIL as i32; 2], mpar, group: vec![0, 1] }
+    MatTable { mtype: vec![SPH_EOS_SOIL as i32; 2], mpar, group: vec![0, 1] }
 }
 
 fn sqrt_j2(t: &[f64]) -> f64 {
@@ -41,7 +45,7 @@ fn drucker_prager_radial_return() {
         tau.extend(dir.iter().map(|d| d / dn * s * y));
     }
     let before = tau.clone();
-    legacy::strength_yield(&[0, 0, 0, 1], &mt, &p, &mut tau);
+    strength::Yield { mat: &[0, 0, 0, 1], mt: &mt, p: &p, tau: &mut tau }.run(F);
     let t0 = &tau[0..NSTR];
     assert!((sqrt_j2(t0) - y).abs() <= 1e-12 * y, "returned onto the surface: {} vs {y}", sqrt_j2(t0));
     for q in 0..NSTR {
@@ -74,16 +78,11 @@ fn lattice(nside: usize, dx: f64, vel: impl Fn(f64, f64) -> (f64, f64)) -> Latti
 fn pairs_of(x: &[f64], h: &[f64]) -> (PairList, Vec<f64>, Vec<f64>) {
     let n = h.len();
     let mut pl = PairList::default();
-    let mut pi = vec![0i32; 40 * n];
-    let mut pj = vec![0i32; 40 * n];
-    let np = legacy::nnps(false, 2, n, x, h, 2.0, &mut pi, &mut pj);
-    pi.truncate(np);
-    pj.truncate(np);
-    pl.i = pi;
-    pl.j = pj;
+    Search { cell: false, dim: 2, nreal: n, x, h, kappa: 2.0, pairs: &mut pl }.run(F);
+    let np = pl.len();
     let mut w = vec![0.0; np];
     let mut dwdx = vec![0.0; 2 * np];
-    legacy::kernel_pairs(2, 1, &pl.i, &pl.j, x, h, &mut w, &mut dwdx);
+    kernel::Pairs { dim: 2, kind: KernelKind::Cubic, pairs: &pl, x, h, w: &mut w, dwdx: &mut dwdx }.run(F);
     (pl, w, dwdx)
 }
 
@@ -101,9 +100,24 @@ fn jaumann_rate_is_objective_under_rigid_rotation() {
     }
     let (mut eps, mut rot, mut dtau, mut de) =
         (vec![0.0; NSTR * n], vec![0.0; 3 * n], vec![0.0; NSTR * n], vec![0.0; n]);
-    legacy::strength_rates(
-        2, n, &pl.i, &pl.j, &dwdx, &mass, &rho, &v, &mat, &mt, &tau, &mut eps, &mut rot, &mut dtau, &mut de,
-    );
+    let (dwdx, mass, rho, v, mat, mt, tau) = (&dwdx, &mass, &rho, &v, &mat, &mt, &tau);
+    strength::Rates {
+        dim: 2,
+        nreal: n,
+        pairs: &pl,
+        dwdx,
+        mass,
+        rho,
+        v,
+        mat,
+        mt,
+        tau,
+        eps: &mut eps,
+        rot: &mut rot,
+        dtau: &mut dtau,
+        dedt: &mut de,
+    }
+    .run(F);
     let c = n / 2; // the centre particle: a full, symmetric neighbourhood
     let e = &eps[NSTR * c..NSTR * c + NSTR];
     let r = rot[3 * c];
@@ -143,9 +157,24 @@ fn strength_rates_give_2g_times_deviatoric_strain_rate() {
     let tau = vec![0.0; NSTR * n];
     let (mut eps, mut rot, mut dtau, mut de) =
         (vec![0.0; NSTR * n], vec![0.0; 3 * n], vec![0.0; NSTR * n], vec![0.0; n]);
-    legacy::strength_rates(
-        2, n, &pl.i, &pl.j, &dwdx, &mass, &rho, &v, &mat, &mt, &tau, &mut eps, &mut rot, &mut dtau, &mut de,
-    );
+    let (dwdx, mass, rho, v, mat, mt, tau) = (&dwdx, &mass, &rho, &v, &mat, &mt, &tau);
+    strength::Rates {
+        dim: 2,
+        nreal: n,
+        pairs: &pl,
+        dwdx,
+        mass,
+        rho,
+        v,
+        mat,
+        mt,
+        tau,
+        eps: &mut eps,
+        rot: &mut rot,
+        dtau: &mut dtau,
+        dedt: &mut de,
+    }
+    .run(F);
     let c = n / 2;
     let exy = eps[NSTR * c + 3];
     assert!((exy - 0.5 * gd).abs() < 0.05 * gd, "eps_xy = {exy}");
@@ -161,10 +190,13 @@ fn penalty_pushes_different_materials_apart() {
     let r = 0.008; // pe = (h_i + h_j)/(2 r) = 1.375 > 1
     let x = [0.1, 0.2, 0.1 + 0.6 * r, 0.2 - 0.8 * r]; // x_i - x_j = (-0.6 r, 0.8 r)
     let mass = [0.145, 0.2];
-    let pl_i = [0i32];
-    let pl_j = [1i32];
+    let pl = PairList::new(vec![0], vec![1]);
+    let coef = penalty::Coef { pbar, n1, n2 };
+    let force = |x: &[f64], mat: &[i32], a: &mut [f64]| {
+        penalty::Force { dim: 2, pairs: &pl, x, h: &h, mass: &mass, mat, mt: &mt, coef, dvdt: a }.run(F)
+    };
     let mut a = [0.0; 4];
-    legacy::penalty_force(2, &pl_i, &pl_j, &x, &h, &mass, &[0, 1], &mt, pbar, n1, n2, &mut a);
+    force(&x, &[0, 1], &mut a);
     let pe: f64 = (h[0] + h[1]) / (2.0 * r);
     let f = pbar * (pe.powi(12) - pe.powi(6)) / (r * r); // PB = f x_ij
     let (dx, dy) = (-0.6 * r, 0.8 * r);
@@ -178,10 +210,10 @@ fn penalty_pushes_different_materials_apart() {
     assert!((mass[0] * a[0] + mass[1] * a[2]).abs() < 1e-9 * (mass[0] * a[0]).abs());
     // same group or pe <= 1: no force
     let mut b = [0.0; 4];
-    legacy::penalty_force(2, &pl_i, &pl_j, &x, &h, &mass, &[0, 0], &mt, pbar, n1, n2, &mut b);
+    force(&x, &[0, 0], &mut b);
     assert!(b.iter().all(|v| *v == 0.0));
     let far = [0.1, 0.2, 0.1, 0.2 + 0.02];
-    legacy::penalty_force(2, &pl_i, &pl_j, &far, &h, &mass, &[0, 1], &mt, pbar, n1, n2, &mut b);
+    force(&far, &[0, 1], &mut b);
     assert!(b.iter().all(|v| *v == 0.0), "pe < 1: the penalty is off (only repulsive)");
 }
 
@@ -196,9 +228,9 @@ fn mirror_particles_reflect_position_velocity_and_stress() {
     // particle 0 near the bottom only, particle 1 near the corner, particle 2 far from both
     let x = [0.3, 0.004, 0.004, 0.003, 0.5, 0.5];
     let h = [0.01, 0.01, 0.01];
-    let mut gsrc = vec![0i32; 16];
-    let mut gseg = vec![0i32; 32];
-    let ng = legacy::mirror_make(2, &x, &h, 2.0, &segs, &mut gsrc, &mut gseg);
+    let (mut gsrc, mut gseg) = (Vec::new(), Vec::new());
+    boundary::MirrorMake { dim: 2, x: &x, h: &h, kappa: 2.0, segs: &segs, gsrc: &mut gsrc, gseg: &mut gseg }.run(F);
+    let ng = gsrc.len();
     assert_eq!(ng, 4, "one mirror for particle 0, three (two walls and the corner) for particle 1");
     let n = 3;
     let nt = n + ng;
@@ -214,26 +246,25 @@ fn mirror_particles_reflect_position_velocity_and_stress() {
     let mut mat = vec![0i32; nt];
     let src = gsrc[..ng].to_vec();
     let sg = gseg[..2 * ng].to_vec();
-    legacy::mirror_fill(
-        2,
+    boundary::MirrorFill {
+        dim: 2,
         n,
-        &src,
-        &sg,
-        &segs,
-        false,
-        MirrorArrays {
-            x: &mut xa,
-            v: &mut v,
-            rho: &mut rho,
-            p: &mut p,
-            c: &mut c,
-            e: &mut e,
-            h: &mut hh,
-            mass: &mut m,
-            mat: &mut mat,
-            tau: &mut tau,
-        },
-    );
+        gsrc: &src,
+        gseg: &sg,
+        segs: &segs,
+        noslip: false,
+        x: &mut xa,
+        v: &mut v,
+        rho: &mut rho,
+        p: &mut p,
+        c: &mut c,
+        e: &mut e,
+        h: &mut hh,
+        mass: &mut m,
+        mat: &mut mat,
+        tau: &mut tau,
+    }
+    .run(F);
     let mut found: Vec<(i32, [f64; 2], [f64; 2], f64)> = (0..ng)
         .map(|g| {
             (
@@ -261,26 +292,25 @@ fn mirror_particles_reflect_position_velocity_and_stress() {
     let mut v2 = vec![0.0; 2 * nt];
     v2[..6].copy_from_slice(&[3.0, -2.0, -1.0, -4.0, 0.0, 0.0]);
     let mut xb = xa.clone();
-    legacy::mirror_fill(
-        2,
+    boundary::MirrorFill {
+        dim: 2,
         n,
-        &src,
-        &sg,
-        &segs,
-        true,
-        MirrorArrays {
-            x: &mut xb,
-            v: &mut v2,
-            rho: &mut rho,
-            p: &mut p,
-            c: &mut c,
-            e: &mut e,
-            h: &mut hh,
-            mass: &mut m,
-            mat: &mut mat,
-            tau: &mut [],
-        },
-    );
+        gsrc: &src,
+        gseg: &sg,
+        segs: &segs,
+        noslip: true,
+        x: &mut xb,
+        v: &mut v2,
+        rho: &mut rho,
+        p: &mut p,
+        c: &mut c,
+        e: &mut e,
+        h: &mut hh,
+        mass: &mut m,
+        mat: &mut mat,
+        tau: &mut [],
+    }
+    .run(F);
     for g in 0..ng {
         let s = src[g] as usize;
         assert_eq!([v2[2 * (n + g)], v2[2 * (n + g) + 1]], [-v2[2 * s], -v2[2 * s + 1]]);
@@ -294,7 +324,8 @@ fn wall_force_repels_and_vanishes_beyond_r0() {
     // particle right above a wall node at 0.5 (node k = 200), at height 0.004 < r0
     let x = [0.5, 0.004, 0.5, 0.02];
     let mut a = [0.0; 4];
-    legacy::wall_force(2, &x, &segs, spacing, r0, d, n1, n2, &mut a);
+    let coef = boundary::WallCoef { spacing, r0, d, n1, n2 };
+    boundary::WallForce { dim: 2, x: &x, segs: &segs, coef, dvdt: &mut a }.run(F);
     // hand sum over the nodes within r0: k = 199, 200, 201 (dx = -0.0025, 0, 0.0025)
     let mut ey = 0.0;
     for k in [-1.0f64, 0.0, 1.0] {
@@ -317,19 +348,22 @@ fn programmed_burn_lights_at_distance_over_d() {
     mpar[0] = 1630.0;
     mpar[6] = 6930.0; // D
     mpar[NPAR] = 1450.0;
-    let mt = MatTable { mtype: vec![legacy::SPH_EOS_JWL as i32, legacy::SPH_EOS_SOIL as i32], mpar, group: vec![0, 1] };
+    let mt = MatTable { mtype: vec![SPH_EOS_JWL as i32, SPH_EOS_SOIL as i32], mpar, group: vec![0, 1] };
     let x = [0.5, 0.97, 0.53, 0.97, 0.5, 0.5];
     let mat = [0, 0, 1];
     let mut tl = [0.0; 3];
-    legacy::detonation_light(2, &x, &mat, &mt, &[0.5, 0.97], &mut tl);
+    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], tlight: &mut tl }.run(F);
     assert_eq!(tl[0], 0.0);
     assert!((tl[1] - 0.03 / 6930.0).abs() < 1e-18);
     assert_eq!(tl[2], 0.0, "only explosives are lit");
     let h = [0.01; 3];
     let mut lam = [0.0; 3];
-    legacy::detonation_burn(0.5 * 0.03 / 6930.0, &mat, &mt, &tl, &h, 0.0, &mut lam);
+    let burn = |t: f64, width: f64, lam: &mut [f64]| {
+        detonation::Burn { t, mat: &mat, mt: &mt, tlight: &tl, h: &h, width, burn: lam }.run(F)
+    };
+    burn(0.5 * 0.03 / 6930.0, 0.0, &mut lam);
     assert_eq!(lam[..2], [1.0, 0.0], "the front has not reached particle 1 yet");
-    legacy::detonation_burn(tl[1] + 0.5 * 0.01 / 6930.0, &mat, &mt, &tl, &h, 1.0, &mut lam);
+    burn(tl[1] + 0.5 * 0.01 / 6930.0, 1.0, &mut lam);
     assert!((lam[1] - 0.5).abs() < 1e-12, "ramp of one h: half burnt half an h behind the front");
     // the JWL pressure is scaled by the burn fraction
     let (mut p, mut c) = ([0.0; 1], [0.0; 1]);
@@ -337,9 +371,9 @@ fn programmed_burn_lights_at_distance_over_d() {
         let mut m = vec![0.0; NPAR];
         m[..7].copy_from_slice(&[1630.0, 3.712e11, 3.21e9, 4.15, 0.95, 0.30, 6930.0]);
         m[7] = -f64::MAX;
-        MatTable { mtype: vec![legacy::SPH_EOS_JWL as i32], mpar: m, group: vec![0] }
+        MatTable { mtype: vec![SPH_EOS_JWL as i32], mpar: m, group: vec![0] }
     };
-    legacy::eos_eval(&jwl, &[0], &[0.25], &[1630.0], &[4.29e6], &mut p, &mut c);
+    eos::Eval { mt: &jwl, mat: &[0], burn: &[0.25], rho: &[1630.0], e: &[4.29e6], p: &mut p, c: &mut c }.run(F);
     let full = 8.376e9;
     assert!((p[0] / (0.25 * full) - 1.0).abs() < 5e-3, "p = {} = a quarter of the constant-volume burn", p[0]);
 }

@@ -1,5 +1,6 @@
-//! The legacy Fortran modules, called through the safe wrappers of `blastsph::legacy` (and the
-//! module dispatch with `Backend::Fortran`), checked against mathematics written in this file:
+//! The legacy Fortran modules, called through their argument lists with `Backend::Fortran`
+//! (`blastsph::modules::*`, the safe wrappers of each module's `ffi.rs`), checked against
+//! mathematics written in this file:
 //! kernel normalisation, gradients and support; neighbour lists against a brute-force search;
 //! equations of state against hand-written formulas and finite differences; one solver step.
 //!
@@ -12,12 +13,13 @@
 mod common;
 
 use blastsph::case;
-use blastsph::legacy::{
-    self, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_E1, SPH_MP_PMIN,
-    SPH_MP_RHO0, SPH_SKF_CUBIC, SPH_SKF_GAUSS, SPH_SKF_QUINTIC, SPH_SKF_WENDLAND,
+use blastsph::case::KernelKind;
+use blastsph::modules::nnps::{PairList, Search};
+use blastsph::modules::param::{
+    MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_E1, SPH_MP_PMIN, SPH_MP_RHO0,
+    SPH_SKF_CUBIC, SPH_SKF_GAUSS, SPH_SKF_QUINTIC, SPH_SKF_WENDLAND,
 };
-use blastsph::modules::nnps::{PairList, search};
-use blastsph::modules::{Backend, Module};
+use blastsph::modules::{Backend, Module, Twin, eos, kernel};
 use blastsph::sim::{Overrides, Sim};
 use common::Rng;
 use std::f64::consts::PI;
@@ -34,8 +36,15 @@ const KERNELS: [(u32, &str, f64); 4] = [
     (SPH_SKF_WENDLAND, "wendland", 2.0),
 ];
 
+fn kind(skf: u32) -> KernelKind {
+    [KernelKind::Cubic, KernelKind::Gauss, KernelKind::Quintic, KernelKind::Wendland][skf as usize - 1]
+}
+
+/// W and ∇W of the Fortran kernel at the separation `dx`.
 fn w_at(dim: usize, skf: u32, dx: &[f64], h: f64) -> (f64, Vec<f64>) {
-    legacy::kernel_point(dim, skf as i32, dx, h)
+    let (mut w, mut g) = (0.0, vec![0.0; dim]);
+    kernel::Point { dim, kind: kind(skf), dx, h, w: &mut w, dwdx: &mut g }.run(Backend::Fortran);
+    (w, g)
 }
 
 /// erf(x) by its everywhere-convergent series of positive terms,
@@ -236,10 +245,11 @@ fn kernel_pairs_and_self_agree_with_point_evaluation() {
             let h = [0.06, 0.09];
             let mut x = xi.clone();
             x.extend_from_slice(&xj);
-            let (pi, pj) = ([0, 1], [1, 0]);
+            let pairs = PairList::new(vec![0, 1], vec![1, 0]);
             let mut w = [0.0; 2];
             let mut g = vec![0.0; 2 * dim];
-            legacy::kernel_pairs(dim, skf as i32, &pi, &pj, &x, &h, &mut w, &mut g);
+            kernel::Pairs { dim, kind: kind(skf), pairs: &pairs, x: &x, h: &h, w: &mut w, dwdx: &mut g }
+                .run(Backend::Fortran);
             let dx: Vec<f64> = (0..dim).map(|d| xi[d] - xj[d]).collect();
             let (wp, gp) = w_at(dim, skf, &dx, 0.5 * (h[0] + h[1]));
             assert!(wp > 0.0, "{name}: the test pair must be within the support");
@@ -250,7 +260,7 @@ fn kernel_pairs_and_self_agree_with_point_evaluation() {
                 assert_eq!(g[dim + d], -gp[d], "{name}, dim {dim}: grad_j W_ji[{d}]");
             }
             let mut w0 = [0.0; 2];
-            legacy::kernel_self(dim, skf as i32, &h, &mut w0);
+            kernel::SelfW { dim, kind: kind(skf), h: &h, w0: &mut w0 }.run(Backend::Fortran);
             for k in 0..2 {
                 let (wz, _) = w_at(dim, skf, &[0.0; 3][..dim], h[k]);
                 assert_eq!(w0[k], wz, "{name}, dim {dim}: W(0, h_{k})");
@@ -328,7 +338,7 @@ fn cloud(rng: &mut Rng, dim: usize, nt: usize, len: f64, h0: f64, outliers: bool
 
 fn fortran_pairs(cell: bool, dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64) -> Vec<(i32, i32)> {
     let mut pl = PairList::default();
-    search(Backend::Fortran, cell, dim, nreal, x, h, kappa, &mut pl);
+    Search { cell, dim, nreal, x, h, kappa, pairs: &mut pl }.run(Backend::Fortran);
     pl.i.iter().copied().zip(pl.j.iter().copied()).collect()
 }
 
@@ -370,23 +380,6 @@ fn nnps_direct_and_cell_equal_brute_force() {
         }
     }
     assert!(checked > 10_000);
-}
-
-#[test]
-fn nnps_reports_overflow_count_and_keeps_the_prefix() {
-    let mut rng = Rng::new(11);
-    let (x, h) = cloud(&mut rng, 2, 300, 1.0, 0.06, false);
-    let want = brute_pairs(2, 250, &x, &h, 2.0);
-    let cap = want.len() / 3;
-    for cell in [false, true] {
-        let mut pi = vec![-1i32; cap];
-        let mut pj = vec![-1i32; cap];
-        let np = legacy::nnps(cell, 2, 250, &x, &h, 2.0, &mut pi, &mut pj);
-        assert_eq!(np, want.len(), "cell = {cell}: the count must be the full count");
-        for k in 0..cap {
-            assert_eq!((pi[k], pj[k]), want[k], "cell = {cell}: stored pair {k}");
-        }
-    }
 }
 
 #[test]
@@ -437,7 +430,8 @@ impl Mat {
     fn eval(&self, rho: &[f64], e: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let n = rho.len();
         let (mut p, mut c) = (vec![0.0; n], vec![0.0; n]);
-        legacy::eos_eval(&self.table(), &vec![0; n], &[], rho, e, &mut p, &mut c);
+        let mat = vec![0; n];
+        eos::Eval { mt: &self.table(), mat: &mat, burn: &[], rho, e, p: &mut p, c: &mut c }.run(Backend::Fortran);
         (p, c)
     }
     fn p(&self, rho: f64, e: f64) -> f64 {
@@ -513,7 +507,9 @@ fn eos_jwl_tnt_constant_volume_burn() {
     // a programmed burn multiplies p by the burn fraction
     let mut p2 = [0.0; 3];
     let mut c2 = [0.0; 3];
-    legacy::eos_eval(&m.table(), &[0, 0, 0], &[0.0, 0.25, 1.0], &[rho0; 3], &[e0; 3], &mut p2, &mut c2);
+    let (mt, mat, burn) = (m.table(), [0, 0, 0], [0.0, 0.25, 1.0]);
+    eos::Eval { mt: &mt, mat: &mat, burn: &burn, rho: &[rho0; 3], e: &[e0; 3], p: &mut p2, c: &mut c2 }
+        .run(Backend::Fortran);
     assert_eq!(p2[0], 0.0);
     assert!(rel(p2[1], 0.25 * p) < 1e-15 && rel(p2[2], p) < 1e-15, "{p2:?}");
 }
@@ -671,7 +667,7 @@ fn eos_pressure_floor_and_material_table_from_a_case() {
     let rho = [1630.0, 1450.0 * 0.9, 1450.0 * 1.1];
     let e = [4.29e6, 0.0, 0.0];
     let (mut p, mut cc) = ([0.0; 3], [0.0; 3]);
-    legacy::eos_eval(&mt, &[0, 1, 1], &[], &rho, &e, &mut p, &mut cc);
+    eos::Eval { mt: &mt, mat: &[0, 1, 1], burn: &[], rho: &rho, e: &e, p: &mut p, c: &mut cc }.run(Backend::Fortran);
     assert!(rel(p[0], tnt().p(1630.0, 4.29e6)) < 1e-15, "JWL through the case table");
     assert_eq!(p[1], 0.0, "sand in tension is cut off at pmin_pa = 0");
     assert!(rel(p[2], soil(LOOSE_SAND).p(rho[2], 0.0)) < 1e-15);
@@ -687,7 +683,7 @@ fn one_shock_tube_step_through_the_fortran_modules() {
     let c = case::load(&common::case_path("shock_tube.toml"), &[]).expect("shock_tube.toml");
     let fortran = Overrides { backend: Some(Backend::Fortran), ..Default::default() };
     let mut sim = Sim::new(c, &fortran).expect("Sim::new");
-    for m in Module::ALL {
+    for &m in Module::ALL {
         if sim.plan.is_active(m) {
             assert_eq!(sim.plan.backend(m), Backend::Fortran, "{m:?} must run in Fortran");
         }

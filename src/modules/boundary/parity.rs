@@ -1,0 +1,164 @@
+//! Parity of the boundaries: the wall force, and the mirrors (list, fill in free and no slip,
+//! with and without τ, copy), for a 1D column and 2D boxes, one turned so no normal is along an
+//! axis.
+
+use super::{MirrorCopy, MirrorFill, MirrorMake, WallCoef, WallForce};
+use crate::modules::param::{NSTR, Segments};
+use crate::modules::testkit::*;
+
+/// A box of `side × side` particles (spacing dx, jittered) with four walls, turned by `angle`
+/// so that no normal is along an axis. Returns the cloud (no virtual particles) and the walls.
+fn walled_box(side: usize, angle: f64, seed: u64) -> (Cloud, Segments) {
+    let mut g = Rng::new(seed);
+    let dx = 0.01;
+    let l = side as f64 * dx;
+    let (cs, sn) = (angle.cos(), angle.sin());
+    let rot = |p: [f64; 2]| [cs * p[0] - sn * p[1], sn * p[0] + cs * p[1]];
+    let n = side * side;
+    let mut x = Vec::with_capacity(2 * n);
+    for k in 0..n {
+        let (a, b) = ((k % side) as f64, (k / side) as f64);
+        let p = rot([(a + 0.5 + g.range(-0.35, 0.35)) * dx, (b + 0.5 + g.range(-0.35, 0.35)) * dx]);
+        x.extend_from_slice(&p);
+    }
+    // corners counter-clockwise; inward normals; the end node kept on two of the four walls
+    let corners = [[0.0, 0.0], [l, 0.0], [l, l], [0.0, l]];
+    let normals = [[0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 0.0]];
+    let mut segs = Segments::default();
+    for s in 0..4 {
+        segs.seg.extend_from_slice(&rot(corners[s]));
+        segs.seg.extend_from_slice(&rot(corners[(s + 1) % 4]));
+        segs.seg.extend_from_slice(&rot(normals[s]));
+        segs.endnode.push(i32::from(s % 2 == 0));
+    }
+    (filled(&mut g, 2, n, dx, x, 0.1, 0.2), segs)
+}
+
+/// A 1D column between two point walls.
+fn walled_column(n: usize, seed: u64) -> (Cloud, Segments) {
+    let mut g = Rng::new(seed);
+    let dx = 0.01;
+    let l = n as f64 * dx;
+    let x = (0..n).map(|k| (k as f64 + 0.5 + g.range(-0.35, 0.35)) * dx).collect();
+    let segs = Segments { seg: vec![0.0, 0.0, 1.0, l, l, -1.0], endnode: vec![1, 1] };
+    (filled(&mut g, 1, n, dx, x, 10.0, 20.0), segs)
+}
+
+/// A cloud of `n` real particles at `x` with random fields; masses in [m0, m1].
+fn filled(g: &mut Rng, dim: usize, n: usize, dx: f64, x: Vec<f64>, m0: f64, m1: f64) -> Cloud {
+    Cloud {
+        dim,
+        nreal: n,
+        nt: n,
+        dx,
+        v: g.vec(dim * n, -60.0, 60.0),
+        h: (0..n).map(|_| dx * g.range(1.0, 1.5)).collect(),
+        rho: g.vec(n, 1000.0, 2000.0),
+        mass: g.vec(n, m0, m1),
+        p: g.vec(n, -1e5, 1e7),
+        c: g.vec(n, 300.0, 1500.0),
+        e: g.vec(n, 0.0, 1e4),
+        mat: (0..n).map(|_| g.below(3) as i32).collect(),
+        tau: g.vec(NSTR * n, -1e6, 1e6),
+        x,
+    }
+}
+
+fn walled_cases() -> Vec<(String, Cloud, Segments)> {
+    let mut v = Vec::new();
+    let (c, s) = walled_column(60, 121);
+    v.push(("1D column".to_string(), c, s));
+    let (c, s) = walled_box(16, 0.0, 122);
+    v.push(("2D box".to_string(), c, s));
+    let (c, s) = walled_box(16, 0.37, 123);
+    v.push(("2D turned box".to_string(), c, s));
+    v
+}
+
+#[test]
+fn boundary_wall_force() {
+    for (name, cl, segs) in walled_cases() {
+        let dim = cl.dim;
+        for (spacing, r0, d, n1, n2) in [(0.25 * cl.dx, 0.5 * cl.dx, 1e4, 12, 4), (cl.dx, cl.dx, 5.0 * 9.81 * 0.2, 4, 2)]
+        {
+            let coef = WallCoef { spacing, r0, d, n1, n2 };
+            let tag = format!("boundary::wall_force {name} r0 {r0}");
+            let [acc] = parity(&tag, 0, ["dvdt"], [sentinel(dim * cl.nreal)], |b, [dvdt]| {
+                run(WallForce { dim, x: &cl.x, segs: &segs, coef, dvdt }, b)
+            });
+            nonzero(&tag, &acc);
+        }
+    }
+}
+
+/// Mirrors of the walled cases: the lists, then the fill (free and no slip, with and without
+/// τ), then the copy of one field.
+#[test]
+fn boundary_mirrors_make_fill_copy() {
+    for (name, cl, segs) in walled_cases() {
+        let dim = cl.dim;
+        let n = cl.nreal;
+        let kappa = 2.0;
+        let (mut sf, mut gf) = (vec![7; 3], vec![7; 5]);
+        let (mut sr, mut gr) = (vec![7; 3], vec![7; 5]);
+        for (b, gsrc, gseg) in [(F, &mut sf, &mut gf), (R, &mut sr, &mut gr)] {
+            run(MirrorMake { dim, x: &cl.x, h: &cl.h, kappa, segs: &segs, gsrc, gseg }, b);
+        }
+        check_i(&format!("boundary::mirror_make {name} gsrc"), &sf, &sr);
+        check_i(&format!("boundary::mirror_make {name} gseg"), &gf, &gr);
+        let ng = sf.len();
+        assert!(ng > 0);
+        if dim == 2 {
+            let second = (0..ng).filter(|&g| gf[2 * g + 1] >= 0).count();
+            assert!(second > 0, "{name}: no second-generation (corner) mirror");
+        }
+        let nt = n + ng;
+        // real part copied from the cloud, mirror part a sentinel
+        let grow = |a: &[f64], w: usize| {
+            let mut v = a[..w * n].to_vec();
+            v.resize(w * nt, SENTINEL);
+            v
+        };
+        for noslip in [false, true] {
+            for with_tau in [false, true] {
+                let tag = format!(
+                    "boundary::mirror_fill {name} {} {}",
+                    if noslip { "no slip" } else { "free slip" },
+                    if with_tau { "with tau" } else { "no tau" }
+                );
+                let mut mat = cl.mat[..n].to_vec();
+                mat.resize(nt, -9);
+                let (mut mf, mut mr) = (mat.clone(), mat);
+                let tau = if with_tau { grow(&cl.tau, NSTR) } else { vec![] };
+                let init = [
+                    grow(&cl.x, dim),
+                    grow(&cl.v, dim),
+                    grow(&cl.rho, 1),
+                    grow(&cl.p, 1),
+                    grow(&cl.c, 1),
+                    grow(&cl.e, 1),
+                    grow(&cl.h, 1),
+                    grow(&cl.mass, 1),
+                    tau,
+                ];
+                let names = ["x", "v", "rho", "p", "c", "e", "h", "mass", "tau"];
+                let mats = std::cell::RefCell::new((&mut mf, &mut mr));
+                let f = parity(&tag, 0, names, init, |b, [x, v, rho, p, c, e, h, mass, tau]| {
+                    let mut m = mats.borrow_mut();
+                    let mat = if b == F { &mut *m.0 } else { &mut *m.1 };
+                    let (gsrc, gseg, segs) = (&sf, &gf, &segs);
+                    run(MirrorFill { dim, n, gsrc, gseg, segs, noslip, x, v, rho, p, c, e, h, mass, mat, tau }, b)
+                });
+                for (k, field) in names.iter().enumerate() {
+                    assert!(f[k].iter().all(|v| *v != SENTINEL), "{tag} {field} left unwritten");
+                }
+                check_i(&format!("{tag} mat"), &mf, &mr);
+            }
+        }
+        let mut e = cl.e[..n].to_vec();
+        e.resize(nt, SENTINEL);
+        parity(&format!("boundary::mirror_copy {name}"), 0, ["f"], [e], |b, [f]| {
+            run(MirrorCopy { n, gsrc: &sf, f }, b)
+        });
+    }
+}

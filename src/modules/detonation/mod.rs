@@ -1,0 +1,137 @@
+//! Detonation (THESIS.md §5 decision). Programmed burn: particle i lights at t_i = |x_i − x_det|/D
+//! (s); its burn fraction λ_i = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))).
+//! The instantaneous burn needs no routine. Fortran twin: `sph_detonation.f90`.
+
+mod ffi;
+#[cfg(test)]
+mod parity;
+mod rust;
+
+use super::param::MatTable;
+use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin};
+use crate::state::{Clock, Field, Particles, Work};
+
+/// `sph_detonation_light`: the lighting time (s) of the first `mat.len()` particles (0 for
+/// materials that are not explosives).
+pub struct Light<'a> {
+    pub dim: usize,
+    pub x: &'a [f64],
+    pub mat: &'a [i32],
+    pub mt: &'a MatTable,
+    /// The lighting point (m).
+    pub xdet: &'a [f64],
+    pub tlight: &'a mut [f64],
+}
+
+/// `sph_detonation_burn`: the burn fraction at time `t` (s) of the first `mat.len()` particles.
+pub struct Burn<'a> {
+    pub t: f64,
+    pub mat: &'a [i32],
+    pub mt: &'a MatTable,
+    pub tlight: &'a [f64],
+    pub h: &'a [f64],
+    /// Width of the burn ramp in units of h (0: a particle burns at once when lit).
+    pub width: f64,
+    pub burn: &'a mut [f64],
+}
+
+impl Twin for Light<'_> {
+    fn rust(&mut self) {
+        rust::light(self)
+    }
+    fn fortran(&mut self) {
+        ffi::light(self)
+    }
+}
+
+impl Twin for Burn<'_> {
+    fn rust(&mut self) {
+        rust::burn(self)
+    }
+    fn fortran(&mut self) {
+        ffi::burn(self)
+    }
+}
+
+/// Lighting times, once.
+pub struct LightStage {
+    mt: MatTable,
+    xdet: Vec<f64>,
+}
+
+impl Stage for LightStage {
+    fn module(&self) -> Module {
+        Module::Detonation
+    }
+    fn name(&self) -> &'static str {
+        "detonation.light"
+    }
+    fn reads(&self) -> &[Field] {
+        &[Field::X, Field::Mat]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::Tlight]
+    }
+    fn register(&self, p: &mut Particles) {
+        p.tlight = vec![0.0; p.nreal];
+    }
+    fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
+        let (dim, n) = (p.dim, p.nreal);
+        Light { dim, x: &p.x[..dim * n], mat: &p.mat[..n], mt: &self.mt, xdet: &self.xdet, tlight: &mut p.tlight }
+            .run(b);
+    }
+}
+
+/// The burn fraction at the stage's time.
+pub struct BurnStage {
+    mt: MatTable,
+    width: f64,
+}
+
+impl Stage for BurnStage {
+    fn module(&self) -> Module {
+        Module::Detonation
+    }
+    fn name(&self) -> &'static str {
+        "detonation.burn"
+    }
+    fn reads(&self) -> &[Field] {
+        &[Field::Mat, Field::Tlight, Field::H]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::Burn]
+    }
+    fn register(&self, p: &mut Particles) {
+        p.burn = vec![0.0; p.nreal];
+    }
+    fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, k: &Clock) {
+        let n = p.nreal;
+        let (mat, tlight, h) = (&p.mat[..n], &p.tlight, &p.h[..n]);
+        Burn { t: k.t, mat, mt: &self.mt, tlight, h, width: self.width, burn: &mut p.burn }.run(b);
+    }
+}
+
+/// Runs for a programmed burn: the lighting times and the burn at t = 0 before the first step,
+/// the burn fraction at every step.
+pub fn plan(ctx: &PlanCtx) -> Contribution {
+    let case = ctx.case;
+    if !crate::setup::programmed(case) {
+        return Contribution::skip(if case.detonation.is_some() {
+            "instantaneous burn: nothing to run"
+        } else {
+            "no charge lit"
+        });
+    }
+    let det = case.detonation.as_ref();
+    let xdet = det.and_then(|d| d.point_m.clone()).unwrap_or_default();
+    let width = det.map(|d| d.width_h).unwrap_or(0.0);
+    let burn = || Box::new(BurnStage { mt: ctx.mt.clone(), width }) as Box<dyn Stage>;
+    Contribution::run(
+        "programmed burn",
+        vec![
+            (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet })),
+            (Phase::Init, burn()),
+            (Phase::Burn, burn()),
+        ],
+    )
+}

@@ -1,0 +1,40 @@
+//! The Rust twin of the detonation: same operations in the same order, elementwise.
+
+use super::{Burn, Light};
+use crate::modules::par_rows;
+use crate::modules::param::{NPAR, SPH_EOS_JWL};
+
+/// Row of D (m/s) in a JWL column of mpar (0-based).
+const DET: usize = 6;
+
+pub(super) fn light(a: &mut Light) {
+    let Light { dim, x, mat, mt, xdet, tlight } = a;
+    let dim = *dim;
+    par_rows(&mut tlight[..mat.len()], 1, |i, t| {
+        let m = mat[i] as usize;
+        let t = &mut t[0];
+        *t = 0.0;
+        if mt.mtype[m] == SPH_EOS_JWL as i32 {
+            let mut r2 = 0.0;
+            for d in 0..dim {
+                r2 += (x[d + dim * i] - xdet[d]) * (x[d + dim * i] - xdet[d]);
+            }
+            *t = r2.sqrt() / mt.mpar[DET + NPAR * m];
+        }
+    });
+}
+
+pub(super) fn burn(a: &mut Burn) {
+    let Burn { t, mat, mt, tlight, h, width, burn } = a;
+    let (t, width) = (*t, *width);
+    par_rows(&mut burn[..mat.len()], 1, |i, l| {
+        l[0] = if width <= 0.0 {
+            if t >= tlight[i] { 1.0 } else { 0.0 }
+        } else {
+            let d = mt.mpar[DET + NPAR * mat[i] as usize];
+            let r = (t - tlight[i]) * d / (width * h[i]);
+            let r = if r > 0.0 { r } else { 0.0 };
+            if r < 1.0 { r } else { 1.0 }
+        };
+    });
+}

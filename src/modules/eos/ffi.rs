@@ -1,0 +1,39 @@
+//! The Fortran twin of the EOS (`sph_eos_eval`): lengths checked, then one foreign call.
+#![allow(unsafe_code)]
+
+use super::Eval;
+use crate::modules::ffi_util::{chk, chk_mat, n32, ptr_or};
+
+#[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
+mod sys {
+    include!(concat!(env!("OUT_DIR"), "/ffi_eos.rs"));
+}
+
+pub(super) fn eval(a: &mut Eval) {
+    let n = a.mat.len();
+    for (name, l) in [("rho", a.rho.len()), ("e", a.e.len()), ("p", a.p.len()), ("c", a.c.len())] {
+        chk(name, l, n);
+    }
+    let nburn = if a.burn.is_empty() { 0 } else { n };
+    chk("burn", a.burn.len(), nburn);
+    chk_mat(a.mt, a.mat);
+    let dummy = 1.0;
+    // SAFETY: every array holds at least the n values (nmat columns for the table) that the
+    // explicit shapes of sph_eos_eval declare, material indices are in 0..nmat (checked above),
+    // and burn is a one-value dummy when nburn = 0, as its declared extent max(nburn, 1) allows.
+    unsafe {
+        sys::sph_eos_eval(
+            n32(n),
+            n32(a.mt.nmat()),
+            a.mt.mtype.as_ptr(),
+            a.mt.mpar.as_ptr(),
+            a.mat.as_ptr(),
+            n32(nburn),
+            ptr_or(a.burn, &dummy),
+            a.rho.as_ptr(),
+            a.e.as_ptr(),
+            a.p.as_mut_ptr(),
+            a.c.as_mut_ptr(),
+        )
+    }
+}

@@ -1,0 +1,81 @@
+//! Equations of state: p (Pa) and c (m/s) from ρ (kg/m³) and e (J/kg), per material.
+//! Ideal gas p = (γ−1)ρe, c = √(γ(γ−1)e); JWL (4-39) times the burn fraction; water polynomial
+//! (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
+//! the isentropic c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ, floored at 1 % of the reference speed; p is
+//! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
+//!
+//! Tier: 0 ULP where only + − × ÷ √ are involved (ideal gas, water, soil); JWL calls `exp`, which
+//! both sides take from the same C library, so it is 0 ULP too (see docs/migration.md).
+
+mod ffi;
+#[cfg(test)]
+mod parity;
+mod rust;
+
+pub use rust::point;
+
+use super::param::MatTable;
+use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Tolerance, Twin};
+use crate::state::{Clock, Field, Particles, Work};
+
+/// `sph_eos_eval`: p and c of the first `mat.len()` particles.
+pub struct Eval<'a> {
+    pub mt: &'a MatTable,
+    /// Material of each particle (0-based).
+    pub mat: &'a [i32],
+    /// Burn fraction of each particle (programmed burn), or empty.
+    pub burn: &'a [f64],
+    pub rho: &'a [f64],
+    pub e: &'a [f64],
+    pub p: &'a mut [f64],
+    pub c: &'a mut [f64],
+}
+
+impl Twin for Eval<'_> {
+    fn rust(&mut self) {
+        rust::eval(self)
+    }
+    fn fortran(&mut self) {
+        ffi::eval(self)
+    }
+}
+
+/// p and c of the real particles.
+pub struct EosStage {
+    mt: MatTable,
+}
+
+impl Stage for EosStage {
+    fn module(&self) -> Module {
+        Module::Eos
+    }
+    fn name(&self) -> &'static str {
+        "eos.eval"
+    }
+    fn reads(&self) -> &[Field] {
+        &[Field::Rho, Field::E, Field::Mat, Field::Burn]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::P, Field::C]
+    }
+    fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
+        let n = p.nreal;
+        let burn: &[f64] = if p.burn.is_empty() { &[] } else { &p.burn[..n] };
+        Eval { mt: &self.mt, mat: &p.mat[..n], burn, rho: &p.rho[..n], e: &p.e[..n], p: &mut p.p[..n], c: &mut p.c[..n] }
+            .run(b);
+    }
+    fn tolerance(&self) -> Tolerance {
+        if self.mt.has_jwl() {
+            Tolerance { ulp: 0, why: "JWL calls exp: both sides take it from the same C library" }
+        } else {
+            Tolerance::default()
+        }
+    }
+}
+
+/// Every case evaluates its EOS: once before the first step and at every step.
+pub fn plan(ctx: &PlanCtx) -> Contribution {
+    let kinds: Vec<&str> = ctx.case.materials.iter().map(|m| m.eos.kind()).collect();
+    let stage = || Box::new(EosStage { mt: ctx.mt.clone() }) as Box<dyn Stage>;
+    Contribution::run(kinds.join(", "), vec![(Phase::Init, stage()), (Phase::Eos, stage())])
+}

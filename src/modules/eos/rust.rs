@@ -1,0 +1,91 @@
+//! The Rust twin of the EOS: same operations in the same order as `sph_eos.f90`.
+
+use super::Eval;
+use crate::modules::par_rows2;
+use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
+
+const RHO0: usize = 0;
+const E1: usize = 1;
+const PMIN: usize = 7;
+
+/// p and c of one particle: material type `itype`, parameters `par` (one column of mpar),
+/// burn fraction `lam`.
+#[inline]
+pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) {
+    let rho0 = par[RHO0];
+    let mut p = 0.0;
+    let mut c2 = 0.0;
+    let mut cref = 0.0;
+    if itype == SPH_EOS_IDEAL_GAS as i32 {
+        let g = par[E1];
+        p = (g - 1.0) * rho * e;
+        c2 = g * (g - 1.0) * e;
+    } else if itype == SPH_EOS_JWL as i32 {
+        let (a, b, r1, r2, om) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
+        let eta = rho / rho0;
+        let x1 = (-r1 / eta).exp();
+        let x2 = (-r2 / eta).exp();
+        p = a * (1.0 - om * eta / r1) * x1 + b * (1.0 - om * eta / r2) * x2 + om * eta * rho0 * e;
+        let dpdr = (a * x1 * (-om / r1 + (1.0 - om * eta / r1) * r1 / (eta * eta))
+            + b * x2 * (-om / r2 + (1.0 - om * eta / r2) * r2 / (eta * eta))
+            + om * rho0 * e)
+            / rho0;
+        let dpde = om * rho;
+        c2 = dpdr + p / (rho * rho) * dpde;
+        cref = par[E1 + 5];
+        p *= lam;
+    } else if itype == SPH_EOS_WATER as i32 {
+        let mu = rho / rho0 - 1.0;
+        let (wa1, wa2, wa3, wb0, wb1) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
+        let dpdr;
+        if mu > 0.0 {
+            p = wa1 * mu + wa2 * mu * mu + wa3 * mu * mu * mu + (wb0 + wb1 * mu) * rho0 * e;
+            dpdr = (wa1 + 2.0 * wa2 * mu + 3.0 * wa3 * mu * mu + wb1 * rho0 * e) / rho0;
+        } else {
+            p = wa1 * mu + (wb0 + wb1 * mu) * rho0 * e;
+            dpdr = (wa1 + wb1 * rho0 * e) / rho0;
+        }
+        let dpde = (wb0 + wb1 * mu) * rho0;
+        c2 = dpdr + p / (rho * rho) * dpde;
+        cref = par[E1 + 5];
+    } else if itype == SPH_EOS_SOIL as i32 {
+        cref = par[E1];
+        let s = par[E1 + 1];
+        let gam = par[E1 + 2];
+        let a0 = rho0 * cref * cref;
+        let b0 = a0 * (1.0 + 2.0 * (s - 1.0));
+        let c0 = a0 * (2.0 * (s - 1.0) + 3.0 * (s - 1.0) * (s - 1.0));
+        let mu = rho / rho0 - 1.0;
+        let (ph, dph) = if mu > 0.0 {
+            (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu, a0 + 2.0 * b0 * mu + 3.0 * c0 * mu * mu)
+        } else {
+            (a0 * mu, a0)
+        };
+        p = (1.0 - 0.5 * gam * mu) * ph + gam * rho * e;
+        let dpdr = ((1.0 - 0.5 * gam * mu) * dph - 0.5 * gam * ph) / rho0 + gam * e;
+        let dpde = gam * rho;
+        c2 = dpdr + p / (rho * rho) * dpde;
+    }
+    p = fmax(p, par[PMIN]);
+    let c = fmax(c2, 1.0e-4 * cref * cref).sqrt();
+    (p, c)
+}
+
+/// Fortran's `max(a, b)` for non-NaN arguments: `a` unless `b` is larger.
+#[inline]
+fn fmax(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}
+
+/// p and c for the first `mat.len()` particles.
+pub(super) fn eval(a: &mut Eval) {
+    let Eval { mt, mat, burn, rho, e, p, c } = a;
+    let n = mat.len();
+    par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
+        let m = mat[i] as usize;
+        let lam = if burn.is_empty() { 1.0 } else { burn[i] };
+        let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
+        pi[0] = pp;
+        ci[0] = cc;
+    });
+}

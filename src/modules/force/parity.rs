@@ -1,0 +1,23 @@
+//! Parity of the internal force, fluid and with a deviatoric stress, 1D to 3D.
+
+use super::Internal;
+use crate::modules::testkit::*;
+
+#[test]
+fn force_internal_fluid_and_with_tau() {
+    for (dim, seed) in clouds(71) {
+        let cl = cloud(dim, side(dim), seed);
+        let pl = pairs(&cl, 2.0);
+        let (_, dwdx) = kernel_values(&cl, &pl);
+        for with_tau in [false, true] {
+            let tau: &[f64] = if with_tau { &cl.tau } else { &[] };
+            let tag = format!("force::internal {dim}D seed {seed} {}", if with_tau { "with tau" } else { "fluid" });
+            let [acc, _] =
+                parity(&tag, 0, ["dvdt", "dedt"], [sentinel(dim * cl.nt), sentinel(cl.nt)], |b, [dvdt, dedt]| {
+                    let (mass, rho, p, v) = (&cl.mass, &cl.rho, &cl.p, &cl.v);
+                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, dvdt, dedt }, b)
+                });
+            nonzero(&tag, &acc);
+        }
+    }
+}

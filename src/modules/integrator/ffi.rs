@@ -1,0 +1,134 @@
+//! The Fortran twin of the leapfrog (`sph_integrator_sum_rates`, `_predict`, `_advance`, `_cfl`).
+#![allow(unsafe_code)]
+
+use super::{Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use crate::modules::ffi_util::{chk, mptr_or, n32, ptr_or};
+use crate::modules::param::NSTR;
+
+#[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
+mod sys {
+    include!(concat!(env!("OUT_DIR"), "/ffi_integrator.rs"));
+}
+
+pub(super) fn sum_rates(a: &mut SumRates) {
+    let (dim, n, lda, nterm) = (a.dim, a.n, a.lda, a.nterm);
+    chk("acc", a.acc.len(), lda * nterm);
+    chk("grav", a.grav.len(), dim);
+    chk("out", a.out.len(), dim * n);
+    assert!(lda >= dim * n, "legacy call: lda too small");
+    let dummy = 0.0;
+    // SAFETY: acc holds nterm × lda values (a one-value dummy when nterm = 0: the routine then
+    // reads none), grav dim, out dim × n (checked above).
+    unsafe {
+        sys::sph_integrator_sum_rates(
+            n32(dim),
+            n32(n),
+            n32(lda),
+            n32(nterm),
+            ptr_or(a.acc, &dummy),
+            a.grav.as_ptr(),
+            a.out.as_mut_ptr(),
+        )
+    }
+}
+
+/// Checks the leapfrog arrays of `n` particles; returns the number with a stress (0 or n).
+fn check_leapfrog(dim: usize, n: usize, s: &Leapfrog, r: &Rates) -> usize {
+    for (name, l) in [
+        ("rho", s.rho.len()),
+        ("e", s.e.len()),
+        ("rho_min", s.rho_min.len()),
+        ("e_min", s.e_min.len()),
+        ("drho", r.drho.len()),
+        ("de", r.de.len()),
+    ] {
+        chk(name, l, n);
+    }
+    chk("v", s.v.len(), dim * n);
+    chk("v_min", s.v_min.len(), dim * n);
+    chk("dv", r.dv.len(), dim * n);
+    let ntau = if s.tau.is_empty() { 0 } else { n };
+    chk("tau", s.tau.len(), NSTR * ntau);
+    chk("tau_min", s.tau_min.len(), NSTR * ntau);
+    chk("dtau", r.dtau.len(), NSTR * ntau);
+    ntau
+}
+
+pub(super) fn predict(a: &mut Predict) {
+    let (dim, n) = (a.dim, a.n);
+    let ntau = check_leapfrog(dim, n, &a.lf, &a.rates);
+    let (s, r) = (&mut a.lf, &a.rates);
+    let (mut d1, mut d2, d3) = (0.0, 0.0, 0.0);
+    // SAFETY: every array holds the n (dim × n, NSTR × n) values the explicit shapes declare
+    // (checked above); the stress arrays are one-value dummies when ntau = 0.
+    unsafe {
+        sys::sph_integrator_predict(
+            n32(dim),
+            n32(n),
+            n32(ntau),
+            a.dt_prev,
+            i32::from(a.cont),
+            s.rho.as_mut_ptr(),
+            r.drho.as_ptr(),
+            s.e.as_mut_ptr(),
+            r.de.as_ptr(),
+            s.v.as_mut_ptr(),
+            r.dv.as_ptr(),
+            mptr_or(s.tau, &mut d1),
+            ptr_or(r.dtau, &d3),
+            s.rho_min.as_mut_ptr(),
+            s.e_min.as_mut_ptr(),
+            s.v_min.as_mut_ptr(),
+            mptr_or(s.tau_min, &mut d2),
+        )
+    }
+}
+
+pub(super) fn advance(a: &mut Advance) {
+    let (dim, n) = (a.dim, a.n);
+    let ntau = check_leapfrog(dim, n, &a.lf, &a.rates);
+    chk("x", a.x.len(), dim * n);
+    let nav = if a.av.is_empty() { 0 } else { n };
+    chk("av", a.av.len(), dim * nav);
+    let (s, r) = (&mut a.lf, &a.rates);
+    let (mut d1, d2, d3, d4) = (0.0, 0.0, 0.0, 0.0);
+    // SAFETY: every array holds the values the explicit shapes declare (checked above); the
+    // stress arrays and av are one-value dummies when ntau = 0 or nav = 0.
+    unsafe {
+        sys::sph_integrator_advance(
+            n32(dim),
+            n32(n),
+            n32(ntau),
+            i32::from(a.first),
+            a.dt_prev,
+            a.dt,
+            i32::from(a.cont),
+            s.rho.as_mut_ptr(),
+            r.drho.as_ptr(),
+            s.e.as_mut_ptr(),
+            r.de.as_ptr(),
+            s.v.as_mut_ptr(),
+            r.dv.as_ptr(),
+            mptr_or(s.tau, &mut d1),
+            ptr_or(r.dtau, &d2),
+            s.rho_min.as_ptr(),
+            s.e_min.as_ptr(),
+            s.v_min.as_ptr(),
+            ptr_or(s.tau_min, &d3),
+            n32(nav),
+            ptr_or(a.av, &d4),
+            a.x.as_mut_ptr(),
+        )
+    }
+}
+
+pub(super) fn cfl(a: &mut Cfl) {
+    let (dim, n) = (a.dim, a.h.len());
+    chk("c", a.c.len(), n);
+    chk("v", a.v.len(), dim * n);
+    chk("dv", a.dv.len(), dim * n);
+    // SAFETY: h and c hold n values, v and dv dim × n (checked above); dt is one value.
+    unsafe {
+        sys::sph_integrator_cfl(n32(dim), n32(n), a.cfl, a.h.as_ptr(), a.c.as_ptr(), a.v.as_ptr(), a.dv.as_ptr(), a.dt)
+    }
+}

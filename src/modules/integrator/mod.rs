@@ -1,0 +1,265 @@
+//! Leapfrog (thesis (2-17)…(2-27); Liu's time_integration) with a variable step, the rate sums
+//! and the CFL step. Fortran twin: `sph_integrator.f90`.
+//!
+//! Staggered variables u ∈ {ρ (continuity), e, v, τ}:
+//! predict (after the first step): u_min = u; u(t_n) = u_min + Δt_{n−1}/2 · du(t_{n−1});
+//! advance, first step: u(t_{1/2}) = u(t_0) + Δt_0/2 · du(t_0);
+//! later: u(t_{n+1/2}) = u_min + (Δt_{n−1} + Δt_n)/2 · du(t_n); then x += Δt (v + av).
+//! With a fixed step this is Liu's scheme exactly. CFL (s):
+//! Δt = C min_i min(h_i/(c_i + |v_i|), √(h_i/|a_i|)).
+
+mod ffi;
+#[cfg(test)]
+mod parity;
+mod rust;
+
+use super::param::NSTR;
+use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Twin};
+use crate::case::{DensityKind, StepRule};
+use crate::state::{Clock, Field, Particles, Work};
+
+/// `sph_integrator_sum_rates`: `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks
+/// `nterm` arrays of `lda` values.
+pub struct SumRates<'a> {
+    pub dim: usize,
+    pub n: usize,
+    pub lda: usize,
+    pub nterm: usize,
+    pub acc: &'a [f64],
+    pub grav: &'a [f64],
+    pub out: &'a mut [f64],
+}
+
+/// The staggered leapfrog variables and their saved half-step values (τ empty without
+/// strength).
+pub struct Leapfrog<'a> {
+    pub rho: &'a mut [f64],
+    pub e: &'a mut [f64],
+    pub v: &'a mut [f64],
+    pub tau: &'a mut [f64],
+    pub rho_min: &'a mut [f64],
+    pub e_min: &'a mut [f64],
+    pub v_min: &'a mut [f64],
+    pub tau_min: &'a mut [f64],
+}
+
+/// The rates the leapfrog applies.
+pub struct Rates<'a> {
+    pub drho: &'a [f64],
+    pub de: &'a [f64],
+    pub dv: &'a [f64],
+    pub dtau: &'a [f64],
+}
+
+/// `sph_integrator_predict`: the staggered variables of the first `n` particles at t.
+pub struct Predict<'a> {
+    pub dim: usize,
+    pub n: usize,
+    /// The previous step (s).
+    pub dt_prev: f64,
+    /// ρ is staggered (continuity density).
+    pub cont: bool,
+    pub lf: Leapfrog<'a>,
+    pub rates: Rates<'a>,
+}
+
+/// `sph_integrator_advance`: the staggered variables at t + Δt/2 and x at t + Δt.
+pub struct Advance<'a> {
+    pub dim: usize,
+    pub n: usize,
+    pub first: bool,
+    pub dt_prev: f64,
+    pub dt: f64,
+    pub cont: bool,
+    pub lf: Leapfrog<'a>,
+    pub rates: Rates<'a>,
+    /// The XSPH correction (dim × n), or empty.
+    pub av: &'a [f64],
+    pub x: &'a mut [f64],
+}
+
+/// `sph_integrator_cfl`: the CFL step of the first `h.len()` particles.
+pub struct Cfl<'a> {
+    pub dim: usize,
+    /// The Courant number C.
+    pub cfl: f64,
+    pub h: &'a [f64],
+    pub c: &'a [f64],
+    pub v: &'a [f64],
+    pub dv: &'a [f64],
+    /// The step (s).
+    pub dt: &'a mut f64,
+}
+
+impl Twin for SumRates<'_> {
+    fn rust(&mut self) {
+        rust::sum_rates(self)
+    }
+    fn fortran(&mut self) {
+        ffi::sum_rates(self)
+    }
+}
+
+impl Twin for Predict<'_> {
+    fn rust(&mut self) {
+        rust::predict(self)
+    }
+    fn fortran(&mut self) {
+        ffi::predict(self)
+    }
+}
+
+impl Twin for Advance<'_> {
+    fn rust(&mut self) {
+        rust::advance(self)
+    }
+    fn fortran(&mut self) {
+        ffi::advance(self)
+    }
+}
+
+impl Twin for Cfl<'_> {
+    fn rust(&mut self) {
+        *self.dt = rust::cfl(self)
+    }
+    fn fortran(&mut self) {
+        ffi::cfl(self)
+    }
+}
+
+/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off) and the
+/// positions of the real particles, borrowed from the state.
+fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>, &'a [f64], &'a mut [f64]) {
+    let (dim, n) = (p.dim, p.nreal);
+    let ntau = if p.tau.is_empty() { 0 } else { NSTR * n };
+    let Work { rho_min, e_min, v_min, tau_min, drho, de, dv, dtau, av, .. } = w;
+    let lf = Leapfrog {
+        rho: &mut p.rho[..n],
+        e: &mut p.e[..n],
+        v: &mut p.v[..dim * n],
+        tau: &mut p.tau[..ntau],
+        rho_min,
+        e_min,
+        v_min,
+        tau_min,
+    };
+    let rates = Rates { drho: &drho[..n], de, dv, dtau: &dtau[..ntau] };
+    let av: &[f64] = if av.is_empty() { &[] } else { &av[..dim * n] };
+    (lf, rates, av, &mut p.x[..dim * n])
+}
+
+/// Sizes the half-step values and the rates the leapfrog reads.
+fn size_leapfrog(p: &Particles, w: &mut Work) {
+    let (dim, n) = (p.dim, p.nreal);
+    let ntau = if p.tau.is_empty() { 0 } else { NSTR * n };
+    w.rho_min.resize(n, 0.0);
+    w.e_min.resize(n, 0.0);
+    w.v_min.resize(dim * n, 0.0);
+    w.tau_min.resize(ntau, 0.0);
+    if w.drho.len() < n {
+        w.drho.resize(n, 0.0);
+    }
+}
+
+/// The four stages of the module.
+enum Which {
+    Sum,
+    Predict,
+    Cfl(f64),
+    Advance,
+}
+
+/// A stage of the leapfrog.
+pub struct IntegratorStage {
+    which: Which,
+    /// ρ is staggered (continuity density).
+    cont: bool,
+    grav: Vec<f64>,
+    slots: Slots,
+}
+
+const LEAPFROG: [Field; 8] =
+    [Field::Rho, Field::E, Field::V, Field::Tau, Field::RhoMin, Field::EMin, Field::VMin, Field::TauMin];
+
+impl Stage for IntegratorStage {
+    fn module(&self) -> Module {
+        Module::Integrator
+    }
+    fn name(&self) -> &'static str {
+        match self.which {
+            Which::Sum => "integrator.sum_rates",
+            Which::Predict => "integrator.predict",
+            Which::Cfl(_) => "integrator.cfl",
+            Which::Advance => "integrator.advance",
+        }
+    }
+    fn reads(&self) -> &[Field] {
+        match self.which {
+            Which::Sum => &[Field::Acc, Field::Dde],
+            Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau],
+            Which::Cfl(_) => &[Field::H, Field::C, Field::V, Field::Dv],
+            Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
+        }
+    }
+    fn writes(&self) -> &[Field] {
+        match self.which {
+            Which::Sum => &[Field::Dv, Field::De],
+            Which::Predict => &LEAPFROG,
+            Which::Cfl(_) => &[Field::DtCfl],
+            Which::Advance => &[Field::Rho, Field::E, Field::V, Field::Tau, Field::X],
+        }
+    }
+    fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        match self.which {
+            Which::Sum => {
+                w.dv.resize(p.dim * p.nreal, 0.0);
+                w.de.resize(p.nreal, 0.0);
+            }
+            Which::Cfl(_) => w.dt_cfl.resize(1, 0.0),
+            Which::Predict | Which::Advance => size_leapfrog(p, w),
+        }
+    }
+    fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, k: &Clock) {
+        let (dim, n, nt) = (p.dim, p.nreal, p.ntotal);
+        match self.which {
+            Which::Sum => {
+                let Slots { nacc, nde, .. } = self.slots;
+                let (acc, out) = (&w.acc, &mut w.dv);
+                SumRates { dim, n, lda: dim * nt, nterm: nacc, acc, grav: &self.grav, out }.run(b);
+                SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: &mut w.de }.run(b);
+            }
+            Which::Predict => {
+                let (lf, rates, _, _) = parts(p, w);
+                Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates }.run(b);
+            }
+            Which::Cfl(cfl) => {
+                let (h, c, v) = (&p.h[..n], &p.c[..n], &p.v[..dim * n]);
+                Cfl { dim, cfl, h, c, v, dv: &w.dv, dt: &mut w.dt_cfl[0] }.run(b);
+            }
+            Which::Advance => {
+                let (first, dt_prev, dt, cont) = (k.first, k.dt_prev, k.dt, self.cont);
+                let (lf, rates, av, x) = parts(p, w);
+                Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x }.run(b);
+            }
+        }
+    }
+    fn assign(&mut self, slots: Slots) {
+        self.slots = slots;
+    }
+}
+
+/// Every case: the rate sums, the leapfrog, and the CFL step unless the step is fixed.
+pub fn plan(ctx: &PlanCtx) -> Contribution {
+    let case = ctx.case;
+    let cont = case.sph.density == DensityKind::Continuity;
+    let grav = case.physics.gravity_ms2.clone().unwrap_or_else(|| vec![0.0; ctx.dim]);
+    let st = |which| -> Box<dyn Stage> {
+        Box::new(IntegratorStage { which, cont, grav: grav.clone(), slots: Slots::default() })
+    };
+    let mut stages = vec![(Phase::Predict, st(Which::Predict)), (Phase::Sum, st(Which::Sum))];
+    if case.time.step == StepRule::Cfl {
+        stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl))));
+    }
+    stages.push((Phase::Advance, st(Which::Advance)));
+    Contribution::run(format!("leapfrog, {:?} step", case.time.step).to_lowercase(), stages)
+}

@@ -1,0 +1,131 @@
+//! Parity of the leapfrog: the rate sums (0 to 5 terms), predict and advance (first and later
+//! steps, with and without τ, XSPH and continuity density), the CFL step.
+
+use super::{Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use crate::modules::param::NSTR;
+use crate::modules::testkit::*;
+
+#[test]
+fn integrator_sum_rates() {
+    let mut g = Rng::new(161);
+    for dim in 1..=3 {
+        let n = 400;
+        let lda = dim * (n + 37); // the stacked arrays hold the mirrors too
+        for nterm in [0, 1, 2, 5] {
+            let acc = g.vec(lda * nterm, -1e6, 1e6);
+            let grav: Vec<f64> = (0..dim).map(|d| if d + 1 == dim { -9.81 } else { 0.0 }).collect();
+            let tag = format!("integrator::sum_rates {dim}D {nterm} terms");
+            parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out }, b)
+            });
+        }
+    }
+}
+
+const LF: [&str; 9] = ["rho", "e", "v", "tau", "rho_min", "e_min", "v_min", "tau_min", "x"];
+
+/// The leapfrog state (the order of [`LF`]) of `n` particles.
+fn state(g: &mut Rng, dim: usize, n: usize, with_tau: bool) -> [Vec<f64>; 9] {
+    let nt = if with_tau { NSTR * n } else { 0 };
+    [
+        g.vec(n, 900.0, 2100.0),
+        g.vec(n, 0.0, 1e6),
+        g.vec(dim * n, -300.0, 300.0),
+        g.vec(nt, -1e6, 1e6),
+        g.vec(n, 900.0, 2100.0),
+        g.vec(n, 0.0, 1e6),
+        g.vec(dim * n, -300.0, 300.0),
+        g.vec(nt, -1e6, 1e6),
+        g.vec(dim * n, -0.5, 0.5),
+    ]
+}
+
+/// The rates drho, de, dv, dtau.
+fn rates(g: &mut Rng, dim: usize, n: usize, with_tau: bool) -> [Vec<f64>; 4] {
+    [
+        g.vec(n, -1e7, 1e7),
+        g.vec(n, -1e10, 1e10),
+        g.vec(dim * n, -1e7, 1e7),
+        g.vec(if with_tau { NSTR * n } else { 0 }, -1e12, 1e12),
+    ]
+}
+
+/// Splits the state into the leapfrog's variables and x.
+fn split(s: &mut [Vec<f64>; 9]) -> (Leapfrog<'_>, &mut [f64]) {
+    let [rho, e, v, tau, rho_min, e_min, v_min, tau_min, x] = s;
+    (Leapfrog { rho, e, v, tau, rho_min, e_min, v_min, tau_min }, x)
+}
+
+#[test]
+fn integrator_predict() {
+    let mut g = Rng::new(171);
+    for dim in 1..=3 {
+        let n = 500;
+        for with_tau in [false, true] {
+            for cont in [false, true] {
+                let start = state(&mut g, dim, n, with_tau);
+                let rt = rates(&mut g, dim, n, with_tau);
+                let dt_prev = g.range(1e-8, 1e-6);
+                let tag = format!("integrator::predict {dim}D tau {with_tau} cont {cont}");
+                let f = parity(&tag, 0, LF, start.clone(), |b, s| {
+                    let (lf, _) = split(s);
+                    let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
+                    run(Predict { dim, n, dt_prev, cont, lf, rates }, b)
+                });
+                assert_ne!(f[2], start[2]);
+                assert_eq!(f[0] != start[0], cont);
+            }
+        }
+    }
+}
+
+#[test]
+fn integrator_advance_first_and_later_steps() {
+    let mut g = Rng::new(181);
+    for dim in 1..=3 {
+        let n = 500;
+        for first in [true, false] {
+            for with_tau in [false, true] {
+                for with_av in [false, true] {
+                    for cont in [false, true] {
+                        let start = state(&mut g, dim, n, with_tau);
+                        let rt = rates(&mut g, dim, n, with_tau);
+                        let av = if with_av { g.vec(dim * n, -5.0, 5.0) } else { vec![] };
+                        let dt_prev = g.range(1e-8, 1e-6);
+                        let dt = dt_prev * g.range(0.8, 1.2);
+                        let tag =
+                            format!("integrator::advance {dim}D first {first} tau {with_tau} av {with_av} cont {cont}");
+                        let f = parity(&tag, 0, LF, start.clone(), |b, s| {
+                            let (lf, x) = split(s);
+                            let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
+                            run(Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av: &av, x }, b)
+                        });
+                        assert_ne!(f[8], start[8]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn integrator_cfl() {
+    let mut g = Rng::new(191);
+    for dim in 1..=3 {
+        for trial in 0..20 {
+            let n = 300 + trial;
+            let h = g.vec(n, 0.005, 0.02);
+            let c = g.vec(n, 0.1, 7000.0);
+            let v = g.vec(dim * n, -500.0, 500.0);
+            // at rest for some particles (no force limit), huge accelerations for others
+            let scale = 10f64.powf(g.range(2.0, 12.0));
+            let dv: Vec<f64> =
+                (0..dim * n).map(|l| if (l / dim) % 3 == 0 { 0.0 } else { g.range(-scale, scale) }).collect();
+            let cfl = g.range(0.1, 0.4);
+            let [f] = parity(&format!("integrator::cfl {dim}D trial {trial}"), 0, ["dt"], [sentinel(1)], |b, [dt]| {
+                run(Cfl { dim, cfl, h: &h, c: &c, v: &v, dv: &dv, dt: &mut dt[0] }, b)
+            });
+            assert!(f[0] > 0.0 && f[0].is_finite());
+        }
+    }
+}

@@ -1,0 +1,302 @@
+//! Neighbour search (Liu's direct_find and link_list; DESIGN.md "nnps").
+//!
+//! Output: the canonical pair list — every (i, j) with i < j, i real (i < nreal), j any particle,
+//! |x_i − x_j| < κ h_ij, h_ij = (h_i + h_j)/2 — sorted by i then j. Every search (direct or cell,
+//! Fortran or Rust) returns the same list, so later sums do not depend on the search.
+//! Indices are 0-based (`i32`, as at the C boundary).
+//!
+//! The Rust cell search sizes its cells from the mean h (edge κ h̄/2), not from the largest h as
+//! the Fortran does, so that a few expanded particles (detonation products, h up to 5× the rest)
+//! do not multiply everyone's candidates. Each pair is found once, by its *owner*: the particle
+//! with the clearly larger h (h_a > h_b (1 + 1/16)), or, between similar h, the one that comes
+//! first in cell order; the owner's box of half-width κ h_owner (1 + 1/16) ≥ κ h_ij holds every
+//! partner. Between similar h a particle thus looks only forward in cell order (half the box), and
+//! backward only through rows that hold a clearly smaller h. The test itself is the Fortran's,
+//! evaluated with i < j:
+//! `s = κ (0.5 (h_i + h_j)); r² < s²`. The pairs are then sorted into the canonical order
+//! (counting sort by i, each row sorted by j), so the list is the Fortran's, whatever the order
+//! in which they were found and however many threads found them.
+
+mod ffi;
+#[cfg(test)]
+mod parity;
+mod rust;
+mod verlet;
+
+use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin, serial};
+use crate::case::NnpsKind;
+use crate::state::{Clock, Field, Particles, Work};
+use rayon::prelude::*;
+use std::sync::{Mutex, MutexGuard};
+use verlet::Verlet;
+
+/// One entry of a particle's incidence list: a pair touching it and the pair's other particle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Inc {
+    k: u32,
+    o: u32,
+}
+
+const SIDE_I: u32 = 1 << 31;
+
+impl Inc {
+    /// The pair's index in the list.
+    #[inline]
+    pub fn pair(self) -> usize {
+        self.k as usize
+    }
+    /// The pair's other particle.
+    #[inline]
+    pub fn other(self) -> usize {
+        (self.o & !SIDE_I) as usize
+    }
+    /// True when this particle is the pair's `i` (then the other is its `j`).
+    #[inline]
+    pub fn is_i(self) -> bool {
+        self.o & SIDE_I != 0
+    }
+}
+
+/// Work buffers that the Rust twins reuse from step to step (never part of a result): the pair
+/// terms of the pair-sum modules, a per-particle array, per-task lists, and the cell search's
+/// grid. Behind a mutex so that modules handed `&PairList` can use them; the solver calls one
+/// module at a time, so the lock is never contended. Cloning gives empty buffers.
+#[derive(Default)]
+pub struct Scratch {
+    inner: Mutex<Bufs>,
+}
+
+#[derive(Default)]
+pub(crate) struct Bufs {
+    /// Pair terms, `width` values per pair.
+    pub pair: Vec<f64>,
+    /// One value per particle.
+    pub part: Vec<f64>,
+    /// Per-task buffers of pair indices or pairs.
+    pub idx_tasks: Vec<Vec<u32>>,
+    pub pair_tasks: Vec<Vec<[u32; 2]>>,
+    /// Cell grid: cell of each particle, first slot of each cell, particles in cell order, their
+    /// positions and h in that order.
+    pub cell_of: Vec<u32>,
+    pub start: Vec<u32>,
+    pub order: Vec<u32>,
+    pub xs: Vec<f64>,
+    pub hs: Vec<f64>,
+    pub fill: Vec<u32>,
+    /// Candidate lists kept from step to step (see [`Verlet`]).
+    pub verlet: Verlet,
+    /// Small per-thread work arrays (a block's intermediate values stay in cache).
+    pub per_thread: PerThread,
+}
+
+/// One work array per pool thread, each behind its own (never contended) lock.
+#[derive(Default)]
+pub(crate) struct PerThread(Vec<Mutex<Vec<f64>>>);
+
+impl PerThread {
+    /// One array for each thread of the current pool.
+    pub(crate) fn ensure(&mut self) {
+        let n = rayon::current_num_threads();
+        if self.0.len() < n {
+            self.0.resize_with(n, Default::default);
+        }
+    }
+
+    /// Runs `f` on the calling thread's array, `len` values long (contents unspecified).
+    pub(crate) fn with<R>(&self, len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+        let k = rayon::current_thread_index().unwrap_or(0) % self.0.len().max(1);
+        let mut g = match self.0.get(k) {
+            Some(m) => m.lock().unwrap_or_else(|e| e.into_inner()),
+            None => return f(&mut vec![0.0; len]),
+        };
+        if g.len() < len {
+            g.resize(len, 0.0);
+        }
+        f(&mut g[..len])
+    }
+}
+
+impl Clone for Scratch {
+    fn clone(&self) -> Scratch {
+        Scratch::default()
+    }
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
+impl Scratch {
+    pub(crate) fn lock(&self) -> MutexGuard<'_, Bufs> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+    pub(super) fn get_mut(&mut self) -> &mut Bufs {
+        self.inner.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// The pair list shared by both backends, and (for the Rust gathers) the incidence lists: for each
+/// particle, the pairs that touch it in ascending pair order.
+#[derive(Debug, Clone, Default)]
+pub struct PairList {
+    pub i: Vec<i32>,
+    pub j: Vec<i32>,
+    inc_start: Vec<u32>,
+    inc: Vec<Inc>,
+    inc_fill: Vec<u32>,
+    pub(crate) scratch: Scratch,
+}
+
+impl PairList {
+    /// A list of the given pairs (i, j), 0-based.
+    pub fn new(i: Vec<i32>, j: Vec<i32>) -> PairList {
+        PairList { i, j, ..Default::default() }
+    }
+
+    pub fn len(&self) -> usize {
+        self.i.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.i.is_empty()
+    }
+
+    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
+    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
+    /// With more than one thread the particles are split into a few ranges, each counting and
+    /// placing the entries of its own particles (every range reads the whole pair list, in
+    /// order, so each list is still in ascending pair order).
+    pub fn build_incidence(&mut self, ntotal: usize) {
+        let np = self.i.len();
+        assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
+        let nr = if serial() || np < 4096 { 1 } else { rayon::current_num_threads().min(4) };
+        let rsize = ntotal.div_ceil(nr).max(1);
+        let (pi, pj) = (&self.i[..np], &self.j[..np]);
+        let start = &mut self.inc_start;
+        start.clear();
+        start.resize(ntotal + 1, 0);
+        // counts of range r's particles, in start[a + 1]
+        let count = |(r, cnt): (usize, &mut [u32])| {
+            let a0 = r * rsize;
+            for (&a, &b) in pi.iter().zip(pj) {
+                for p in [a as usize, b as usize] {
+                    if let Some(c) = p.checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
+                        *c += 1;
+                    }
+                }
+            }
+        };
+        if nr == 1 {
+            count((0, &mut start[1..]));
+        } else {
+            start[1..].par_chunks_mut(rsize).enumerate().for_each(count);
+        }
+        for a in 0..ntotal {
+            start[a + 1] += start[a];
+        }
+        self.inc.resize(2 * np, Inc::default());
+        let fill = &mut self.inc_fill;
+        fill.clear();
+        fill.extend_from_slice(&start[..ntotal]);
+        // range r writes the slots of its particles, start[a0] .. start[a1]
+        let mut parts: Vec<(usize, &mut [u32], &mut [Inc])> = Vec::with_capacity(nr);
+        let mut rest = &mut self.inc[..];
+        let mut base = 0usize;
+        for (r, f) in fill.chunks_mut(rsize).enumerate() {
+            let a1 = ((r + 1) * rsize).min(ntotal);
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(start[a1] as usize - base);
+            base = start[a1] as usize;
+            parts.push((r, f, mine));
+            rest = tail;
+        }
+        let place = |(r, f, mine): (usize, &mut [u32], &mut [Inc])| {
+            let a0 = r * rsize;
+            let off = f.first().copied().unwrap_or(0) as usize;
+            for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
+                for (p, q, side) in [(a as usize, b as u32, SIDE_I), (b as usize, a as u32, 0)] {
+                    if let Some(fp) = p.checked_sub(a0).and_then(|l| f.get_mut(l)) {
+                        mine[*fp as usize - off] = Inc { k: k as u32, o: q | side };
+                        *fp += 1;
+                    }
+                }
+            }
+        };
+        if nr == 1 {
+            parts.into_iter().for_each(place);
+        } else {
+            parts.into_par_iter().for_each(place);
+        }
+    }
+
+    /// Forgets the candidate lists the Rust cell search keeps between calls: to be called when
+    /// the particles change places in memory (the lists hold particle indices).
+    pub fn invalidate(&mut self) {
+        self.scratch.get_mut().verlet.valid = false;
+    }
+
+    /// The pairs touching particle `a`, ascending.
+    #[inline]
+    pub fn incident(&self, a: usize) -> &[Inc] {
+        &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize]
+    }
+}
+
+
+/// `sph_nnps_direct` / `sph_nnps_cell`: the canonical pair list of `ntotal = h.len()` particles,
+/// the first `nreal` real.
+pub struct Search<'a> {
+    /// The cell search (else the direct all-pairs search).
+    pub cell: bool,
+    pub dim: usize,
+    pub nreal: usize,
+    pub x: &'a [f64],
+    pub h: &'a [f64],
+    /// Kernel support in units of h.
+    pub kappa: f64,
+    pub pairs: &'a mut PairList,
+}
+
+impl Twin for Search<'_> {
+    fn rust(&mut self) {
+        rust::search(self)
+    }
+    fn fortran(&mut self) {
+        ffi::search(self)
+    }
+}
+
+/// The neighbour pairs of every real particle (mirrors included as partners).
+pub struct SearchStage {
+    cell: bool,
+    kappa: f64,
+}
+
+impl Stage for SearchStage {
+    fn module(&self) -> Module {
+        Module::Nnps
+    }
+    fn name(&self) -> &'static str {
+        "nnps.search"
+    }
+    fn reads(&self) -> &[Field] {
+        &[Field::X, Field::H]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::PairI, Field::PairJ]
+    }
+    fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
+        let (dim, nt) = (p.dim, p.ntotal);
+        let (x, h) = (&p.x[..dim * nt], &p.h[..nt]);
+        Search { cell: self.cell, dim, nreal: p.nreal, x, h, kappa: self.kappa, pairs: &mut w.pairs }.run(b);
+    }
+}
+
+/// Every case searches its neighbours.
+pub fn plan(ctx: &PlanCtx) -> Contribution {
+    let cell = ctx.case.sph.nnps == NnpsKind::Cell;
+    Contribution::run(
+        if cell { "cell search" } else { "direct search" },
+        vec![(Phase::Search, Box::new(SearchStage { cell, kappa: ctx.kappa }))],
+    )
+}

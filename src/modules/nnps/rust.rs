@@ -1,0 +1,357 @@
+//! The Rust twin of the neighbour search: the direct search, and the owner-based cell search
+//! (see the module's documentation) that the Verlet lists of `verlet.rs` call to rebuild.
+
+use super::{PairList, Search, verlet};
+use crate::modules::{CHUNK, serial};
+use rayon::prelude::*;
+
+/// Finds the pairs: the cell search keeps Verlet candidate lists between calls (`verlet.rs`).
+pub(super) fn search(a: &mut Search) {
+    let Search { cell, dim, nreal, x, h, kappa, pairs } = a;
+    let (dim, kappa) = (*dim, *kappa);
+    assert!(x.len() >= dim * h.len(), "nnps: x has {} values, need {}", x.len(), dim * h.len());
+    let nreal = (*nreal).min(h.len());
+    if *cell { verlet::verlet(dim, nreal, x, h, kappa, pairs) } else { rust_direct(dim, nreal, x, h, kappa, pairs) }
+}
+
+#[inline]
+pub(super) fn within(dim: usize, x: &[f64], h: &[f64], kappa: f64, i: usize, j: usize) -> bool {
+    let mut r2 = 0.0;
+    for d in 0..dim {
+        let dxd = x[d + dim * i] - x[d + dim * j];
+        r2 += dxd * dxd;
+    }
+    let s = kappa * (0.5 * (h[i] + h[j]));
+    r2 < s * s
+}
+
+/// Runs `f(task, buffer)` for `ntask` tasks, each with its own cleared buffer.
+pub(super) fn tasks<T: Send, F>(bufs: &mut Vec<Vec<T>>, ntask: usize, f: F)
+where
+    F: Fn(usize, &mut Vec<T>) + Sync + Send,
+{
+    if bufs.len() < ntask {
+        bufs.resize_with(ntask, Vec::new);
+    }
+    let run = |(t, b): (usize, &mut Vec<T>)| {
+        b.clear();
+        f(t, b)
+    };
+    if serial() {
+        bufs[..ntask].iter_mut().enumerate().for_each(run);
+    } else {
+        bufs[..ntask].par_iter_mut().enumerate().for_each(run);
+    }
+}
+
+pub(super) fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    let nt = h.len();
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    let s = scratch.get_mut();
+    let ntask = nreal.div_ceil(64);
+    tasks(&mut s.pair_tasks, ntask, |t, buf| {
+        for i in 64 * t..(64 * t + 64).min(nreal) {
+            for j in i + 1..nt {
+                if within(dim, x, h, kappa, i, j) {
+                    buf.push([i as u32, j as u32]);
+                }
+            }
+        }
+    });
+    pi.clear();
+    pj.clear();
+    for buf in &s.pair_tasks[..ntask] {
+        for &[i, j] in buf {
+            pi.push(i as i32);
+            pj.push(j as i32);
+        }
+    }
+}
+
+/// Two h are "similar" unless one exceeds the other times ONEP (an exact binary fraction).
+const ONEP: f64 = 1.0 + 1.0 / 16.0;
+
+/// A cell grid over the particles sorted by cell.
+struct Grid<'a> {
+    lo: [f64; 3],
+    /// 1 / cell edge.
+    inv: f64,
+    nc: [usize; 3],
+    start: &'a [u32],
+    order: &'a [u32],
+    xs: &'a [f64],
+    hs: &'a [f64],
+    kappa: f64,
+    nreal: usize,
+}
+
+impl Grid<'_> {
+    /// The pairs owned by the particles in `slots` (cell order), as [i, j] into `bufs[i / rows]`.
+    fn find<const D: usize>(&self, slots: std::ops::Range<usize>, rows: usize, bufs: &mut [Vec<[u32; 2]>]) {
+        let Grid { lo, inv, nc, start, order, xs, hs, kappa, nreal } = *self;
+        for slot in slots {
+            let a = order[slot] as usize;
+            let ha = hs[slot];
+            let xa: [f64; D] = xs[D * slot..D * slot + D].try_into().unwrap_or([0.0; D]);
+            // the box holds every partner a owns: r < κ (h_a + h_b)/2 ≤ κ h_a ONEP
+            let rad = kappa * (ha * ONEP);
+            let rad = rad + rad * 1e-9;
+            let mut clo = [0usize; 3];
+            let mut chi = [0usize; 3];
+            for d in 0..D {
+                let k0 = ((xa[d] - rad - lo[d]) * inv) as isize;
+                let k1 = ((xa[d] + rad - lo[d]) * inv) as isize;
+                clo[d] = k0.clamp(0, nc[d] as isize - 1) as usize;
+                chi[d] = k1.clamp(0, nc[d] as isize - 1) as usize;
+            }
+            let mut test = |sb: usize| {
+                let b = order[sb] as usize;
+                let i = a.min(b);
+                if i >= nreal {
+                    return;
+                }
+                let hb = hs[sb];
+                let xb = &xs[D * sb..D * sb + D];
+                // (x_i − x_j)² = (x_a − x_b)² and h_i + h_j = h_a + h_b, exactly
+                let mut r2 = 0.0;
+                for d in 0..D {
+                    let dxd = xa[d] - xb[d];
+                    r2 += dxd * dxd;
+                }
+                let sr = kappa * (0.5 * (ha + hb));
+                if r2 < sr * sr {
+                    bufs[i / rows].push([i as u32, a.max(b) as u32]);
+                }
+            };
+            for z in clo[2]..=chi[2] {
+                for y in clo[1]..=chi[1] {
+                    let row = nc[0] * (y + nc[1] * z);
+                    let (s0, s1) = (start[row + clo[0]] as usize, start[row + chi[0] + 1] as usize);
+                    // later slots: a owns b unless b is clearly larger
+                    for sb in s0.max(slot + 1)..s1 {
+                        let b_larger = hs[sb] > ha * ONEP;
+                        if b_larger {
+                            continue;
+                        }
+                        test(sb);
+                    }
+                    // earlier slots: a owns b only if a is clearly larger (rarely any)
+                    let back = s0..s1.min(slot).max(s0);
+                    if hs[back.clone()].iter().any(|&hb| ha > hb * ONEP) {
+                        for sb in back {
+                            if ha > hs[sb] * ONEP {
+                                test(sb);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The cell search: a uniform grid of edge ≈ κ h̄/2 (h̄ the mean h), particles sorted by cell
+/// (counting sort, ascending index within a cell); each particle looks through the cells that
+/// meet the box of half-width κ h_a around it and keeps the pairs it owns.
+pub(super) fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    match dim {
+        1 => rust_cell_d::<1>(nreal, x, h, kappa, pl),
+        2 => rust_cell_d::<2>(nreal, x, h, kappa, pl),
+        _ => rust_cell_d::<3>(nreal, x, h, kappa, pl),
+    }
+}
+
+/// CSR offsets of `n` bins from the bin of each item (a counting sort's first half):
+/// `out[b]..out[b + 1]` is the range of bin b.
+pub(super) fn offsets(out: &mut Vec<u32>, n: usize, bins: impl Iterator<Item = usize>) {
+    out.clear();
+    out.resize(n + 1, 0);
+    for b in bins {
+        out[b + 1] += 1;
+    }
+    for b in 0..n {
+        out[b + 1] += out[b];
+    }
+}
+
+/// The grid over the box lo…hi with cells of side `cs` (m), doubled until there are no more than
+/// a few cells per particle (sparse clouds): 1/side and the cells per axis.
+pub(super) fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n: usize) -> (f64, [usize; 3]) {
+    let mut cs = cs;
+    loop {
+        let mut prod: u64 = 1;
+        for d in 0..D {
+            prod = prod.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1));
+        }
+        if prod <= (4 * n as u64).max(64) {
+            break;
+        }
+        cs *= 2.0;
+    }
+    let inv = 1.0 / cs;
+    let mut nc = [1usize; 3];
+    for d in 0..D {
+        nc[d] = (((hi[d] - lo[d]) * inv) as usize).saturating_add(1);
+    }
+    (inv, nc)
+}
+
+pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    let nt = h.len();
+    let PairList { i: pi, j: pj, scratch, .. } = pl;
+    pi.clear();
+    pj.clear();
+    if nt == 0 || nreal == 0 {
+        return;
+    }
+    let s = scratch.get_mut();
+    // the grid: bounding box, smallest and mean h, in tasks of CHUNK particles (the partial sums
+    // added in task order, so h̄ does not depend on the thread count)
+    let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+        for i in CHUNK * c..(CHUNK * c + CHUNK).min(nt) {
+            for d in 0..D {
+                lo[d] = lo[d].min(x[d + D * i]);
+                hi[d] = hi[d].max(x[d + D * i]);
+            }
+            hsum += h[i];
+            hmin = hmin.min(h[i]);
+        }
+        (lo, hi, hsum, hmin)
+    };
+    let nchunk = nt.div_ceil(CHUNK);
+    let parts: Vec<_> =
+        if serial() { (0..nchunk).map(stats).collect() } else { (0..nchunk).into_par_iter().map(stats).collect() };
+    let mut lo = [0.0f64; 3];
+    let mut hi = [0.0f64; 3];
+    lo[..D].fill(f64::INFINITY);
+    hi[..D].fill(f64::NEG_INFINITY);
+    let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+    for (plo, phi, ps, pm) in parts {
+        for d in 0..D {
+            lo[d] = lo[d].min(plo[d]);
+            hi[d] = hi[d].max(phi[d]);
+        }
+        hsum += ps;
+        hmin = hmin.min(pm);
+    }
+    if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
+        // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
+        return rust_direct(D, nreal, x, h, kappa, pl);
+    }
+    let hmean = hsum / nt as f64;
+    let mut cs = 0.5 * kappa * hmean;
+    if !(cs > 0.0 && cs.is_finite()) {
+        cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
+    }
+    let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nt);
+    let ncell = nc[0] * nc[1] * nc[2];
+    // a particle's cell; the box search below uses the same map, which is monotone in x
+    let cell = |p: &[f64]| -> usize {
+        let mut c = [0usize; 3];
+        for d in 0..D {
+            let k = ((p[d] - lo[d]) * inv) as isize;
+            c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
+        }
+        c[0] + nc[0] * (c[1] + nc[1] * c[2])
+    };
+    s.cell_of.resize(nt, 0);
+    let cells = |(c, out): (usize, &mut [u32])| {
+        for (l, o) in out.iter_mut().enumerate() {
+            let i = CHUNK * c + l;
+            *o = cell(&x[D * i..D * i + D]) as u32;
+        }
+    };
+    if serial() {
+        s.cell_of.chunks_mut(CHUNK).enumerate().for_each(cells);
+    } else {
+        s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
+    }
+    offsets(&mut s.start, ncell, s.cell_of.iter().map(|&c| c as usize));
+    let start = &s.start;
+    let fill = &mut s.fill;
+    fill.clear();
+    fill.extend_from_slice(&start[..ncell]);
+    s.order.resize(nt, 0);
+    s.xs.resize(D * nt, 0.0);
+    s.hs.resize(nt, 0.0);
+    let (order, xs, hs) = (&mut s.order[..], &mut s.xs[..], &mut s.hs[..]);
+    for (i, (p, &c)) in x[..D * nt].chunks_exact(D).zip(&s.cell_of).enumerate() {
+        let f = &mut fill[c as usize];
+        let slot = *f as usize;
+        *f += 1;
+        order[slot] = i as u32;
+        xs[D * slot..D * slot + D].copy_from_slice(p);
+        hs[slot] = h[i];
+    }
+    // each particle (in cell order) finds the pairs it owns, into per-task buffers, one per
+    // bucket of rows (the pair's i). The list is canonical whatever the split, so the split may
+    // follow the thread count: a few tasks and buckets per thread keep the buffers O(threads²).
+    let g = Grid { lo, inv, nc, start: &s.start, order: &s.order, xs: &s.xs, hs: &s.hs, kappa, nreal };
+    let per = 4 * rayon::current_num_threads();
+    let ntask = nt.div_ceil(CHUNK).min(per);
+    let slots = nt.div_ceil(ntask);
+    let nb = nreal.div_ceil(CHUNK).min(per);
+    let rows = nreal.div_ceil(nb);
+    if s.pair_tasks.len() < ntask * nb {
+        s.pair_tasks.resize_with(ntask * nb, Vec::new);
+    }
+    let find = |(t, bufs): (usize, &mut [Vec<[u32; 2]>])| {
+        bufs.iter_mut().for_each(Vec::clear);
+        g.find::<D>(slots * t..(slots * t + slots).min(nt), rows, bufs);
+    };
+    let found = &mut s.pair_tasks[..ntask * nb];
+    if serial() {
+        found.chunks_mut(nb).enumerate().for_each(find);
+    } else {
+        found.par_chunks_mut(nb).enumerate().for_each(find);
+    }
+    // canonical order, bucket by bucket: a counting sort by i, then each row by j
+    let found = &s.pair_tasks[..ntask * nb];
+    let size = |b: usize| -> usize { (0..ntask).map(|t| found[t * nb + b].len()).sum() };
+    let np: usize = (0..nb).map(size).sum();
+    pi.resize(np, 0);
+    pj.resize(np, 0);
+    let mut parts: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nb);
+    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    for b in 0..nb {
+        let len = size(b);
+        let (head_i, tail_i) = std::mem::take(&mut ri).split_at_mut(len);
+        let (head_j, tail_j) = std::mem::take(&mut rj).split_at_mut(len);
+        parts.push((b, head_i, head_j));
+        ri = tail_i;
+        rj = tail_j;
+    }
+    let place = |(b, ri, rj): (usize, &mut [i32], &mut [i32])| {
+        let a0 = rows * b;
+        let nr = rows.min(nreal - a0);
+        let mut cnt = vec![0u32; nr + 1];
+        for t in 0..ntask {
+            for &[i, _] in &found[t * nb + b] {
+                cnt[i as usize - a0 + 1] += 1;
+            }
+        }
+        for r in 0..nr {
+            cnt[r + 1] += cnt[r];
+        }
+        let mut fill = cnt[..nr].to_vec();
+        for t in 0..ntask {
+            for &[i, j] in &found[t * nb + b] {
+                let f = &mut fill[i as usize - a0];
+                rj[*f as usize] = j as i32;
+                *f += 1;
+            }
+        }
+        for r in 0..nr {
+            let (r0, r1) = (cnt[r] as usize, cnt[r + 1] as usize);
+            ri[r0..r1].fill((a0 + r) as i32);
+            rj[r0..r1].sort_unstable();
+        }
+    };
+    if serial() {
+        parts.into_iter().for_each(place);
+    } else {
+        parts.into_par_iter().for_each(place);
+    }
+}

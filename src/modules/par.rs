@@ -1,0 +1,151 @@
+//! Parallel loops of the Rust twins. Rows (particles) or pairs are split into fixed tasks of
+//! [`CHUNK`] rows; every row is computed whole by one task and writes only its own slot, so results
+//! never depend on the thread count. With one thread in the pool the loops run inline.
+
+use super::nnps;
+
+/// Rows (particles) or pairs per rayon task. At 10^4 particles a finer split costs more in task
+/// hand-offs than it gains; results never depend on it (every row is computed whole by one task).
+pub(crate) const CHUNK: usize = 512;
+
+/// True when the current pool has one thread: the loops below then run inline, without rayon.
+#[inline]
+pub(crate) fn serial() -> bool {
+    rayon::current_num_threads() == 1
+}
+
+/// Runs `f(a, row)` over the rows of `out` (row `a` = particle `a`, `width` values), in parallel
+/// over tasks of [`CHUNK`] rows: each call writes only its own row.
+pub(crate) fn par_rows<F>(out: &mut [f64], width: usize, f: F)
+where
+    F: Fn(usize, &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    if width == 0 {
+        return;
+    }
+    let body = |c: usize, blk: &mut [f64]| {
+        for (r, row) in blk.chunks_mut(width).enumerate() {
+            f(c * CHUNK + r, row);
+        }
+    };
+    if serial() {
+        out.chunks_mut(width * CHUNK).enumerate().for_each(|(c, blk)| body(c, blk));
+    } else {
+        out.par_chunks_mut(width * CHUNK).enumerate().for_each(|(c, blk)| body(c, blk));
+    }
+}
+
+/// As [`par_rows`] over two arrays with the same rows: `f(a, row1, row2)`, rows of `w1` and `w2`
+/// values (`w2` may be 0: `row2` is then empty).
+pub(crate) fn par_rows2<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: usize, f: F)
+where
+    F: Fn(usize, &mut [f64], &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    if w1 == 0 {
+        return;
+    }
+    let rows = out1.len() / w1;
+    let out2 = &mut out2[..w2 * rows];
+    let body = |c: usize, b1: &mut [f64], b2: &mut [f64]| {
+        let n = b1.len() / w1;
+        for r in 0..n {
+            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2]);
+        }
+    };
+    if w2 == 0 {
+        par_rows(out1, w1, |a, r1| f(a, r1, &mut []));
+        return;
+    }
+    if serial() {
+        out1.chunks_mut(w1 * CHUNK)
+            .zip(out2.chunks_mut(w2 * CHUNK))
+            .enumerate()
+            .for_each(|(c, (b1, b2))| body(c, b1, b2));
+    } else {
+        out1.par_chunks_mut(w1 * CHUNK)
+            .zip(out2.par_chunks_mut(w2 * CHUNK))
+            .enumerate()
+            .for_each(|(c, (b1, b2))| body(c, b1, b2));
+    }
+}
+
+/// Calls `$f::<D, W>($args)` with D = `$dim` (1, 2 or 3) and W = D + `$extra` (0 or 1): the pair
+/// loops are monomorphised over the dimension, so their short inner loops are unrolled.
+macro_rules! by_dim {
+    ($dim:expr, 0, $f:ident($($args:expr),* $(,)?)) => {
+        match $dim {
+            1 => $f::<1, 1>($($args),*),
+            2 => $f::<2, 2>($($args),*),
+            _ => $f::<3, 3>($($args),*),
+        }
+    };
+    ($dim:expr, 1, $f:ident($($args:expr),* $(,)?)) => {
+        match $dim {
+            1 => $f::<1, 2>($($args),*),
+            2 => $f::<2, 3>($($args),*),
+            _ => $f::<3, 4>($($args),*),
+        }
+    };
+}
+pub(crate) use by_dim;
+
+/// The gather of a pair sum whose pair k holds W terms `t` (a reused buffer): for every particle
+/// `a`, over its pairs in ascending pair order, `acc += m_j t[0..D]` where `a` is the pair's i and
+/// `acc −= m_i t[0..D]` where it is the j (written as `+= (−m_i) t`, the same IEEE operation), and,
+/// when W = D + 1, `e += m_other t[D]`. Rows are `acc` (D values) and `e` (one value, or none
+/// when W = D); `scale` multiplies `acc` at the end.
+pub(crate) fn gather_signed<const D: usize, const W: usize>(
+    pl: &nnps::PairList,
+    terms: &[f64],
+    mass: &[f64],
+    scale: Option<f64>,
+    acc: &mut [f64],
+    e: &mut [f64],
+) {
+    let body = |a: usize, acc: &mut [f64], e: &mut [f64]| {
+        let mut sa = [0.0f64; D];
+        let mut se = 0.0;
+        for inc in pl.incident(a) {
+            let k = inc.pair();
+            let t = &terms[W * k..W * k + W];
+            let m = mass[inc.other()];
+            let ms = if inc.is_i() { m } else { -m };
+            for d in 0..D {
+                sa[d] += ms * t[d];
+            }
+            if W > D {
+                se += m * t[W - 1];
+            }
+        }
+        match scale {
+            Some(s) => {
+                for d in 0..D {
+                    acc[d] = s * sa[d];
+                }
+            }
+            None => acc.copy_from_slice(&sa),
+        }
+        if W > D {
+            e[0] = se;
+        }
+    };
+    let n = mass.len();
+    if W > D {
+        par_rows2(&mut acc[..D * n], D, &mut e[..n], 1, body);
+    } else {
+        par_rows(&mut acc[..D * n], D, |a, r| body(a, r, &mut []));
+    }
+}
+
+/// x^n as a product of n factors, left to right (the Fortran twins write integer powers the same
+/// way, never as `x**n`).
+#[inline]
+pub(crate) fn ipow(x: f64, n: i32) -> f64 {
+    let mut y = 1.0;
+    for _ in 0..n {
+        y *= x;
+    }
+    y
+}

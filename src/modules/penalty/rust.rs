@@ -1,0 +1,59 @@
+//! The Rust twin of the penalty force: few pairs are active (different groups, pe > 1), so a
+//! parallel pass over the pairs lists them (in ascending order, whatever the thread count) and the
+//! forces are then scattered pair by pair in that order, exactly as the Fortran loop does. 0 ULP.
+
+use super::{Coef, Force};
+use crate::modules::{CHUNK, ipow, serial};
+use rayon::prelude::*;
+
+pub(super) fn force(a: &mut Force) {
+    let Force { dim, pairs: pl, x, h, mass, mat, mt, coef, dvdt } = a;
+    let (dim, Coef { pbar, n1, n2 }) = (*dim, *coef);
+    let nt = mass.len();
+    let np = pl.len();
+    let (pi, pj) = (&pl.i, &pl.j);
+    let pair = |k: usize| -> Option<([f64; 3], f64, f64)> {
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        if mt.group[mat[i] as usize] == mt.group[mat[j] as usize] {
+            return None;
+        }
+        let mut dx = [0.0; 3];
+        let mut r2 = 0.0;
+        for d in 0..dim {
+            dx[d] = x[d + dim * i] - x[d + dim * j];
+            r2 += dx[d] * dx[d];
+        }
+        let pe = 0.5 * (h[i] + h[j]) / r2.sqrt();
+        if pe > 1.0 { Some((dx, r2, pe)) } else { None }
+    };
+    let mut guard = pl.scratch.lock();
+    let buf = &mut *guard;
+    let ntask = np.div_ceil(CHUNK);
+    if buf.idx_tasks.len() < ntask {
+        buf.idx_tasks.resize_with(ntask, Vec::new);
+    }
+    let find = |(t, b): (usize, &mut Vec<u32>)| {
+        b.clear();
+        b.extend((CHUNK * t..(CHUNK * t + CHUNK).min(np)).filter(|&k| pair(k).is_some()).map(|k| k as u32));
+    };
+    if serial() {
+        buf.idx_tasks[..ntask].iter_mut().enumerate().for_each(find);
+    } else {
+        buf.idx_tasks[..ntask].par_iter_mut().enumerate().for_each(find);
+    }
+    let out = &mut dvdt[..dim * nt];
+    out.fill(0.0);
+    for b in &buf.idx_tasks[..ntask] {
+        for &k in b {
+            let k = k as usize;
+            let (i, j) = (pi[k] as usize, pj[k] as usize);
+            if let Some((dx, r2, pe)) = pair(k) {
+                let f = pbar * (ipow(pe, n1) - ipow(pe, n2)) / r2;
+                for d in 0..dim {
+                    out[d + dim * i] += f * dx[d] / mass[i];
+                    out[d + dim * j] -= f * dx[d] / mass[j];
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,47 @@
+//! The Fortran twin of the viscosity (`sph_viscosity_monaghan`).
+#![allow(unsafe_code)]
+
+use super::Monaghan;
+use crate::modules::ffi_util::{chk, chk_pairs, n32};
+
+#[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
+mod sys {
+    include!(concat!(env!("OUT_DIR"), "/ffi_viscosity.rs"));
+}
+
+pub(super) fn monaghan(a: &mut Monaghan) {
+    let (dim, pl) = (a.dim, a.pairs);
+    let nt = a.mass.len();
+    chk("x", a.x.len(), dim * nt);
+    chk("v", a.v.len(), dim * nt);
+    chk("dvdt", a.dvdt.len(), dim * nt);
+    chk("dedt", a.dedt.len(), nt);
+    chk("dwdx", a.dwdx.len(), dim * pl.len());
+    for (name, l) in [("h", a.h.len()), ("rho", a.rho.len()), ("c", a.c.len())] {
+        chk(name, l, nt);
+    }
+    chk_pairs(&pl.i, &pl.j, nt);
+    // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
+    // dim × npair) and every pair index is in 0..ntotal (checked above).
+    unsafe {
+        sys::sph_viscosity_monaghan(
+            n32(dim),
+            n32(nt),
+            n32(pl.len()),
+            pl.i.as_ptr(),
+            pl.j.as_ptr(),
+            a.dwdx.as_ptr(),
+            a.x.as_ptr(),
+            a.v.as_ptr(),
+            a.h.as_ptr(),
+            a.rho.as_ptr(),
+            a.c.as_ptr(),
+            a.mass.as_ptr(),
+            a.coef.alpha,
+            a.coef.beta,
+            a.coef.etq,
+            a.dvdt.as_mut_ptr(),
+            a.dedt.as_mut_ptr(),
+        )
+    }
+}

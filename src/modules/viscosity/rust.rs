@@ -1,0 +1,104 @@
+//! The Rust twin of the viscosity: one parallel pass over the pairs computes −Π_ij ∇_i W_ij and
+//! ½ Π_ij v_ij·∇_i W_ij (the Fortran's expressions, i and j in pair order; zeros for receding
+//! pairs) into a reused buffer, in blocks of pairs whose arithmetic runs on vectors; one parallel
+//! pass over the particles adds, over each particle's pairs in ascending pair order (the Fortran's
+//! scatter order), ± m_other × those terms into both outputs. A receding pair adds ±0, which leaves
+//! the sum unchanged: an accumulator that starts at +0 is never −0 under round-to-nearest, and
+//! x ± 0 = x for every other x. 0 ULP, independent of the thread count.
+
+use super::{Coef, Monaghan};
+use crate::modules::{CHUNK, by_dim, gather_signed, serial};
+use rayon::prelude::*;
+
+/// The read-only inputs of the pair pass.
+struct In<'a> {
+    pi: &'a [i32],
+    pj: &'a [i32],
+    dwdx: &'a [f64],
+    x: &'a [f64],
+    v: &'a [f64],
+    h: &'a [f64],
+    rho: &'a [f64],
+    c: &'a [f64],
+    coef: Coef,
+}
+
+pub(super) fn monaghan(a: &mut Monaghan) {
+    by_dim!(a.dim, 1, run(a))
+}
+
+/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄.
+const NV: usize = 6;
+
+/// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
+/// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a
+/// receding pair gets +0), so that the divisions run on vectors.
+fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], tmp: &mut [f64]) {
+    let Coef { alpha, beta, etq } = a.coef;
+    let (x, v) = (a.x, a.v);
+    let len = t.len() / W;
+    let (vr, rest) = tmp.split_at_mut(len);
+    let (r2, rest) = rest.split_at_mut(len);
+    let (vd, rest) = rest.split_at_mut(len);
+    let (hij, rest) = rest.split_at_mut(len);
+    let (mc, mrho) = rest.split_at_mut(len);
+    for l in 0..len {
+        let k = k0 + l;
+        let (i, j) = (a.pi[k] as usize, a.pj[k] as usize);
+        let g = &a.dwdx[D * k..D * k + D];
+        let (mut s_vr, mut s_r2, mut s_vd) = (0.0, 0.0, 0.0);
+        for d in 0..D {
+            let dv = v[d + D * i] - v[d + D * j];
+            let dx = x[d + D * i] - x[d + D * j];
+            s_vr += dv * dx;
+            s_r2 += dx * dx;
+            s_vd += dv * g[d];
+        }
+        vr[l] = s_vr;
+        r2[l] = s_r2;
+        vd[l] = s_vd;
+        hij[l] = 0.5 * (a.h[i] + a.h[j]);
+        mc[l] = 0.5 * (a.c[i] + a.c[j]);
+        mrho[l] = 0.5 * (a.rho[i] + a.rho[j]);
+    }
+    // Π of every pair, masked to +0 where the pair recedes; vd becomes ½ Π v·∇W
+    for l in 0..len {
+        let hv = hij[l];
+        let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
+        let piv = (beta * muv - alpha * mc[l]) * muv / mrho[l];
+        let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
+        let de = 0.5 * piv * vd[l];
+        hij[l] = f64::from_bits(piv.to_bits() & on);
+        vd[l] = f64::from_bits(de.to_bits() & on);
+        vr[l] = f64::from_bits(on);
+    }
+    for l in 0..len {
+        let g = &a.dwdx[D * (k0 + l)..D * (k0 + l) + D];
+        let on = vr[l].to_bits();
+        for d in 0..D {
+            t[W * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
+        }
+        t[W * l + D] = vd[l];
+    }
+}
+
+fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
+    let pl = a.pairs;
+    let np = pl.len();
+    let inp = In { pi: &pl.i, pj: &pl.j, dwdx: a.dwdx, x: a.x, v: a.v, h: a.h, rho: a.rho, c: a.c, coef: a.coef };
+    let mut guard = pl.scratch.lock();
+    let buf = &mut *guard;
+    buf.pair.resize(W * np, 0.0);
+    buf.per_thread.ensure();
+    let tls = &buf.per_thread;
+    // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
+    // pairs, the gathers first (into a per-thread array), then the arithmetic over it
+    let body = |b: usize, t: &mut [f64]| tls.with(NV * (t.len() / W), |tmp| block::<D, W>(&inp, CHUNK * b, t, tmp));
+    let tc = &mut buf.pair[..W * np];
+    if serial() {
+        tc.chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
+    } else {
+        tc.par_chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
+    }
+    gather_signed::<D, W>(pl, &buf.pair, a.mass, None, a.dvdt, a.dedt);
+}

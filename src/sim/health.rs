@@ -1,0 +1,301 @@
+//! Health checks: a run that goes unstable stops with a diagnostic naming the step, the particle
+//! and the quantity. Each check is one parallel pass over fixed chunks of particles that records,
+//! per chunk, the first particle in trouble and the statistics; the chunks are combined in order,
+//! so the particle named is the lowest-numbered one whatever the thread count.
+
+use super::{CHUNK, Frame, Sim};
+use crate::error::{Result, SphError};
+use crate::modules::param::NSTR;
+
+/// What is wrong with a particle's state.
+#[derive(Debug, Clone, Copy)]
+enum Bad {
+    X(usize),
+    V(usize),
+    Rho,
+    E,
+    P,
+    Tau(usize),
+    /// h/h0 collapsed (or not finite).
+    H(f64),
+}
+
+/// One chunk's findings.
+#[derive(Debug, Clone, Copy)]
+struct Part {
+    /// The first particle with a bad value.
+    bad: Option<(usize, Bad)>,
+    /// The first particle deeper than the limit behind a wall: (particle, wall, depth).
+    crossed: Option<(usize, usize, f64)>,
+    /// The first particle outside the domain.
+    outside: Option<usize>,
+    energy: f64,
+    ke_max: (f64, usize),
+    hr: (f64, f64),
+    pen: f64,
+    out: usize,
+}
+
+impl Part {
+    fn new() -> Part {
+        Part {
+            bad: None,
+            crossed: None,
+            outside: None,
+            energy: 0.0,
+            ke_max: (0.0, 0),
+            hr: (f64::INFINITY, 0.0),
+            pen: 0.0,
+            out: 0,
+        }
+    }
+
+    /// Adds the chunk `q` that follows this one.
+    fn then(mut self, q: &Part) -> Part {
+        self.bad = self.bad.or(q.bad);
+        self.crossed = self.crossed.or(q.crossed);
+        self.outside = self.outside.or(q.outside);
+        self.energy += q.energy;
+        if q.ke_max.0 > self.ke_max.0 {
+            self.ke_max = q.ke_max;
+        }
+        self.hr = (self.hr.0.min(q.hr.0), self.hr.1.max(q.hr.1));
+        self.pen = self.pen.max(q.pen);
+        self.out += q.out;
+        self
+    }
+}
+
+/// How far (m) the point `x` lies behind the line of the wall segment `sg` (from, then the
+/// normal at `2 dim`) whose frame is `fr`, if it is behind it and within the segment's extent
+/// along it.
+#[inline]
+fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
+    let (ut, el, nrm) = fr;
+    let (mut dn, mut tp) = (0.0, 0.0);
+    for d in 0..dim {
+        let r = x[d] - sg[d];
+        dn += r * nrm[d];
+        tp += r * ut[d];
+    }
+    (tp >= 0.0 && tp <= *el && dn < 0.0).then_some(-dn)
+}
+
+impl Sim {
+    fn material(&self, i: usize) -> &str {
+        &self.case.materials[self.p.mat[i] as usize].name
+    }
+
+    /// Stops on a non-finite rate, naming the particle and the term (force, viscosity, ...).
+    pub(super) fn check_rates(&mut self) -> Result<()> {
+        use rayon::prelude::*;
+        let (dim, n, nt) = (self.cfg.dim, self.p.nreal, self.p.ntotal);
+        let (dv, de) = (&self.w.dv, &self.w.de);
+        let first = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                (c * CHUNK..((c + 1) * CHUNK).min(n))
+                    .find(|&i| !(0..dim).all(|d| dv[d + dim * i].is_finite()) || !de[i].is_finite())
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .flatten()
+            .next();
+        let Some(i) = first else { return Ok(()) };
+        self.stab.nan = true;
+        let lda = dim * nt;
+        let mut terms = Vec::new();
+        for (k, t) in self.plan.acc_terms.iter().enumerate() {
+            if !(0..dim).all(|d| self.w.acc[k * lda + d + dim * i].is_finite()) {
+                terms.push(format!("acceleration of {t}"));
+            }
+        }
+        for (k, t) in self.plan.de_terms.iter().enumerate() {
+            if !self.w.dde[k * nt + i].is_finite() {
+                terms.push(format!("energy rate of {t}"));
+            }
+        }
+        let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", self.p.x[d + dim * i])).collect();
+        let pl = &self.w.pairs;
+        let neighbours = (0..pl.len()).filter(|&k| pl.i[k] as usize == i || pl.j[k] as usize == i).count();
+        Err(SphError::Unstable(format!(
+            "step {} (t = {:.6e} s): particle {} (material {}) at [{}] m has a non-finite rate: {} (rho = {:e} kg/m3, p = {:e} Pa, h = {:e} m, {neighbours} neighbours)",
+            self.nstep,
+            self.t,
+            self.p.id[i],
+            self.material(i),
+            pos.join(", "),
+            if terms.is_empty() { "gravity".to_string() } else { terms.join(", ") },
+            self.p.rho[i],
+            self.p.p[i],
+            self.p.h[i],
+        )))
+    }
+
+    /// The diagnostic of a step the CFL rule could not take: the particle that limits it.
+    pub(super) fn bad_step(&self, dt: f64) -> SphError {
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let norm =
+            |a: &[f64], i: usize| -> f64 { (0..dim).map(|d| a[d + dim * i] * a[d + dim * i]).sum::<f64>().sqrt() };
+        let mut worst = (f64::INFINITY, 0usize);
+        for i in 0..n {
+            let tc = self.p.h[i] / (self.p.c[i] + norm(&self.p.v, i));
+            let tf = (self.p.h[i] / norm(&self.w.dv, i)).sqrt();
+            let t = if tc.is_nan() || tf.is_nan() { -1.0 } else { tc.min(tf) };
+            if t < worst.0 {
+                worst = (t, i);
+            }
+        }
+        let i = worst.1;
+        SphError::Unstable(format!(
+            "step {} (t = {:.6e} s): time step dt = {dt:e} s; limited by particle {} (material {}): h = {:e} m, c = {:e} m/s, |v| = {:e} m/s, |a| = {:e} m/s2, rho = {:e} kg/m3, e = {:e} J/kg",
+            self.nstep,
+            self.t,
+            self.p.id[i],
+            self.material(i),
+            self.p.h[i],
+            self.p.c[i],
+            norm(&self.p.v, i),
+            norm(&self.w.dv, i),
+            self.p.rho[i],
+            self.p.e[i]
+        ))
+    }
+
+    /// The health of the state after a step, in one pass: stops a run that went unstable, naming
+    /// the step, the particle and the quantity; else updates the statistics.
+    pub(super) fn check(&mut self) -> Result<()> {
+        use rayon::prelude::*;
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let p = &self.p;
+        let h_init = &self.h_init;
+        let segs = &self.cfg.all_segs;
+        let frames = &self.cfg.all_frames;
+        let limit = 0.5 * self.cfg.dx_min;
+        let domain = self.case.domain.as_ref();
+        let chunk = |c: usize| {
+            let mut q = Part::new();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let mut v2 = 0.0;
+                let mut bad = None;
+                for d in 0..dim {
+                    v2 += p.v[d + dim * i] * p.v[d + dim * i];
+                    if bad.is_none() && !p.x[d + dim * i].is_finite() {
+                        bad = Some(Bad::X(d));
+                    }
+                    if bad.is_none() && !p.v[d + dim * i].is_finite() {
+                        bad = Some(Bad::V(d));
+                    }
+                }
+                let r = p.h[i] / h_init[i];
+                if bad.is_none() {
+                    bad = if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
+                        Some(Bad::Rho)
+                    } else if !p.e[i].is_finite() {
+                        Some(Bad::E)
+                    } else if !p.p[i].is_finite() {
+                        Some(Bad::P)
+                    } else if let Some(k) =
+                        (!p.tau.is_empty()).then(|| (0..NSTR).find(|&k| !p.tau[k + NSTR * i].is_finite())).flatten()
+                    {
+                        Some(Bad::Tau(k))
+                    } else if !r.is_finite() || r < 1e-3 {
+                        Some(Bad::H(r))
+                    } else {
+                        None
+                    };
+                }
+                if let (None, Some(b)) = (q.bad, bad) {
+                    q.bad = Some((i, b));
+                }
+                q.hr = (q.hr.0.min(r), q.hr.1.max(r));
+                let ke = 0.5 * p.mass[i] * v2;
+                q.energy += ke + p.mass[i] * p.e[i];
+                if ke > q.ke_max.0 {
+                    q.ke_max = (ke, i);
+                }
+                let xi = &p.x[dim * i..dim * i + dim];
+                for (s, fr) in frames.iter().enumerate() {
+                    if let Some(depth) = behind_wall(dim, xi, segs.get(dim, s), fr) {
+                        q.pen = q.pen.max(depth);
+                        if depth > limit && q.crossed.is_none() {
+                            q.crossed = Some((i, s, depth));
+                        }
+                    }
+                }
+                if let Some(dm) = domain
+                    && (0..dim).any(|d| xi[d] < dm.lo_m[d] || xi[d] > dm.hi_m[d])
+                {
+                    q.out += 1;
+                    q.outside = q.outside.or(Some(i));
+                }
+            }
+            q
+        };
+        let parts: Vec<Part> = (0..n.div_ceil(CHUNK)).into_par_iter().map(chunk).collect();
+        let all = parts.iter().fold(Part::new(), |a, q| a.then(q));
+        let step = self.nstep;
+        let at = format!("step {step} (t = {:.6e} s)", self.t);
+        if let Some((i, b)) = all.bad {
+            self.stab.nan |= !matches!(b, Bad::Rho | Bad::H(_)) || !p.rho[i].is_finite();
+            let (what, v) = match b {
+                Bad::X(d) => (format!("x[{d}]"), p.x[d + dim * i]),
+                Bad::V(d) => (format!("v[{d}]"), p.v[d + dim * i]),
+                Bad::Rho => ("density".into(), p.rho[i]),
+                Bad::E => ("internal energy".into(), p.e[i]),
+                Bad::P => ("pressure".into(), p.p[i]),
+                Bad::Tau(k) => (format!("deviatoric stress component {k}"), p.tau[k + NSTR * i]),
+                Bad::H(r) => ("h/h0 (smoothing length collapsed)".into(), r),
+            };
+            return Err(SphError::Unstable(format!(
+                "{at}: particle {} (material {}) has {what} = {v:e}",
+                p.id[i],
+                self.material(i)
+            )));
+        }
+        let st = &mut self.stab;
+        st.h_ratio_min = st.h_ratio_min.min(all.hr.0);
+        st.h_ratio_max = st.h_ratio_max.max(all.hr.1);
+        st.max_wall_penetration_m = st.max_wall_penetration_m.max(all.pen);
+        st.left_domain = st.left_domain.max(all.out);
+        // energy blow-up: the balance residual (energy created beyond the work of the wall,
+        // penalty and gravity forces) above the initial energy; healthy runs stay under 1 %
+        let budget = self.e_initial + self.book.work_wall + self.book.work_penalty + self.book.work_gravity;
+        if all.energy - budget > self.e_initial.abs().max(f64::MIN_POSITIVE) {
+            let (ke, i) = all.ke_max;
+            return Err(SphError::Unstable(format!(
+                "{at}: total energy {:e} J exceeds the initial {:e} J plus the work of external forces by more than the initial energy; fastest particle {} (material {}), |v| = {:e} m/s",
+                all.energy,
+                self.e_initial,
+                self.p.id[i],
+                self.material(i),
+                (2.0 * ke / self.p.mass[i]).sqrt()
+            )));
+        }
+        if let Some((i, s, depth)) = all.crossed {
+            let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", self.p.x[d + dim * i])).collect();
+            return Err(SphError::Unstable(format!(
+                "{at}: particle {} crossed wall {s} by {depth:.3e} m (x = [{}] m)",
+                self.p.id[i],
+                pos.join(", ")
+            )));
+        }
+        if let (Some(i), true) = (all.outside, domain.is_some_and(|d| d.stop_on_exit)) {
+            return Err(SphError::Unstable(format!(
+                "{at}: particle {} (material {}) has a position outside [domain]; x[0] = {:e}",
+                self.p.id[i],
+                self.material(i),
+                self.p.x[dim * i]
+            )));
+        }
+        if self.nstep >= self.cfg.max_steps && self.t < self.cfg.end {
+            return Err(SphError::Unstable(format!(
+                "step {step}: time.max_steps reached at t = {:.6e} s before the end time",
+                self.t
+            )));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,210 @@
+//! The time step: the plan's stages, phase by phase (Liu's single_step and time_integration loop
+//! body), with the solver's own work between them: the incidence lists after the search, the
+//! check of the rates, the step size, the energy book-keeping, the health check.
+
+use super::{CHUNK, Sim};
+use crate::case::StepRule;
+use crate::error::Result;
+use crate::modules::Phase;
+use crate::modules::param::NSTR;
+use crate::state::Clock;
+
+impl Sim {
+    fn clock(&self, dt: f64) -> Clock {
+        Clock { t: self.t, dt, dt_prev: self.dt_prev, first: self.nstep == 0 }
+    }
+
+    /// Runs every stage of phase `ph` (in a dual run, both implementations, compared).
+    pub(super) fn run_phase(&mut self, ph: Phase, dt: f64) {
+        let k = self.clock(dt);
+        for e in self.plan.entries.iter_mut().filter(|e| e.phase == ph) {
+            e.stage.prepare(&mut self.p, &mut self.w);
+            match self.cmp.as_mut() {
+                None => {
+                    let t0 = std::time::Instant::now();
+                    e.stage.run(e.backend, &mut self.p, &mut self.w, &k);
+                    e.seconds += t0.elapsed().as_secs_f64();
+                }
+                Some(cmp) => cmp.run(e.stage.as_ref(), &mut self.p, &mut self.w, &k, self.nstep),
+            }
+        }
+        if ph == Phase::Search && self.plan.incidence {
+            let t0 = std::time::Instant::now();
+            self.w.pairs.build_incidence(self.p.ntotal);
+            *self.timers.entry("incidence").or_default() += t0.elapsed().as_secs_f64();
+        }
+    }
+
+    /// Evaluates every rate at the current time: the phases from the mirrors to the rate sums.
+    pub fn rates(&mut self) {
+        for ph in Phase::STEP.into_iter().filter(|p| (Phase::Mirrors..=Phase::Sum).contains(p)) {
+            self.run_phase(ph, 0.0);
+        }
+    }
+
+    /// Sorts the real particles by the cell of a grid of edge κ·min(h) (row-major cell order),
+    /// carrying every per-particle array, including the half-step values and rates the next
+    /// step reads. Deterministic (a stable sort).
+    pub fn reorder(&mut self) {
+        let t0 = std::time::Instant::now();
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        if n == 0 {
+            return;
+        }
+        let hmin = self.p.h[..n].iter().cloned().fold(f64::INFINITY, f64::min);
+        let cs = self.cfg.kappa * hmin;
+        let mut lo = [0.0f64; 3];
+        let mut nc = [1usize; 3];
+        for d in 0..dim {
+            let (a, b) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
+                (a.min(self.p.x[d + dim * i]), b.max(self.p.x[d + dim * i]))
+            });
+            lo[d] = a;
+            nc[d] = (((b - a) / cs) as usize + 1).min(1 << 20);
+        }
+        let key = |i: usize| -> usize {
+            let mut k = 0usize;
+            for d in (0..dim).rev() {
+                let c = (((self.p.x[d + dim * i] - lo[d]) / cs) as usize).min(nc[d] - 1);
+                k = k * nc[d] + c;
+            }
+            k
+        };
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        order.sort_by_key(|&i| key(i as usize));
+        fn perm<T: Copy>(v: &mut [T], order: &[u32], width: usize) {
+            if v.len() < width * order.len() {
+                return;
+            }
+            let old: Vec<T> = v[..width * order.len()].to_vec();
+            for (new, &o) in order.iter().enumerate() {
+                let o = o as usize;
+                v[width * new..width * new + width].copy_from_slice(&old[width * o..width * o + width]);
+            }
+        }
+        let p = &mut self.p;
+        for a in [&mut p.x, &mut p.v] {
+            perm(a, &order, dim);
+        }
+        for a in [&mut p.rho, &mut p.p, &mut p.c, &mut p.e, &mut p.h, &mut p.mass] {
+            perm(a, &order, 1);
+        }
+        perm(&mut p.mat, &order, 1);
+        perm(&mut p.id, &order, 1);
+        perm(&mut p.tau, &order, NSTR);
+        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0] {
+            perm(a, &order, 1);
+        }
+        perm(&mut self.h_init, &order, 1);
+        perm(&mut self.x_init, &order, dim);
+        perm(&mut self.region, &order, 1);
+        let w = &mut self.w;
+        for a in [&mut w.v_min, &mut w.dv] {
+            perm(a, &order, dim);
+        }
+        for a in [&mut w.rho_min, &mut w.e_min, &mut w.de, &mut w.drho, &mut w.dhdt] {
+            perm(a, &order, 1);
+        }
+        for a in [&mut w.tau_min, &mut w.dtau] {
+            perm(a, &order, NSTR);
+        }
+        for (k, &id) in self.p.id[..n].iter().enumerate() {
+            self.index_of_id[id as usize] = k as u32;
+        }
+        self.w.pairs.invalidate();
+        *self.timers.entry("reorder").or_default() += t0.elapsed().as_secs_f64();
+    }
+
+    /// One leapfrog step. Returns the step taken (s).
+    pub fn step(&mut self) -> Result<f64> {
+        let every = self.case.sph.reorder_every;
+        if every > 0 && self.nstep > 0 && self.nstep % every == 0 {
+            self.reorder();
+        }
+        if self.nstep > 0 {
+            self.run_phase(Phase::Predict, 0.0);
+        }
+        self.rates();
+        let dt = match self.cfg.step {
+            StepRule::Fixed => self.cfg.dt_fixed,
+            StepRule::Cfl => {
+                self.run_phase(Phase::StepSize, 0.0);
+                // (a NaN stays NaN, for the diagnostic below)
+                let dt = self.w.dt_cfl[0];
+                let dt = if dt > self.cfg.dt_max { self.cfg.dt_max } else { dt };
+                let left = self.cfg.end - self.t;
+                if dt > left { left } else { dt }
+            }
+        };
+        self.check_rates()?;
+        if dt.is_nan() || dt <= 0.0 || !dt.is_finite() {
+            return Err(self.bad_step(dt));
+        }
+        self.account(dt);
+        self.run_phase(Phase::Advance, dt);
+        self.run_phase(Phase::Correct, dt);
+        self.t += dt;
+        self.dt_prev = dt;
+        self.nstep += 1;
+        self.check()?;
+        Ok(dt)
+    }
+
+    /// Work of the wall, penalty and gravity forces over the step (v at t). One parallel pass;
+    /// the sums are taken per fixed chunk of particles, then over the chunks in order, so they do
+    /// not depend on the thread count.
+    fn account(&mut self, dt: f64) {
+        use rayon::prelude::*;
+        let dim = self.cfg.dim;
+        let n = self.p.nreal;
+        let lda = dim * self.p.ntotal;
+        let (acc, v, m, g) = (&self.w.acc, &self.p.v, &self.p.mass, &self.cfg.grav);
+        // Σ_i m_i (f_i·v_i) over the particles of chunk c, for the force array `f` (the
+        // particles in order, each dot product from +0 over the components)
+        let power = |f: &[f64], c: usize| -> f64 {
+            let (a0, a1) = (c * CHUNK, ((c + 1) * CHUNK).min(n));
+            let mut t = 0.0;
+            for (k, (fi, vi)) in
+                f[dim * a0..dim * a1].chunks_exact(dim).zip(v[dim * a0..dim * a1].chunks_exact(dim)).enumerate()
+            {
+                let mut s = 0.0;
+                for d in 0..dim {
+                    s += fi[d] * vi[d];
+                }
+                t += m[a0 + k] * s;
+            }
+            t
+        };
+        let slot = |name: &str| self.plan.acc_slot(name).map(|s| &acc[s * lda..s * lda + dim * n]);
+        let (fw, fp) = (slot("boundary.wall_force"), slot("penalty.force"));
+        // without gravity every term of its sum is +0 (the check stops a run with a non-finite v)
+        let gravity = g[..dim].iter().any(|&x| x != 0.0);
+        let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut t = [0.0; 3];
+                if let Some(f) = fw {
+                    t[0] = power(f, c);
+                }
+                if let Some(f) = fp {
+                    t[1] = power(f, c);
+                }
+                if gravity {
+                    for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                        let mut s = 0.0;
+                        for d in 0..dim {
+                            s += g[d] * v[d + dim * i];
+                        }
+                        t[2] += m[i] * s;
+                    }
+                }
+                t
+            })
+            .collect();
+        let tot = parts.iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+        self.book.work_wall += dt * tot[0];
+        self.book.work_penalty += dt * tot[1];
+        self.book.work_gravity += dt * tot[2];
+    }
+}
