@@ -17,6 +17,7 @@ pub mod cli;
 pub mod dual;
 pub mod error;
 pub mod legacy;
+pub mod migration;
 pub mod modules;
 pub mod output;
 pub mod plot;
