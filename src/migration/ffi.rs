@@ -166,6 +166,12 @@ pub struct Routine<'l> {
     f: ShimFn,
 }
 
+impl std::fmt::Debug for Routine<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Routine").field("name", &self.spec.name).field("shim", &self.spec.shim).finish()
+    }
+}
+
 impl Routine<'_> {
     pub fn info(&self) -> &RoutineInfo {
         self.spec
