@@ -503,3 +503,40 @@ fn a_bad_call_mode_or_module_is_refused() {
     let d = variant("pair_in_particle", |t| t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"rho\", \"u\", \"p\", \"w\"]"));
     refused(&d, &["\"w\"", "each_particle"]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// the documentation a user follows
+
+#[test]
+fn the_docs_table_lists_every_vocabulary_name() {
+    use blastsph::migration::vocab::{PAIR_TERMS, TERMS};
+    let doc = std::fs::read_to_string(root().join("docs/migration.md")).unwrap();
+    for t in TERMS.iter().chain(PAIR_TERMS) {
+        assert!(doc.contains(&format!("| `{}` |", t.name)), "docs/migration.md has no row for `{}`", t.name);
+    }
+}
+
+/// The manifest for the book code that docs/migration.md gives is accepted as it is, and builds
+/// against the fixture (which has the book's routines and argument lists, less five).
+#[test]
+fn the_books_manifest_in_the_docs_builds_against_the_fixture() {
+    let doc = std::fs::read_to_string(root().join("docs/migration.md")).unwrap();
+    let from = doc.find("### A.3").expect("section A.3");
+    let start = from + doc[from..].find("```toml\n").expect("a toml block") + 8;
+    let end = start + doc[start..].find("```").unwrap();
+    let mut table: toml::Table = doc[start..end].parse().expect("the docs' manifest is TOML");
+    table.insert("sources".into(), toml::Value::Array(vec!["*.f".into()]));
+    table.insert("include_dirs".into(), toml::Value::Array(vec![".".into()]));
+    let d = variant("docs_manifest", |t| t.to_string());
+    std::fs::write(d.join("legacy.toml"), toml::to_string(&table).unwrap()).unwrap();
+    let m = blastsph::migration::manifest::load(&d.join("legacy.toml")).expect("every name is in the vocabulary");
+    assert_eq!(m.routines.len(), 20);
+    // the fixture has no link_list, tree_search, art_heat, ext_force, virt_part
+    let absent = ["link_list", "tree_search", "art_heat", "ext_force", "virt_part"];
+    if let Some(toml::Value::Array(rs)) = table.get_mut("routine") {
+        rs.retain(|r| !absent.contains(&r.get("name").and_then(|n| n.as_str()).unwrap_or("")));
+    }
+    std::fs::write(d.join("legacy.toml"), toml::to_string(&table).unwrap()).unwrap();
+    let info = build(&d.join("legacy.toml"), &d.join("build")).expect("the docs' manifest builds");
+    assert_eq!(info.routines.len(), 15);
+}

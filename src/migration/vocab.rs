@@ -228,7 +228,7 @@ pub const TERMS: &[Term] = &[
 
 /// The names of an `each_pair` call: what the book's `direct_find` hands to `kernel` for pair k.
 pub const PAIR_TERMS: &[Term] = &[
-    t("r", &[], Real, Scalar, NB, "m", "distance |x_i − x_j| = sqrt(Σ_d dx_d²), summed from d = 1 as direct_find does", In, "kernel"),
+    t("r", &[], Real, Scalar, NB, "m", "distance ‖x_i − x_j‖ = sqrt(Σ_d dx_d²), summed from d = 1 as direct_find does", In, "kernel"),
     t("dx", &[], Real, ParticleVec, NB, "m", "separation x_i − x_j (dim values)", In, "kernel"),
     t("hsml", &["h"], Real, Scalar, NB, "m", "the pair's smoothing length (h_i + h_j)/2, as direct_find computes it", In, "kernel"),
     t("w", &[], Real, Scalar, NB, "1/m^dim", "W_ij, stored into Work::w[k]", Out, "kernel"),
