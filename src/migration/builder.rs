@@ -124,8 +124,9 @@ impl BuildInfo {
     /// Reads `DIR/build.json`.
     pub fn read(dir: &Path) -> Result<BuildInfo> {
         let p = dir.join(BUILD_JSON);
-        let text = std::fs::read_to_string(&p)
-            .map_err(|e| input(format!("{}: {e} (not a legacy build folder: run `blastsph legacy build`)", p.display())))?;
+        let text = std::fs::read_to_string(&p).map_err(|e| {
+            input(format!("{}: {e} (not a legacy build folder: run `blastsph legacy build`)", p.display()))
+        })?;
         serde_json::from_str(&text).map_err(|e| input(format!("{}: {e}", p.display())))
     }
     pub fn routine(&self, name: &str) -> Option<&RoutineInfo> {
@@ -271,7 +272,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let compiler = so.lines().next().unwrap_or("gfortran").trim().to_string();
 
     let incs: Vec<String> = m.include_dirs.iter().map(|d| format!("-I{}", d.display())).collect();
-    let fixed: Vec<String> = BASE_FLAGS.iter().chain(FIXED_FLAGS).map(|s| s.to_string()).chain(m.fflags.clone()).collect();
+    let fixed: Vec<String> =
+        BASE_FLAGS.iter().chain(FIXED_FLAGS).map(|s| s.to_string()).chain(m.fflags.clone()).collect();
     let free: Vec<String> = BASE_FLAGS.iter().map(|s| s.to_string()).chain(m.fflags.clone()).collect();
 
     // the include file and the probe
@@ -349,8 +351,12 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     // each mapped routine: defined once, with the manifest's arguments
     let mut routines = Vec::new();
     for r in &m.routines {
-        let found: Vec<(usize, &Proto)> =
-            protos.iter().enumerate().flat_map(|(k, ps)| ps.iter().map(move |p| (k, p))).filter(|(_, p)| p.name == r.name).collect();
+        let found: Vec<(usize, &Proto)> = protos
+            .iter()
+            .enumerate()
+            .flat_map(|(k, ps)| ps.iter().map(move |p| (k, p)))
+            .filter(|(_, p)| p.name == r.name)
+            .collect();
         let (k, p) = match found.as_slice() {
             [] => {
                 return Err(input(format!(
@@ -363,7 +369,12 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             [one] => *one,
             more => {
                 let files: Vec<String> = more.iter().map(|(k, _)| rel(&m.sources[*k], &m.dir)).collect();
-                return Err(input(format!("{}: routine {}: defined twice ({})", m.path.display(), r.name, files.join(", "))));
+                return Err(input(format!(
+                    "{}: routine {}: defined twice ({})",
+                    m.path.display(),
+                    r.name,
+                    files.join(", ")
+                )));
             }
         };
         let file = rel(&m.sources[k], &m.dir);
@@ -466,9 +477,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let lib = out.join(LIBRARY);
     let lib_objs: Vec<&PathBuf> = objects.iter().zip(&is_program).filter(|(_, p)| !**p).map(|(o, _)| o).collect();
     let link: Vec<String> = LINK_FLAGS.iter().map(|s| s.to_string()).collect();
-    let (ok, _, se) = log.run(
-        Command::new("gfortran").args(&link).args(&free).arg("-o").arg(&lib).args(&lib_objs).arg(&shim_obj),
-    )?;
+    let (ok, _, se) =
+        log.run(Command::new("gfortran").args(&link).args(&free).arg("-o").arg(&lib).args(&lib_objs).arg(&shim_obj))?;
     if !ok {
         return Err(fail(format!("the library does not link: {}", first_error(&se))));
     }
@@ -562,7 +572,8 @@ fn probe(m: &Manifest, inc: &Path, obj: &Path, fixed: &[String], log: &mut Log) 
     if !ok || v.len() != 3 {
         return Err(input(format!("{}: the probe program printed \"{}\"", inc.display(), so.trim())));
     }
-    let _ = writeln!(log.text, "probe: {} = {}, {} = {}, {} = {}\n", n.dim, v[0], n.maxn, v[1], n.max_interaction, v[2]);
+    let _ =
+        writeln!(log.text, "probe: {} = {}, {} = {}, {} = {}\n", n.dim, v[0], n.maxn, v[1], n.max_interaction, v[2]);
     log.flush();
     if !(1..=3).contains(&v[0]) || v[1] < 1 || v[2] < 1 {
         return Err(input(format!(
@@ -600,6 +611,9 @@ mod tests {
     fn first_error_joins_location_and_message() {
         let se = "k.f:17:17:\n\n   17 |       call foo(1,2d0,3.)\n      |                 1\nError: Rank mismatch\n";
         assert_eq!(first_error(se), "k.f:17:17: Error: Rank mismatch");
-        assert_eq!(first_error("x.o: in function `a_':\nx.f:(.text+0x5): undefined reference to `b_'\n"), "x.f:(.text+0x5): undefined reference to `b_'");
+        assert_eq!(
+            first_error("x.o: in function `a_':\nx.f:(.text+0x5): undefined reference to `b_'\n"),
+            "x.f:(.text+0x5): undefined reference to `b_'"
+        );
     }
 }

@@ -288,7 +288,9 @@ impl Routine<'_> {
             shim::BAD_COUNT => Err(err("ntotal or niac lies outside the legacy buffers".into())),
             shim::TRUNCATED => {
                 let got = args.int_value("niac").unwrap_or(-1);
-                Err(err(format!("the routine found {got} pairs, more than the pair arrays hold: grow them and call again")))
+                Err(err(format!(
+                    "the routine found {got} pairs, more than the pair arrays hold: grow them and call again"
+                )))
             }
             shim::BAD_PAIR => Err(err("a pair index lies outside the particles".into())),
             s => Err(err(format!("the shim returned status {s}"))),

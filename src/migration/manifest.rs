@@ -236,7 +236,9 @@ pub fn load(path: &Path) -> Result<Manifest> {
         if refused {
             return Err(err(
                 "fflags",
-                format!("\"{f}\" is refused: it changes the arithmetic against blastsph's own core (docs/migration.md)"),
+                format!(
+                    "\"{f}\" is refused: it changes the arithmetic against blastsph's own core (docs/migration.md)"
+                ),
             ));
         }
         if !f.starts_with('-') {
@@ -251,7 +253,9 @@ pub fn load(path: &Path) -> Result<Manifest> {
         maxn: pn.and_then(|p| p.maxn.clone()).unwrap_or_else(|| "maxn".into()),
         max_interaction: pn.and_then(|p| p.max_interaction.clone()).unwrap_or_else(|| "max_interaction".into()),
     };
-    for (k, v) in [("dim", &param_names.dim), ("maxn", &param_names.maxn), ("max_interaction", &param_names.max_interaction)] {
+    for (k, v) in
+        [("dim", &param_names.dim), ("maxn", &param_names.maxn), ("max_interaction", &param_names.max_interaction)]
+    {
         if !is_ident(v) {
             return Err(err(&format!("param_names.{k}"), format!("\"{v}\" is not a Fortran name")));
         }

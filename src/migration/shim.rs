@@ -41,16 +41,13 @@ pub struct Sizes {
     pub max_interaction: usize,
 }
 
-fn capacity(shape: Shape, s: Sizes) -> String {
+fn capacity(shape: Shape) -> &'static str {
     match shape {
-        Shape::Scalar => "1".into(),
-        Shape::Particle => "bs_maxn".into(),
-        Shape::ParticleVec => "bs_dim*bs_maxn".into(),
-        Shape::Pair => "bs_maxia".into(),
-        Shape::PairVec => {
-            let _ = s;
-            "bs_dim*bs_maxia".into()
-        }
+        Shape::Scalar => "1",
+        Shape::Particle => "bs_maxn",
+        Shape::ParticleVec => "bs_dim*bs_maxn",
+        Shape::Pair => "bs_maxia",
+        Shape::PairVec => "bs_dim*bs_maxia",
     }
 }
 
@@ -77,16 +74,20 @@ pub fn source(routines: &[Routine], s: Sizes, origin: &str) -> String {
     let _ = writeln!(f, "! Sizes read from the legacy include file by a probe program.");
     let _ = writeln!(f, "module blastsph_shim_sizes");
     let _ = writeln!(f, "  implicit none");
-    let _ = writeln!(f, "  integer, parameter :: bs_dim = {}, bs_maxn = {}, bs_maxia = {}", s.dim, s.maxn, s.max_interaction);
+    let _ = writeln!(
+        f,
+        "  integer, parameter :: bs_dim = {}, bs_maxn = {}, bs_maxia = {}",
+        s.dim, s.maxn, s.max_interaction
+    );
     let _ = writeln!(f, "end module blastsph_shim_sizes");
     for r in routines {
         f.push('\n');
-        f.push_str(&one(r, s));
+        f.push_str(&one(r));
     }
     f
 }
 
-fn one(r: &Routine, s: Sizes) -> String {
+fn one(r: &Routine) -> String {
     let b: Vec<&'static Term> = r.bindings();
     let ix = |name: &str| b.iter().position(|t| t.name == name).map(|k| k + 1);
     let mut f = String::new();
@@ -128,7 +129,7 @@ fn one(r: &Routine, s: Sizes) -> String {
             let _ = writeln!(f, "  call c_f_pointer(ptrs({k}), p{k})");
             let _ = writeln!(f, "  v{k} = p{k}");
         } else {
-            let cap = capacity(t.shape, s);
+            let cap = capacity(t.shape);
             let zero = if t.kind == Kind::Real { "0.0d0" } else { "0" };
             let _ = writeln!(f, "  if (.not. allocated(v{k})) then");
             let _ = writeln!(f, "    allocate(v{k}({cap}))");

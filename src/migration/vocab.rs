@@ -141,6 +141,7 @@ use Role::{In, InOut, Out};
 use Shape::{Pair, PairVec, Particle, ParticleVec, Scalar};
 
 /// The vocabulary of whole-array calls (the default `call`).
+#[rustfmt::skip]
 pub const TERMS: &[Term] = &[
     // counts, step and time
     t("itimestep", &[], Int, Scalar, NB, "-", "step number, 1 on the first step (blastsph's step count + 1)", In,
@@ -227,6 +228,7 @@ pub const TERMS: &[Term] = &[
 ];
 
 /// The names of an `each_pair` call: what the book's `direct_find` hands to `kernel` for pair k.
+#[rustfmt::skip]
 pub const PAIR_TERMS: &[Term] = &[
     t("r", &[], Real, Scalar, NB, "m", "distance ‖x_i − x_j‖ = sqrt(Σ_d dx_d²), summed from d = 1 as direct_find does", In, "kernel"),
     t("dx", &[], Real, ParticleVec, NB, "m", "separation x_i − x_j (dim values)", In, "kernel"),
