@@ -555,3 +555,14 @@ fn the_books_manifest_in_the_docs_builds_against_the_fixture() {
     let info = build(&d.join("legacy.toml"), &d.join("build")).expect("the docs' manifest builds");
     assert_eq!(info.routines.len(), 15);
 }
+
+#[test]
+fn an_include_file_without_the_sizes_is_refused() {
+    let d = variant("no_sizes", |t| {
+        t.replace(
+            "fflags = [\"-finit-local-zero\"]",
+            "fflags = [\"-finit-local-zero\"]\n[param_names]\nmax_interaction = \"maxpairs\"",
+        )
+    });
+    refused(&d, &["param.inc", "maxpairs", "probe", "build.log"]);
+}

@@ -290,7 +290,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                 m.param_include
             ))
         })?;
-    let sizes = probe(&m, &inc, &obj, &fixed, &mut log).map_err(|e| match e {
+    let sizes = probe(&m, &inc, &obj, (&fixed, &free), &mut log).map_err(|e| match e {
         SphError::Input(s) => fail(s),
         o => o,
     })?;
@@ -530,41 +530,60 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
 }
 
 /// Compiles and runs a program that includes the user's parameter file and prints the three sizes.
-fn probe(m: &Manifest, inc: &Path, obj: &Path, fixed: &[String], log: &mut Log) -> Result<Sizes> {
+fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), log: &mut Log) -> Result<Sizes> {
     let n = &m.param_names;
-    let src = obj.join("blastsph_probe.f");
-    let text = format!(
-        "      program blastsph_probe\n\
-         \x20     include '{inc}'\n\
-         \x20     integer bs_d, bs_m, bs_i\n\
-         \x20     parameter (bs_d = {d})\n\
-         \x20     parameter (bs_m = {mx})\n\
-         \x20     parameter (bs_i = {mi})\n\
-         \x20     write(*,'(3i20)') bs_d, bs_m, bs_i\n\
-         \x20     end\n",
-        inc = m.param_include,
-        d = n.dim,
-        mx = n.maxn,
-        mi = n.max_interaction
-    );
-    std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
+    let body = |lead: &str, end: &str| {
+        format!(
+            "{lead}program blastsph_probe\n\
+             {lead}include '{inc}'\n\
+             {lead}integer bs_d, bs_m, bs_i\n\
+             {lead}parameter (bs_d = {d})\n\
+             {lead}parameter (bs_m = {mx})\n\
+             {lead}parameter (bs_i = {mi})\n\
+             {lead}write(*,'(3i20)') bs_d, bs_m, bs_i\n\
+             {lead}{end}\n",
+            inc = m.param_include,
+            d = n.dim,
+            mx = n.maxn,
+            mi = n.max_interaction
+        )
+    };
     let exe = obj.join("blastsph_probe");
     let dir = inc.parent().unwrap_or(Path::new("."));
-    let mut cmd = Command::new("gfortran");
-    cmd.args(fixed).arg(format!("-I{}", dir.display()));
-    for d in &m.include_dirs {
-        cmd.arg(format!("-I{}", d.display()));
+    // the include file in fixed form (the book's), else in free form
+    let mut first_err: Option<String> = None;
+    for (file, text, fl) in
+        [("blastsph_probe.f", body("      ", "end"), flags.0), ("blastsph_probe.f90", body("", "end program"), flags.1)]
+    {
+        let src = obj.join(file);
+        std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
+        let mut cmd = Command::new("gfortran");
+        cmd.args(fl).arg(format!("-I{}", dir.display()));
+        for d in &m.include_dirs {
+            cmd.arg(format!("-I{}", d.display()));
+        }
+        cmd.arg("-o").arg(&exe).arg(&src);
+        let (ok, _, se) = log.run(&mut cmd)?;
+        if ok {
+            first_err = None;
+            break;
+        }
+        // keep the message that names a parameter (the form that got that far), else the first
+        let e = first_error(&se);
+        let names = [&n.dim, &n.maxn, &n.max_interaction];
+        match &first_err {
+            Some(prev) if names.iter().any(|x| prev.contains(x.as_str())) => {}
+            Some(_) if !names.iter().any(|x| e.contains(x.as_str())) => {}
+            _ => first_err = Some(e),
+        }
     }
-    cmd.arg("-o").arg(&exe).arg(&src);
-    let (ok, _, se) = log.run(&mut cmd)?;
-    if !ok {
+    if let Some(e) = first_err {
         return Err(input(format!(
-            "{}: cannot evaluate {}, {}, {} with a probe program: {}",
+            "{}: cannot evaluate {}, {}, {} with a probe program: {e}",
             inc.display(),
             n.dim,
             n.maxn,
-            n.max_interaction,
-            first_error(&se)
+            n.max_interaction
         )));
     }
     let (ok, so, _) = log.run(&mut Command::new(&exe))?;

@@ -195,7 +195,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
     }
     let mut sources = Vec::new();
     for pat in &raw.sources {
-        let full = dir.join(pat);
+        let full: PathBuf = dir.join(pat).components().collect();
         let full_s = full.to_string_lossy().to_string();
         let paths = glob::glob(&full_s).map_err(|e| err("sources", format!("\"{pat}\": bad pattern: {e}")))?;
         let mut found = 0;
@@ -224,7 +224,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
 
     let mut include_dirs = Vec::new();
     for d in &raw.include_dirs {
-        let p = dir.join(d);
+        let p: PathBuf = dir.join(d).components().collect();
         if !p.is_dir() {
             return Err(err("include_dirs", format!("\"{d}\": no such folder ({})", p.display())));
         }
