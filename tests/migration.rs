@@ -566,3 +566,171 @@ fn an_include_file_without_the_sizes_is_refused() {
     });
     refused(&d, &["param.inc", "maxpairs", "probe", "build.log"]);
 }
+
+/// Pairs of a cloud with random velocities, for the force routines.
+struct Flow {
+    n: usize,
+    x: Vec<f64>,
+    h: Vec<f64>,
+    v: Vec<f64>,
+    rho: Vec<f64>,
+    mass: Vec<f64>,
+    u: Vec<f64>,
+    pi: Vec<i32>,
+    pj: Vec<i32>,
+    dw: Vec<f64>,
+}
+
+fn flow(n: usize, seed: u64) -> Flow {
+    let (x, h) = cloud(n, seed);
+    let (pi, pj) = pairs_of(&x, &h);
+    let mut g = Rng(seed ^ 0x9e37);
+    let v = (0..n).map(|_| g.next() - 0.5).collect();
+    let rho = (0..n).map(|_| 0.3 + g.next()).collect();
+    let mass = (0..n).map(|_| 0.001 + 0.001 * g.next()).collect();
+    let u = (0..n).map(|_| 1.0 + 2.0 * g.next()).collect();
+    let dw = (0..pi.len())
+        .map(|k| {
+            let (i, j) = (pi[k] as usize, pj[k] as usize);
+            let d = x[i] - x[j];
+            cubic((d * d).sqrt(), d, (h[i] + h[j]) / 2.0).1
+        })
+        .collect();
+    Flow { n, x, h, v, rho, mass, u, pi, pj, dw }
+}
+
+/// art_visc as docs/compat-liu-book.md §7 describes it: etq = 0.1e0, the μ denominator
+/// ((h̄h̄)η)η, the energy per component into i and j inside the pair loop, halved at the end.
+#[test]
+fn art_visc_is_the_books_viscosity_with_its_energy_order() {
+    let lib = lib();
+    let mut f = flow(70, 31);
+    let n = f.n;
+    let np = f.pi.len();
+    let mut g = Rng(3);
+    let mut c: Vec<f64> = (0..n).map(|_| 0.5 + g.next()).collect();
+    let (mut a, mut e) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+    let mut w = vec![0.0; np];
+    let (mut nt, mut niac) = ([n as i32], [np as i32]);
+    let mut args = Args::new()
+        .int("ntotal", &mut nt)
+        .real("hsml", &mut f.h)
+        .real("mass", &mut f.mass)
+        .real("x", &mut f.x)
+        .real("vx", &mut f.v)
+        .int("niac", &mut niac)
+        .real("rho", &mut f.rho)
+        .real("c", &mut c)
+        .int("pair_i", &mut f.pi)
+        .int("pair_j", &mut f.pj)
+        .real("w", &mut w)
+        .real("dwdx", &mut f.dw)
+        .real("dvxdt", &mut a)
+        .real("dedt", &mut e);
+    lib.routine("art_visc").unwrap().call(&mut args).unwrap();
+    drop(args);
+    let etq = 0.1f32 as f64;
+    let (mut wa, mut we) = (vec![0.0; n], vec![0.0; n]);
+    let mut approaching = 0;
+    for k in 0..np {
+        let (i, j) = (f.pi[k] as usize, f.pj[k] as usize);
+        let hij = (f.h[i] + f.h[j]) / 2.0;
+        let dv = f.v[i] - f.v[j];
+        let dx = f.x[i] - f.x[j];
+        let (vr, rr) = (0.0 + dv * dx, 0.0 + dx * dx);
+        if vr < 0.0 {
+            approaching += 1;
+            let muv = hij * vr / (rr + hij * hij * etq * etq);
+            let mc = 0.5 * (c[i] + c[j]);
+            let mrho = 0.5 * (f.rho[i] + f.rho[j]);
+            let piv = (muv - mc) * muv / mrho;
+            let hh = -piv * f.dw[k];
+            wa[i] += f.mass[j] * hh;
+            wa[j] -= f.mass[i] * hh;
+            we[i] -= f.mass[j] * dv * hh;
+            we[j] -= f.mass[i] * dv * hh;
+        }
+    }
+    let we: Vec<f64> = we.iter().map(|v| 0.5 * v).collect();
+    assert!(approaching > 10 && approaching < np, "both approaching and receding pairs");
+    same_bits("dvxdt", &a, &wa);
+    same_bits("dedt", &e, &we);
+    // blastsph's current form, 0.5·Π·(v·∇W) per pair with η in double, differs
+    let mut other = vec![0.0; n];
+    for k in 0..np {
+        let (i, j) = (f.pi[k] as usize, f.pj[k] as usize);
+        let hij = 0.5 * (f.h[i] + f.h[j]);
+        let dv = f.v[i] - f.v[j];
+        let dx = f.x[i] - f.x[j];
+        let vr = dv * dx;
+        if vr < 0.0 {
+            let muv = hij * vr / (dx * dx + (0.1 * hij) * (0.1 * hij));
+            let piv = (muv - 0.5 * (c[i] + c[j])) * muv / (0.5 * (f.rho[i] + f.rho[j]));
+            let de = 0.5 * piv * (dv * f.dw[k]);
+            other[i] += f.mass[j] * de;
+            other[j] += f.mass[i] * de;
+        }
+    }
+    assert!(other.iter().zip(&e).any(|(a, b)| a.to_bits() != b.to_bits()), "the test tells the two forms apart");
+}
+
+/// int_force as docs/compat-liu-book.md §6 describes it (pa_sph = 2, no physical viscosity): the
+/// EOS of every particle by its type, the force, the energy rate summed per component and halved.
+#[test]
+fn int_force_calls_the_eos_by_type_and_sums_the_books_way() {
+    let lib = lib();
+    let mut f = flow(64, 47);
+    let n = f.n;
+    let np = f.pi.len();
+    let mut itype: Vec<i32> = (0..n).map(|i| if i % 5 == 0 { 2 } else { 1 }).collect();
+    let (mut p, mut c, mut a, mut e, mut tds) =
+        (vec![f64::NAN; n], vec![f64::NAN; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut eta, mut t) = (vec![0.0; n], vec![0.0; n]);
+    let (mut step, mut nt, mut niac, mut dt) = ([1], [n as i32], [np as i32], [0.005]);
+    let itype0 = itype.clone();
+    let mut args = Args::new()
+        .int("itimestep", &mut step)
+        .real("dt", &mut dt)
+        .int("ntotal", &mut nt)
+        .real("hsml", &mut f.h)
+        .real("mass", &mut f.mass)
+        .real("vx", &mut f.v)
+        .int("niac", &mut niac)
+        .real("rho", &mut f.rho)
+        .real("eta", &mut eta)
+        .int("pair_i", &mut f.pi)
+        .int("pair_j", &mut f.pj)
+        .real("dwdx", &mut f.dw)
+        .real("u", &mut f.u)
+        .int("itype", &mut itype)
+        .real("x", &mut f.x)
+        .real("t", &mut t)
+        .real("c", &mut c)
+        .real("p", &mut p)
+        .real("dvxdt", &mut a)
+        .real("tdsdt", &mut tds)
+        .real("dedt", &mut e);
+    lib.routine("int_force").unwrap().call(&mut args).unwrap();
+    drop(args);
+    let gam = 1.4f32 as f64;
+    let cw = 0.01f32 as f64;
+    let wp: Vec<f64> =
+        (0..n).map(|i| if itype0[i] == 1 { (gam - 1.0) * f.rho[i] * f.u[i] } else { cw * cw * f.rho[i] }).collect();
+    let wc: Vec<f64> = (0..n).map(|i| if itype0[i] == 1 { ((gam - 1.0) * f.u[i]).sqrt() } else { cw }).collect();
+    same_bits("p", &p, &wp);
+    same_bits("c", &c, &wc);
+    let (mut wa, mut we) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..np {
+        let (i, j) = (f.pi[k] as usize, f.pj[k] as usize);
+        let h = -(wp[i] / (f.rho[i] * f.rho[i]) + wp[j] / (f.rho[j] * f.rho[j])) * f.dw[k];
+        let he = 0.0 + (f.v[j] - f.v[i]) * h;
+        wa[i] += f.mass[j] * h;
+        wa[j] -= f.mass[i] * h;
+        we[i] += f.mass[j] * he;
+        we[j] += f.mass[i] * he;
+    }
+    let we: Vec<f64> = we.iter().map(|v| 0.0 + 0.5 * v).collect();
+    same_bits("dvxdt", &a, &wa);
+    same_bits("dedt", &e, &we);
+    assert!(tds.iter().all(|v| *v == 0.0), "no viscous entropy without visc");
+}
