@@ -734,3 +734,32 @@ fn int_force_calls_the_eos_by_type_and_sums_the_books_way() {
     same_bits("dedt", &e, &we);
     assert!(tds.iter().all(|v| *v == 0.0), "no viscous entropy without visc");
 }
+
+#[test]
+fn the_build_folder_cannot_be_the_source_folder() {
+    let o = blastsph(&["legacy", "build", "tests/legacy/legacy.toml", "--out", "tests/legacy"]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    assert!(se.contains("folder of the sources"), "{se}");
+    assert!(
+        !fixture().join("build.log").exists() && !fixture().join("obj").exists(),
+        "nothing written beside the sources"
+    );
+}
+
+#[test]
+fn an_argument_given_twice_is_refused_by_the_safe_api() {
+    let lib = lib();
+    let (mut rho, mut u, mut p, mut c, mut rho2) = (vec![1.0], vec![1.0], vec![0.0], vec![0.0], vec![2.0]);
+    let mut nt = [1];
+    let mut a = Args::new()
+        .int("ntotal", &mut nt)
+        .real("rho", &mut rho)
+        .real("u", &mut u)
+        .real("p", &mut p)
+        .real("c", &mut c)
+        .real("RHO", &mut rho2);
+    let e = lib.routine("p_gas").unwrap().call(&mut a).unwrap_err().to_string();
+    assert!(e.contains("\"rho\" given twice"), "{e}");
+}

@@ -251,6 +251,15 @@ fn rel(p: &Path, base: &Path) -> String {
 /// Builds the manifest's code into `out`; returns what was built (also in `out/build.json`).
 pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let m = manifest::load(manifest_path)?;
+    // never write beside the user's sources
+    let out_abs: PathBuf = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    let out_abs: PathBuf = out_abs.components().collect();
+    if out_abs == m.dir || m.sources.iter().any(|s| s.parent() == Some(out_abs.as_path())) {
+        return Err(input(format!(
+            "legacy build: --out {}: the folder of the sources or the manifest; give a build folder of its own",
+            out.display()
+        )));
+    }
     std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let out = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let obj = out.join("obj");

@@ -189,7 +189,10 @@ impl Routine<'_> {
         let info = &self.lib.info;
         let (dim, name) = (info.dim, &self.spec.name);
         let err = |m: String| input(format!("legacy call {name}: {m}"));
-        for (n, _) in &args.items {
+        for (k, (n, _)) in args.items.iter().enumerate() {
+            if args.items[..k].iter().any(|(o, _)| o == n) {
+                return Err(err(format!("\"{n}\" given twice")));
+            }
             if !self.spec.bindings.iter().any(|b| &b.name == n) {
                 let need: Vec<&str> = self.spec.bindings.iter().map(|b| b.name.as_str()).collect();
                 return Err(err(format!("\"{n}\" is not an argument of this routine (it takes {})", need.join(", "))));
