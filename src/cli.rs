@@ -106,11 +106,28 @@ pub enum Cmd {
         #[arg(long)]
         threads: Option<usize>,
     },
+    /// Bring your own legacy code: build it with shims into a library (docs/migration.md)
+    Legacy {
+        #[command(subcommand)]
+        cmd: LegacyCmd,
+    },
     /// Speed against error: a matrix of cases × resolutions × backends × searches × kernels
     /// (bench.csv, bench.json, error_vs_time.png; docs/performance.md)
     Bench {
         #[command(flatten)]
         args: crate::bench::BenchArgs,
+    },
+}
+
+#[derive(Subcommand, Debug)]
+pub enum LegacyCmd {
+    /// Compile the legacy sources of a manifest, unmodified, with generated shims into
+    /// DIR/liblegacy.so; DIR/build.json says what was built, DIR/build.log holds the compiler's output
+    Build {
+        manifest: PathBuf,
+        /// The build folder (default: runs/legacy_<name of the manifest's folder>)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -222,6 +239,31 @@ fn dispatch(cli: Cli) -> Result<i32> {
             for f in &b.files {
                 println!("written: {}", f.display());
             }
+            Ok(0)
+        }
+        Cmd::Legacy { cmd: LegacyCmd::Build { manifest, out } } => {
+            let out = out.unwrap_or_else(|| {
+                let stem = std::path::absolute(&manifest)
+                    .ok()
+                    .and_then(|p| p.parent().and_then(|d| d.file_name()).map(|n| n.to_string_lossy().into_owned()))
+                    .unwrap_or_else(|| "build".into());
+                PathBuf::from("runs").join(format!("legacy_{stem}"))
+            });
+            let info = crate::migration::build(&manifest, &out)?;
+            println!(
+                "built {}: {} routines ({}), dim {}, maxn {}, max_interaction {}",
+                out.join(&info.library).display(),
+                info.routines.len(),
+                info.routines.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", "),
+                info.dim,
+                info.maxn,
+                info.max_interaction
+            );
+            match &info.program {
+                Some(p) => println!("the legacy program: {}", out.join(p).display()),
+                None => println!("no legacy program: {}", info.program_note.as_deref().unwrap_or("-")),
+            }
+            println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
         }
         Cmd::Report { dir, times } => {

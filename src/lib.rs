@@ -16,6 +16,7 @@ pub mod case;
 pub mod cli;
 pub mod dual;
 pub mod error;
+pub mod migration;
 pub mod modules;
 pub mod output;
 pub mod plot;

@@ -1,0 +1,647 @@
+//! `blastsph legacy build MANIFEST --out DIR`: compiles a user's legacy sources, unmodified, with
+//! generated shims into one shared library, and records what it built in `DIR/build.json`.
+//!
+//! Steps: read the manifest; evaluate `dim`, `maxn`, `max_interaction` by compiling and running a
+//! probe program that includes the user's `param.inc` (gfortran evaluates it, whatever its
+//! expressions); compile every source to an object (`-std=legacy` for fixed form, `-fPIC -O2
+//! -ffp-contract=off`, then the manifest's `fflags`), reading the C prototypes of its external
+//! procedures from the same compile (`-fc-prototypes-external`) to check that each mapped routine
+//! exists and takes the manifest's number and types of arguments; generate and compile the shims;
+//! link `DIR/liblegacy.so` (`-Wl,--no-undefined`, `-Wl,-Bsymbolic`) from every object that is not a
+//! main program; link the main program, if the sources have one, with the same objects into
+//! `DIR/program` (the user's own executable, built with the same flags, for comparisons).
+//! Every compiler command and its output go to `DIR/build.log`. A problem is one line naming it
+//! and the log, an input error (exit status 2).
+
+use super::manifest::{self, FIXED_FORM, Manifest};
+use super::shim::{self, Sizes};
+use super::vocab::{Base, CallMode, Kind, Shape};
+use crate::error::{Result, SphError, input};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The flags every object gets, for parity with blastsph's own Fortran core (build.rs):
+/// `-ffp-contract=off` keeps `a*b + c` two roundings on FMA hardware; no `-ffast-math` (no
+/// reassociation), no `-march=native` (results must not depend on the build machine).
+pub const BASE_FLAGS: &[&str] = &["-fPIC", "-O2", "-ffp-contract=off"];
+/// Added for fixed-form sources: accepts the legacy dialect (argument mismatches between
+/// routines, tabs, old extensions) as gfortran did before version 10.
+pub const FIXED_FLAGS: &[&str] = &["-std=legacy"];
+/// Link flags of the library: every symbol resolved at build time; the library's own routines
+/// call each other, never a same-named symbol of the program that loads it.
+pub const LINK_FLAGS: &[&str] = &["-shared", "-Wl,--no-undefined", "-Wl,-Bsymbolic"];
+/// The library's file name in the build folder.
+pub const LIBRARY: &str = "liblegacy.so";
+/// The manifest of the build folder.
+pub const BUILD_JSON: &str = "build.json";
+pub const BUILD_LOG: &str = "build.log";
+
+/// One argument of a mapped routine, as built.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ArgInfo {
+    /// Vocabulary name.
+    pub name: String,
+    /// The name as the manifest wrote it (an alias, maybe).
+    pub written: String,
+    /// The dummy argument's name in the user's source.
+    pub dummy: String,
+    pub kind: Kind,
+    /// Shape in the routine's own call: for per-particle and per-pair calls, `scalar` or a
+    /// `dim`-vector (`particle_vec`) of one particle or pair.
+    pub shape: Shape,
+    pub unit: String,
+}
+
+/// One value blastsph passes to a shim (`ptrs[k]`, `sizes[k]`).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct BindingInfo {
+    pub name: String,
+    pub kind: Kind,
+    pub shape: Shape,
+    pub base: Base,
+    pub unit: String,
+}
+
+/// One mapped routine, as built.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct RoutineInfo {
+    pub name: String,
+    /// The routine's linker symbol (gfortran's: `name_`).
+    pub symbol: String,
+    /// The shim's C symbol.
+    pub shim: String,
+    pub modules: Vec<String>,
+    pub call: CallMode,
+    /// The source file that defines it.
+    pub file: String,
+    pub args: Vec<ArgInfo>,
+    pub bindings: Vec<BindingInfo>,
+}
+
+/// One source file, as built.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SourceInfo {
+    pub path: String,
+    pub object: String,
+    /// Holds a main program (linked into `program`, not into the library).
+    pub program_unit: bool,
+    /// External procedures it defines.
+    pub procedures: Vec<String>,
+}
+
+/// The flags of each kind of compile.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Flags {
+    pub fixed_form: Vec<String>,
+    pub free_form: Vec<String>,
+    pub shims: Vec<String>,
+    pub link: Vec<String>,
+}
+
+/// `DIR/build.json`: what a build made.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct BuildInfo {
+    pub format: u32,
+    pub manifest: String,
+    pub library: String,
+    /// The user's own main program, built with the same objects and flags (`null` when the
+    /// sources have none, or it did not link: `program_note` says why).
+    pub program: Option<String>,
+    pub program_note: Option<String>,
+    pub dim: usize,
+    pub maxn: usize,
+    pub max_interaction: usize,
+    pub param_include: String,
+    pub compiler: String,
+    pub flags: Flags,
+    pub sources: Vec<SourceInfo>,
+    pub routines: Vec<RoutineInfo>,
+}
+
+impl BuildInfo {
+    /// Reads `DIR/build.json`.
+    pub fn read(dir: &Path) -> Result<BuildInfo> {
+        let p = dir.join(BUILD_JSON);
+        let text = std::fs::read_to_string(&p).map_err(|e| {
+            input(format!("{}: {e} (not a legacy build folder: run `blastsph legacy build`)", p.display()))
+        })?;
+        serde_json::from_str(&text).map_err(|e| input(format!("{}: {e}", p.display())))
+    }
+    pub fn routine(&self, name: &str) -> Option<&RoutineInfo> {
+        let n = name.to_ascii_lowercase();
+        self.routines.iter().find(|r| r.name == n)
+    }
+    /// [`manifest::check_capacity`] against this build's sizes.
+    pub fn check_capacity(&self, particles: usize, pairs: Option<usize>) -> Result<()> {
+        manifest::check_capacity(self.maxn, self.max_interaction, particles, pairs)
+    }
+}
+
+/// The build log: every command with its output.
+struct Log {
+    path: PathBuf,
+    text: String,
+}
+
+impl Log {
+    fn flush(&self) {
+        let _ = std::fs::write(&self.path, &self.text);
+    }
+    /// Runs a command, logs it; returns (success, stdout, stderr).
+    fn run(&mut self, cmd: &mut Command) -> Result<(bool, String, String)> {
+        let shown = format!(
+            "{} {}",
+            cmd.get_program().to_string_lossy(),
+            cmd.get_args().map(|a| a.to_string_lossy().into_owned()).collect::<Vec<_>>().join(" ")
+        );
+        let _ = writeln!(self.text, "$ {shown}");
+        let out = match cmd.output() {
+            Ok(o) => o,
+            Err(e) => {
+                self.flush();
+                return Err(input(format!(
+                    "legacy build: cannot run {}: {e} (is gfortran installed? scripts/setup)",
+                    cmd.get_program().to_string_lossy()
+                )));
+            }
+        };
+        let so = String::from_utf8_lossy(&out.stdout).into_owned();
+        let se = String::from_utf8_lossy(&out.stderr).into_owned();
+        if !se.is_empty() {
+            self.text.push_str(&se);
+            if !se.ends_with('\n') {
+                self.text.push('\n');
+            }
+        }
+        let _ = writeln!(self.text, "[exit {}]\n", out.status.code().map_or("signal".into(), |c| c.to_string()));
+        self.flush();
+        Ok((out.status.success(), so, se))
+    }
+}
+
+/// The first error in gfortran's or the linker's output, as one line (`file:line:col: Error: ...`).
+pub fn first_error(stderr: &str) -> String {
+    let lines: Vec<&str> = stderr.lines().collect();
+    for (k, l) in lines.iter().enumerate() {
+        let t = l.trim_start();
+        if t.starts_with("Error:") || t.starts_with("Fatal Error:") {
+            // the location is the last `file:line:col:` line above it
+            let loc = lines[..k].iter().rev().find(|p| {
+                let p = p.trim_end();
+                p.ends_with(':') && p.matches(':').count() >= 3 && !p.starts_with(' ')
+            });
+            return match loc {
+                Some(p) => format!("{} {}", p.trim_end(), t),
+                None => t.to_string(),
+            };
+        }
+        if t.contains("undefined reference to") || t.contains("multiple definition of") {
+            return t.to_string();
+        }
+    }
+    lines.iter().rev().find(|l| !l.trim().is_empty()).map(|l| l.trim().to_string()).unwrap_or_default()
+}
+
+/// One external procedure from `-fc-prototypes-external`.
+#[derive(Debug, Clone)]
+struct Proto {
+    symbol: String,
+    name: String,
+    returns: String,
+    /// (C type, dummy name); a `*` pointer for every Fortran dummy.
+    params: Vec<(String, String)>,
+}
+
+fn parse_protos(text: &str) -> Vec<Proto> {
+    let mut out = Vec::new();
+    for l in text.lines() {
+        let l = l.trim();
+        if !l.ends_with(");") || l.starts_with('#') || l.starts_with("/*") {
+            continue;
+        }
+        let Some(open) = l.find('(') else { continue };
+        let head = l[..open].trim();
+        let Some((ret, sym)) = head.rsplit_once(' ') else { continue };
+        let body = &l[open + 1..l.len() - 2];
+        let mut params = Vec::new();
+        for p in body.split(',').map(str::trim).filter(|p| !p.is_empty() && *p != "void") {
+            let (ty, name) = match p.rsplit_once(' ') {
+                Some((ty, name)) => (ty.trim().to_string(), name.trim().to_string()),
+                None => (p.to_string(), String::new()),
+            };
+            let (ty, name) = match name.strip_prefix('*') {
+                Some(n) => (format!("{ty} *"), n.to_string()),
+                None => (ty, name),
+            };
+            params.push((ty, name));
+        }
+        let sym = sym.trim().to_string();
+        let name = sym.trim_end_matches('_').to_ascii_lowercase();
+        out.push(Proto { symbol: sym, name, returns: ret.trim().to_string(), params });
+    }
+    out
+}
+
+fn rel(p: &Path, base: &Path) -> String {
+    p.strip_prefix(base).unwrap_or(p).display().to_string()
+}
+
+/// Builds the manifest's code into `out`; returns what was built (also in `out/build.json`).
+pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
+    let m = manifest::load(manifest_path)?;
+    // never write beside the user's sources
+    let out_abs: PathBuf = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    let out_abs: PathBuf = out_abs.components().collect();
+    if out_abs == m.dir || m.sources.iter().any(|s| s.parent() == Some(out_abs.as_path())) {
+        return Err(input(format!(
+            "legacy build: --out {}: the folder of the sources or the manifest; give a build folder of its own",
+            out.display()
+        )));
+    }
+    std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    let out = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    let obj = out.join("obj");
+    std::fs::create_dir_all(obj.join("mod")).map_err(|e| SphError::Io(format!("{}: {e}", obj.display())))?;
+    let _ = std::fs::remove_file(out.join(BUILD_JSON));
+    let _ = std::fs::remove_file(out.join(LIBRARY));
+    let _ = std::fs::remove_file(out.join("program"));
+    let mut log = Log { path: out.join(BUILD_LOG), text: String::new() };
+    let _ = writeln!(log.text, "blastsph legacy build {} --out {}\n", m.path.display(), out.display());
+    log.flush();
+    let logp = log.path.display().to_string();
+    let fail = |what: String| input(format!("legacy build: {what} (log: {logp})"));
+
+    // the compiler
+    let (ok, so, _) = log.run(Command::new("gfortran").arg("--version"))?;
+    if !ok {
+        return Err(fail("gfortran --version failed".into()));
+    }
+    let compiler = so.lines().next().unwrap_or("gfortran").trim().to_string();
+
+    let incs: Vec<String> = m.include_dirs.iter().map(|d| format!("-I{}", d.display())).collect();
+    let fixed: Vec<String> =
+        BASE_FLAGS.iter().chain(FIXED_FLAGS).map(|s| s.to_string()).chain(m.fflags.clone()).collect();
+    let free: Vec<String> = BASE_FLAGS.iter().map(|s| s.to_string()).chain(m.fflags.clone()).collect();
+
+    // the include file and the probe
+    let inc = m
+        .include_dirs
+        .iter()
+        .map(|d| d.join(&m.param_include))
+        .chain(std::iter::once(m.dir.join(&m.param_include)))
+        .find(|p| p.is_file())
+        .ok_or_else(|| {
+            input(format!(
+                "{}: param_include \"{}\" is in none of include_dirs (nor beside the manifest)",
+                m.path.display(),
+                m.param_include
+            ))
+        })?;
+    let sizes = probe(&m, &inc, &obj, (&fixed, &free), &mut log).map_err(|e| match e {
+        SphError::Input(s) => fail(s),
+        o => o,
+    })?;
+    if sizes.dim != m.dim {
+        return Err(input(format!(
+            "{}: dim = {} but {} says {} = {}",
+            m.path.display(),
+            m.dim,
+            inc.display(),
+            m.param_names.dim,
+            sizes.dim
+        )));
+    }
+
+    // compile the sources (module dependencies: retry what needs a module another file makes)
+    let mut pending: Vec<usize> = (0..m.sources.len()).collect();
+    let mut protos: Vec<Vec<Proto>> = vec![Vec::new(); m.sources.len()];
+    let objects: Vec<PathBuf> = m
+        .sources
+        .iter()
+        .enumerate()
+        .map(|(k, s)| obj.join(format!("{k:03}_{}.o", s.file_stem().map(|x| x.to_string_lossy()).unwrap_or_default())))
+        .collect();
+    while !pending.is_empty() {
+        let mut next = Vec::new();
+        let mut last_err: Option<(usize, String)> = None;
+        for &k in &pending {
+            let src = &m.sources[k];
+            let ext = src.extension().and_then(|e| e.to_str()).unwrap_or("");
+            let flags = if FIXED_FORM.contains(&ext) { &fixed } else { &free };
+            let mut cmd = Command::new("gfortran");
+            cmd.arg("-c").arg("-fc-prototypes-external").args(flags).args(&incs);
+            cmd.arg(format!("-J{}", obj.join("mod").display())).arg("-o").arg(&objects[k]).arg(src);
+            let (ok, so, se) = log.run(&mut cmd)?;
+            if ok {
+                protos[k] = parse_protos(&so);
+            } else if se.contains("Cannot open module file") {
+                next.push(k);
+                last_err = Some((k, first_error(&se)));
+            } else {
+                return Err(fail(format!("{}: compile error: {}", rel(src, &m.dir), first_error(&se))));
+            }
+        }
+        if next.len() == pending.len() {
+            let (k, e) = last_err.unwrap_or((next[0], String::new()));
+            return Err(fail(format!("{}: compile error: {e}", rel(&m.sources[k], &m.dir))));
+        }
+        pending = next;
+    }
+
+    // main programs: an object that defines `main`
+    let mut is_program = vec![false; m.sources.len()];
+    for (k, o) in objects.iter().enumerate() {
+        let (ok, so, _) = log.run(Command::new("nm").arg("--defined-only").arg(o))?;
+        is_program[k] = ok && so.lines().any(|l| l.split_whitespace().collect::<Vec<_>>().ends_with(&["T", "main"]));
+    }
+
+    // each mapped routine: defined once, with the manifest's arguments
+    let mut routines = Vec::new();
+    for r in &m.routines {
+        let found: Vec<(usize, &Proto)> = protos
+            .iter()
+            .enumerate()
+            .flat_map(|(k, ps)| ps.iter().map(move |p| (k, p)))
+            .filter(|(_, p)| p.name == r.name)
+            .collect();
+        let (k, p) = match found.as_slice() {
+            [] => {
+                return Err(input(format!(
+                    "{}: routine {}: not found in the sources ({} files compiled)",
+                    m.path.display(),
+                    r.name,
+                    m.sources.len()
+                )));
+            }
+            [one] => *one,
+            more => {
+                let files: Vec<String> = more.iter().map(|(k, _)| rel(&m.sources[*k], &m.dir)).collect();
+                return Err(input(format!(
+                    "{}: routine {}: defined twice ({})",
+                    m.path.display(),
+                    r.name,
+                    files.join(", ")
+                )));
+            }
+        };
+        let file = rel(&m.sources[k], &m.dir);
+        if p.returns != "void" {
+            return Err(input(format!(
+                "{}: routine {} ({file}) is a FUNCTION returning {}: only subroutines can be mapped",
+                m.path.display(),
+                r.name,
+                p.returns
+            )));
+        }
+        if p.params.len() != r.args.len() {
+            let dummies: Vec<&str> = p.params.iter().map(|(_, n)| n.as_str()).collect();
+            return Err(input(format!(
+                "{}: routine {}: the manifest names {} arguments, {file} declares {} ({})",
+                m.path.display(),
+                r.name,
+                r.args.len(),
+                p.params.len(),
+                dummies.join(", ")
+            )));
+        }
+        let mut args = Vec::new();
+        for (a, (cty, dummy)) in r.args.iter().zip(&p.params) {
+            let want = format!("{} *", a.term.kind.c_type());
+            if *cty != want {
+                return Err(input(format!(
+                    "{}: routine {}: argument {} (\"{}\") is declared {} in {file}; the vocabulary's {} is {}",
+                    m.path.display(),
+                    r.name,
+                    dummy,
+                    a.written,
+                    cty.trim_end_matches(" *"),
+                    a.term.name,
+                    match a.term.kind {
+                        Kind::Real => "double precision",
+                        Kind::Int => "a default integer",
+                    }
+                )));
+            }
+            args.push(ArgInfo {
+                name: a.term.name.to_string(),
+                written: a.written.clone(),
+                dummy: dummy.clone(),
+                kind: a.term.kind,
+                shape: match (r.call, a.term.shape) {
+                    (CallMode::Whole, s) => s,
+                    (_, Shape::ParticleVec | Shape::PairVec) => Shape::ParticleVec,
+                    _ => Shape::Scalar,
+                },
+                unit: a.term.unit.to_string(),
+            });
+        }
+        if is_program[k] {
+            return Err(input(format!("{}: routine {}: {file} holds the main program", m.path.display(), r.name)));
+        }
+        let bindings = r
+            .bindings()
+            .into_iter()
+            .map(|t| BindingInfo {
+                name: t.name.to_string(),
+                kind: t.kind,
+                shape: t.shape,
+                base: t.base,
+                unit: t.unit.to_string(),
+            })
+            .collect();
+        routines.push(RoutineInfo {
+            name: r.name.clone(),
+            symbol: p.symbol.clone(),
+            shim: shim::symbol(&r.name),
+            modules: r.modules.clone(),
+            call: r.call,
+            file,
+            args,
+            bindings,
+        });
+    }
+
+    // the shims
+    let shim_src = obj.join("blastsph_shims.f90");
+    std::fs::write(&shim_src, shim::source(&m.routines, sizes, &m.path.display().to_string()))
+        .map_err(|e| SphError::Io(format!("{}: {e}", shim_src.display())))?;
+    let shim_obj = obj.join("blastsph_shims.o");
+    let shim_flags: Vec<String> = free.clone();
+    let (ok, _, se) = log.run(
+        Command::new("gfortran")
+            .arg("-c")
+            .args(&shim_flags)
+            .arg(format!("-J{}", obj.join("mod").display()))
+            .arg("-o")
+            .arg(&shim_obj)
+            .arg(&shim_src),
+    )?;
+    if !ok {
+        return Err(fail(format!("the generated shims do not compile: {}", first_error(&se))));
+    }
+
+    // the library
+    let lib = out.join(LIBRARY);
+    let lib_objs: Vec<&PathBuf> = objects.iter().zip(&is_program).filter(|(_, p)| !**p).map(|(o, _)| o).collect();
+    let link: Vec<String> = LINK_FLAGS.iter().map(|s| s.to_string()).collect();
+    let (ok, _, se) =
+        log.run(Command::new("gfortran").args(&link).args(&free).arg("-o").arg(&lib).args(&lib_objs).arg(&shim_obj))?;
+    if !ok {
+        return Err(fail(format!("the library does not link: {}", first_error(&se))));
+    }
+
+    // the user's own program, if the sources have one
+    let (program, program_note) = match is_program.iter().filter(|p| **p).count() {
+        0 => (None, Some("the sources hold no main program".to_string())),
+        1 => {
+            let exe = out.join("program");
+            let (ok, _, se) = log.run(Command::new("gfortran").args(&free).arg("-o").arg(&exe).args(&objects))?;
+            if ok {
+                (Some("program".to_string()), None)
+            } else {
+                (None, Some(format!("the main program does not link: {}", first_error(&se))))
+            }
+        }
+        n => (None, Some(format!("the sources hold {n} main programs: none linked"))),
+    };
+
+    let info = BuildInfo {
+        format: 1,
+        manifest: m.path.display().to_string(),
+        library: LIBRARY.to_string(),
+        program,
+        program_note,
+        dim: sizes.dim,
+        maxn: sizes.maxn,
+        max_interaction: sizes.max_interaction,
+        param_include: inc.display().to_string(),
+        compiler,
+        flags: Flags { fixed_form: fixed, free_form: free, shims: shim_flags, link },
+        sources: m
+            .sources
+            .iter()
+            .enumerate()
+            .map(|(k, s)| SourceInfo {
+                path: s.display().to_string(),
+                object: rel(&objects[k], &out),
+                program_unit: is_program[k],
+                procedures: protos[k].iter().map(|p| p.name.clone()).collect(),
+            })
+            .collect(),
+        routines,
+    };
+    let jp = out.join(BUILD_JSON);
+    std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())
+        .map_err(|e| SphError::Io(format!("{}: {e}", jp.display())))?;
+    Ok(info)
+}
+
+/// Compiles and runs a program that includes the user's parameter file and prints the three sizes.
+fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), log: &mut Log) -> Result<Sizes> {
+    let n = &m.param_names;
+    let body = |lead: &str, end: &str| {
+        format!(
+            "{lead}program blastsph_probe\n\
+             {lead}include '{inc}'\n\
+             {lead}integer bs_d, bs_m, bs_i\n\
+             {lead}parameter (bs_d = {d})\n\
+             {lead}parameter (bs_m = {mx})\n\
+             {lead}parameter (bs_i = {mi})\n\
+             {lead}write(*,'(3i20)') bs_d, bs_m, bs_i\n\
+             {lead}{end}\n",
+            inc = m.param_include,
+            d = n.dim,
+            mx = n.maxn,
+            mi = n.max_interaction
+        )
+    };
+    let exe = obj.join("blastsph_probe");
+    let dir = inc.parent().unwrap_or(Path::new("."));
+    // the include file in fixed form (the book's), else in free form
+    let mut first_err: Option<String> = None;
+    for (file, text, fl) in
+        [("blastsph_probe.f", body("      ", "end"), flags.0), ("blastsph_probe.f90", body("", "end program"), flags.1)]
+    {
+        let src = obj.join(file);
+        std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
+        let mut cmd = Command::new("gfortran");
+        cmd.args(fl).arg(format!("-I{}", dir.display()));
+        for d in &m.include_dirs {
+            cmd.arg(format!("-I{}", d.display()));
+        }
+        cmd.arg("-o").arg(&exe).arg(&src);
+        let (ok, _, se) = log.run(&mut cmd)?;
+        if ok {
+            first_err = None;
+            break;
+        }
+        // keep the message that names a parameter (the form that got that far), else the first
+        let e = first_error(&se);
+        let names = [&n.dim, &n.maxn, &n.max_interaction];
+        match &first_err {
+            Some(prev) if names.iter().any(|x| prev.contains(x.as_str())) => {}
+            Some(_) if !names.iter().any(|x| e.contains(x.as_str())) => {}
+            _ => first_err = Some(e),
+        }
+    }
+    if let Some(e) = first_err {
+        return Err(input(format!(
+            "{}: cannot evaluate {}, {}, {} with a probe program: {e}",
+            inc.display(),
+            n.dim,
+            n.maxn,
+            n.max_interaction
+        )));
+    }
+    let (ok, so, _) = log.run(&mut Command::new(&exe))?;
+    let v: Vec<i64> = so.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+    if !ok || v.len() != 3 {
+        return Err(input(format!("{}: the probe program printed \"{}\"", inc.display(), so.trim())));
+    }
+    let _ =
+        writeln!(log.text, "probe: {} = {}, {} = {}, {} = {}\n", n.dim, v[0], n.maxn, v[1], n.max_interaction, v[2]);
+    log.flush();
+    if !(1..=3).contains(&v[0]) || v[1] < 1 || v[2] < 1 {
+        return Err(input(format!(
+            "{}: {} = {}, {} = {}, {} = {}: not a usable size",
+            inc.display(),
+            n.dim,
+            v[0],
+            n.maxn,
+            v[1],
+            n.max_interaction,
+            v[2]
+        )));
+    }
+    Ok(Sizes { dim: v[0] as usize, maxn: v[1] as usize, max_interaction: v[2] as usize })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prototypes_are_parsed() {
+        let t = "#include <stddef.h>\nvoid kernel_ (double *r, double *dx, double *hsml, double *w, double *dwdx);\n\
+                 double f_ (int *n);\nvoid z_ ();\n";
+        let p = parse_protos(t);
+        assert_eq!(p.len(), 3);
+        assert_eq!(p[0].name, "kernel");
+        assert_eq!(p[0].symbol, "kernel_");
+        assert_eq!(p[0].params[1], ("double *".to_string(), "dx".to_string()));
+        assert_eq!(p[1].returns, "double");
+        assert!(p[2].params.is_empty());
+    }
+
+    #[test]
+    fn first_error_joins_location_and_message() {
+        let se = "k.f:17:17:\n\n   17 |       call foo(1,2d0,3.)\n      |                 1\nError: Rank mismatch\n";
+        assert_eq!(first_error(se), "k.f:17:17: Error: Rank mismatch");
+        assert_eq!(
+            first_error("x.o: in function `a_':\nx.f:(.text+0x5): undefined reference to `b_'\n"),
+            "x.f:(.text+0x5): undefined reference to `b_'"
+        );
+    }
+}

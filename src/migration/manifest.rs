@@ -1,0 +1,355 @@
+//! The legacy manifest (`legacy.toml`): where a user's unmodified legacy code is, how to compile
+//! it, and which of its routines stand for which blastsph modules, with their arguments named in
+//! the vocabulary of [`super::vocab`].
+//!
+//! ```toml
+//! dim = 1                        # the compile-time dimension of this build (param.inc's dim)
+//! sources = ["src/*.f"]          # globs relative to this file: .f .for .f77 .F .f90 .F90
+//! include_dirs = ["src"]         # where param.inc and the other includes are
+//! fflags = ["-finit-local-zero"] # extra gfortran flags
+//! # param_include = "param.inc"  # the include file that defines the three parameters below
+//! # [param_names]                # their names there, if not dim, maxn, max_interaction
+//! # maxn = "nmax"
+//!
+//! [[routine]]
+//! name = "art_visc"              # the subroutine, as written in the sources
+//! module = "viscosity"           # blastsph module(s) it stands for: "eos,force"
+//! args = ["ntotal", "hsml", ...] # one vocabulary name per dummy argument, in order
+//! # call = "each_particle"       # or "each_pair"; whole arrays by default
+//! ```
+//!
+//! Every problem is one line naming the file and the key, an input error (exit status 2).
+
+use super::vocab::{self, CallMode, Shape, Term};
+use crate::error::{Result, SphError, input};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawManifest {
+    dim: i64,
+    sources: Vec<String>,
+    #[serde(default)]
+    include_dirs: Vec<String>,
+    #[serde(default)]
+    fflags: Vec<String>,
+    #[serde(default)]
+    param_include: Option<String>,
+    #[serde(default)]
+    param_names: Option<RawParamNames>,
+    #[serde(default, rename = "routine")]
+    routines: Vec<RawRoutine>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawParamNames {
+    dim: Option<String>,
+    maxn: Option<String>,
+    max_interaction: Option<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRoutine {
+    name: String,
+    module: String,
+    args: Vec<String>,
+    #[serde(default)]
+    call: Option<String>,
+}
+
+/// The names of the three compile-time parameters in the user's include file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParamNames {
+    pub dim: String,
+    pub maxn: String,
+    pub max_interaction: String,
+}
+
+/// One argument of a routine: the name as the manifest writes it and the term it stands for.
+#[derive(Debug, Clone)]
+pub struct Arg {
+    pub written: String,
+    pub term: &'static Term,
+}
+
+/// One mapped routine.
+#[derive(Debug, Clone)]
+pub struct Routine {
+    /// Lower case, as Fortran sees it.
+    pub name: String,
+    pub modules: Vec<String>,
+    pub call: CallMode,
+    pub args: Vec<Arg>,
+}
+
+/// What blastsph passes to a routine's shim, in order: a vocabulary name with its whole-array shape.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Binding {
+    pub term: &'static Term,
+}
+
+impl Routine {
+    /// The arrays and scalars blastsph hands the shim, in the order of the pointer array.
+    /// Whole-array calls: the manifest's arguments. `each_particle`: `ntotal`, then the
+    /// arguments. `each_pair`: `niac`, `pair_i`, `pair_j`, then the sources of the arguments
+    /// (`r` and `dx` come from `x`, the pair's `hsml` from `hsml`), each once.
+    pub fn bindings(&self) -> Vec<&'static Term> {
+        let mut out: Vec<&'static Term> = Vec::new();
+        let mut push = |t: &'static Term| {
+            if !out.iter().any(|o| o.name == t.name) {
+                out.push(t);
+            }
+        };
+        let whole = |n: &str| vocab::lookup(n).expect("vocabulary name");
+        match self.call {
+            CallMode::Whole => self.args.iter().for_each(|a| push(a.term)),
+            CallMode::EachParticle => {
+                push(whole("ntotal"));
+                self.args.iter().for_each(|a| push(a.term));
+            }
+            CallMode::EachPair => {
+                for n in ["niac", "pair_i", "pair_j"] {
+                    push(whole(n));
+                }
+                for a in &self.args {
+                    match a.term.name {
+                        "r" | "dx" => push(whole("x")),
+                        "hsml" => push(whole("hsml")),
+                        "w" => push(whole("w")),
+                        "dwdx" => push(whole("dwdx")),
+                        _ => push(a.term),
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A checked manifest. Paths are absolute.
+#[derive(Debug, Clone)]
+pub struct Manifest {
+    pub path: PathBuf,
+    pub dir: PathBuf,
+    pub dim: usize,
+    /// The files the globs matched, in a stable order (sorted by path), each once.
+    pub sources: Vec<PathBuf>,
+    pub include_dirs: Vec<PathBuf>,
+    pub fflags: Vec<String>,
+    pub param_include: String,
+    pub param_names: ParamNames,
+    pub routines: Vec<Routine>,
+}
+
+/// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
+pub const FIXED_FORM: &[&str] = &["f", "for", "f77", "F", "FOR"];
+pub const FREE_FORM: &[&str] = &["f90", "F90", "f95", "f03", "f08"];
+
+/// Flags that would change the arithmetic of the build against blastsph's own core (DESIGN.md:
+/// no fast-math, no FMA contraction, no -march=native): refused in `fflags`.
+pub const REFUSED_FLAGS: &[&str] = &[
+    "-ffast-math",
+    "-Ofast",
+    "-funsafe-math-optimizations",
+    "-fassociative-math",
+    "-freciprocal-math",
+    "-ffp-contract=fast",
+    "-ffp-contract=on",
+    "-march=native",
+    "-mtune=native",
+    "-mfma",
+    "-shared",
+    "-c",
+    "-o",
+];
+
+fn is_ident(s: &str) -> bool {
+    let mut ch = s.chars();
+    matches!(ch.next(), Some(c) if c.is_ascii_alphabetic()) && ch.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Reads and checks a manifest; the sources must exist (globs expanded here).
+pub fn load(path: &Path) -> Result<Manifest> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| input(format!("{shown}: cannot read the manifest: {e}")))?;
+    let raw: RawManifest = toml::from_str(&text).map_err(|e| {
+        let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+        let msg = e.message().replace('\n', " ");
+        match line {
+            Some(l) => input(format!("{shown}:{l}: {msg}")),
+            None => input(format!("{shown}: {msg}")),
+        }
+    })?;
+    let path = std::path::absolute(path).map_err(|e| input(format!("{shown}: {e}")))?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+    let err = |key: &str, msg: String| input(format!("{shown}: {key}: {msg}"));
+
+    if !(1..=3).contains(&raw.dim) {
+        return Err(err("dim", format!("{} is not 1, 2 or 3", raw.dim)));
+    }
+    if raw.sources.is_empty() {
+        return Err(err("sources", "no source given".into()));
+    }
+    let mut sources = Vec::new();
+    for pat in &raw.sources {
+        let full: PathBuf = dir.join(pat).components().collect();
+        let full_s = full.to_string_lossy().to_string();
+        let paths = glob::glob(&full_s).map_err(|e| err("sources", format!("\"{pat}\": bad pattern: {e}")))?;
+        let mut found = 0;
+        for p in paths {
+            let p = p.map_err(|e| err("sources", format!("\"{pat}\": {e}")))?;
+            if !p.is_file() {
+                continue;
+            }
+            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !FIXED_FORM.contains(&ext) && !FREE_FORM.contains(&ext) {
+                return Err(err(
+                    "sources",
+                    format!("{}: not a Fortran source (endings .f .for .f77 .F .f90 .F90)", p.display()),
+                ));
+            }
+            found += 1;
+            if !sources.contains(&p) {
+                sources.push(p);
+            }
+        }
+        if found == 0 {
+            return Err(err("sources", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
+        }
+    }
+    sources.sort();
+
+    let mut include_dirs = Vec::new();
+    for d in &raw.include_dirs {
+        let p: PathBuf = dir.join(d).components().collect();
+        if !p.is_dir() {
+            return Err(err("include_dirs", format!("\"{d}\": no such folder ({})", p.display())));
+        }
+        include_dirs.push(p);
+    }
+
+    for f in &raw.fflags {
+        let refused = REFUSED_FLAGS.iter().any(|r| f == r || (r.ends_with('=') && f.starts_with(r)));
+        if refused {
+            return Err(err(
+                "fflags",
+                format!(
+                    "\"{f}\" is refused: it changes the arithmetic against blastsph's own core (docs/migration.md)"
+                ),
+            ));
+        }
+        if !f.starts_with('-') {
+            return Err(err("fflags", format!("\"{f}\" is not a compiler flag (flags start with -)")));
+        }
+    }
+
+    let param_include = raw.param_include.clone().unwrap_or_else(|| "param.inc".into());
+    let pn = raw.param_names.as_ref();
+    let param_names = ParamNames {
+        dim: pn.and_then(|p| p.dim.clone()).unwrap_or_else(|| "dim".into()),
+        maxn: pn.and_then(|p| p.maxn.clone()).unwrap_or_else(|| "maxn".into()),
+        max_interaction: pn.and_then(|p| p.max_interaction.clone()).unwrap_or_else(|| "max_interaction".into()),
+    };
+    for (k, v) in
+        [("dim", &param_names.dim), ("maxn", &param_names.maxn), ("max_interaction", &param_names.max_interaction)]
+    {
+        if !is_ident(v) {
+            return Err(err(&format!("param_names.{k}"), format!("\"{v}\" is not a Fortran name")));
+        }
+    }
+
+    let mut routines: Vec<Routine> = Vec::new();
+    for (ix, r) in raw.routines.iter().enumerate() {
+        let key = format!("routine[{ix}] ({})", r.name);
+        let name = r.name.trim().to_ascii_lowercase();
+        if !is_ident(&name) {
+            return Err(err(&format!("routine[{ix}].name"), format!("\"{}\" is not a Fortran name", r.name)));
+        }
+        if routines.iter().any(|o| o.name == name) {
+            return Err(err(&key, "mapped twice".into()));
+        }
+        let call = match &r.call {
+            None => CallMode::Whole,
+            Some(c) => CallMode::parse(c.trim()).ok_or_else(|| {
+                err(&format!("{key}.call"), format!("\"{c}\": must be \"whole\", \"each_particle\" or \"each_pair\""))
+            })?,
+        };
+        let mut modules = Vec::new();
+        for m in r.module.split(',').map(str::trim) {
+            if !vocab::MODULES.contains(&m) {
+                return Err(err(
+                    &format!("{key}.module"),
+                    format!("\"{m}\" is not a blastsph module ({})", vocab::MODULES.join(", ")),
+                ));
+            }
+            if !modules.iter().any(|x: &String| x == m) {
+                modules.push(m.to_string());
+            }
+        }
+        let mut args: Vec<Arg> = Vec::new();
+        for a in &r.args {
+            let written = a.trim().to_ascii_lowercase();
+            let term = match call {
+                CallMode::EachPair => vocab::lookup_pair(&written).or_else(|| {
+                    // scalars keep their meaning in a per-pair call (dt, itimestep, ...)
+                    vocab::lookup(&written).filter(|t| t.shape == Shape::Scalar)
+                }),
+                _ => vocab::lookup(&written),
+            };
+            let term = term.ok_or_else(|| {
+                let hint = match call {
+                    CallMode::EachPair => "in an each_pair call: r, dx, hsml, w, dwdx and scalars".to_string(),
+                    _ => "see the argument table of docs/migration.md".to_string(),
+                };
+                err(&format!("{key}.args"), format!("unknown argument name \"{a}\" ({hint})"))
+            })?;
+            if call == CallMode::EachParticle && term.shape.per_pair() {
+                return Err(err(
+                    &format!("{key}.args"),
+                    format!("\"{a}\" is a per-pair array: not an argument of an each_particle call"),
+                ));
+            }
+            if args.iter().any(|o| o.term.name == term.name) {
+                return Err(err(&format!("{key}.args"), format!("\"{a}\" given twice")));
+            }
+            args.push(Arg { written, term });
+        }
+        if call == CallMode::EachParticle && args.iter().any(|a| a.term.name == "ntotal") {
+            return Err(err(&format!("{key}.args"), "an each_particle call takes one particle: no \"ntotal\"".into()));
+        }
+        routines.push(Routine { name, modules, call, args });
+    }
+
+    Ok(Manifest {
+        path,
+        dir,
+        dim: raw.dim as usize,
+        sources,
+        include_dirs,
+        fflags: raw.fflags.clone(),
+        param_include,
+        param_names,
+        routines,
+    })
+}
+
+/// Checks that a case fits the arrays of a legacy build: `particles` (real and virtual) against
+/// its `maxn`, and `pairs`, where known, against its `max_interaction`. One line, exit status 2.
+pub fn check_capacity(maxn: usize, max_interaction: usize, particles: usize, pairs: Option<usize>) -> Result<()> {
+    if particles > maxn {
+        return Err(SphError::Input(format!(
+            "the case has {particles} particles, more than the legacy build's maxn = {maxn} (param.inc): raise maxn and rebuild"
+        )));
+    }
+    if let Some(np) = pairs
+        && np > max_interaction
+    {
+        return Err(SphError::Input(format!(
+            "the case has {np} pairs, more than the legacy build's max_interaction = {max_interaction} (param.inc): raise it and rebuild"
+        )));
+    }
+    Ok(())
+}
