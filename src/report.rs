@@ -27,10 +27,16 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
             .map_err(|e| input(format!("{}: {e} (is this a run directory?)", sp.display())))?,
     )
     .map_err(|e| input(format!("{}: {e}", sp.display())))?;
-    let sets: Vec<String> = summary["sets"]
-        .as_array()
-        .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
-        .unwrap_or_default();
+    // since case.toml holds the case as run, the overrides are in it; older run directories
+    // kept the case file as given and the overrides in summary.json `sets`
+    let sets: Vec<String> = if summary.get("case_toml").is_some() {
+        Vec::new()
+    } else {
+        summary["sets"]
+            .as_array()
+            .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
+            .unwrap_or_default()
+    };
     let cp = dir.join("case.toml");
     let text = std::fs::read_to_string(&cp).map_err(|e| input(format!("{}: {e}", cp.display())))?;
     let name = summary["case"].as_str().map(String::from);
