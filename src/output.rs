@@ -193,44 +193,35 @@ impl H5Part {
             put("ppv", &by_index(&pk.ppv))?;
             put("p_peak", &by_index(&pk.p_peak))?;
         }
-        // interleaved copies for the XDMF readers, in /xdmf/Step#N (outside the H5Part groups,
+        // interleaved views for the XDMF readers, in /xdmf/Step#N (outside the H5Part groups,
         // whose reader expects 1D datasets only): ParaView's Xdmf3 reader (the one its
-        // OpenDataFile picks for .xmf) builds points and vectors only from (N, 3) arrays
+        // OpenDataFile picks for .xmf) builds points and vectors only from (N, 3) arrays. They
+        // are HDF5 virtual datasets: each column maps a 1D dataset of /Step#N, a column that is
+        // zero by construction maps nothing (the fill value 0), so they store no data.
         {
             let top = match self.file.group("xdmf") {
                 Ok(t) => t,
                 Err(_) => self.file.create_group("xdmf").map_err(h5err)?,
             };
-            let g = top.create_group(&format!("Step#{}", self.steps)).map_err(h5err)?;
-            let inter = |name: &str, cols: usize, f: &dyn Fn(usize, usize) -> f64| -> Result<()> {
-                let mut v = vec![0.0; n * cols];
-                for i in 0..n {
-                    for c in 0..cols {
-                        v[c + cols * i] = f(i, c);
+            let step = self.steps;
+            let gx = top.create_group(&format!("Step#{step}")).map_err(h5err)?;
+            let view = |name: &str, cols: &[Option<&str>]| -> Result<()> {
+                let mut b = gx.new_dataset_builder().empty::<f64>().shape((n, cols.len())).fill_value(0.0f64);
+                for (c, src) in cols.iter().enumerate() {
+                    if let Some(src) = src {
+                        b = b.virtual_map(".", format!("/Step#{step}/{src}"), n, .., (n, cols.len()), (.., c));
                     }
                 }
-                let a = ndarray::Array2::from_shape_vec((n, cols), v).map_err(|e| SphError::Io(e.to_string()))?;
-                g.new_dataset_builder()
-                    .chunk((chunk, cols))
-                    .shuffle()
-                    .deflate(DEFLATE)
-                    .with_data(&a)
-                    .create(name)
-                    .map(|_| ())
-                    .map_err(h5err)
+                b.create(name).map(|_| ()).map_err(h5err)
             };
-            inter("xyz", 3, &|i, c| if c < dim { p.x[c + dim * i] } else { 0.0 })?;
-            inter("vxyz", 3, &|i, c| if c < dim { p.v[c + dim * i] } else { 0.0 })?;
+            let live = |a: usize, name: &'static str| if a < dim { Some(name) } else { None };
+            view("xyz", &[live(0, "x"), live(1, "y"), live(2, "z")])?;
+            view("vxyz", &[live(0, "vx"), live(1, "vy"), live(2, "vz")])?;
             if stress {
-                // 3 x 3, row by row: xx xy xz / xy yy yz / xz yz zz (NSTR order xx yy zz xy xz yz)
-                const Q: [usize; 9] = [0, 3, 4, 3, 1, 5, 4, 5, 2];
-                inter("stress", 9, &|i, c| {
-                    let q = Q[c];
-                    if q >= 4 && dim < 3 {
-                        return 0.0;
-                    }
-                    p.tau[q + NSTR * i] - if q < 3 { p.p[i] } else { 0.0 }
-                })?;
+                // 3 x 3, row by row: xx xy xz / xy yy yz / xz yz zz
+                let xz = live(2, "sxz");
+                let yz = live(2, "syz");
+                view("stress", &[Some("sxx"), Some("sxy"), xz, Some("sxy"), Some("syy"), yz, xz, yz, Some("szz")])?;
             }
         }
         let attr = g.new_attr::<f64>().create("TimeValue").map_err(h5err)?;

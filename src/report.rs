@@ -159,6 +159,11 @@ pub fn report(dir: &Path) -> Result<Value> {
 
 /// The report, with particle snapshots at `times` (s; empty: the start, the quarters, the end).
 pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
+    report_with(dir, times, false)
+}
+
+/// The report, with snapshots at `times` and, when `animate`, animation.gif.
+pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     let (case, summary) = load_case(dir)?;
     let frames = read_frames(&dir.join("particles.h5"))?;
     println!(
@@ -190,8 +195,10 @@ pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
     );
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
-        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
-        AnalysisKind::None if case.dim == 2 => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
+        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?,
+        AnalysisKind::None if case.dim == 2 => {
+            crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?
+        }
         AnalysisKind::None => json!({}),
     };
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();

@@ -239,9 +239,14 @@ pub fn run_sim_as(mut sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts:
         summary["gauges"] = json!(gauges.summary());
     }
     if sim.case.analysis.kind == AnalysisKind::Crater {
-        let c = analysis::crater::measure(&sim);
-        summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
-        summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+        match analysis::crater::measure(&sim) {
+            Ok(c) => {
+                summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
+                summary["crater"]["measured"] = json!(true);
+                summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+            }
+            Err(why) => summary["crater"] = json!({ "measured": false, "reason": why }),
+        }
     }
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
     std::fs::write(dir.join("summary.json"), text).map_err(|e| SphError::Io(format!("summary.json: {e}")))?;
