@@ -66,14 +66,14 @@ pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
     let text = std::fs::read_to_string(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    let names: Vec<String> =
-        head.iter().filter_map(|h| h.strip_suffix("_p_pa")).map(String::from).collect::<Vec<_>>();
+    let names: Vec<String> = head.iter().filter_map(|h| h.strip_suffix("_p_pa")).map(String::from).collect::<Vec<_>>();
     let col = |n: &str, q: &str| head.iter().position(|h| *h == format!("{n}_{q}"));
     let cols: Vec<(Option<usize>, Vec<usize>)> = names
         .iter()
         .map(|n| (col(n, "p_pa"), ["vx_ms", "vy_ms", "vz_ms"].iter().filter_map(|q| col(n, q)).collect()))
         .collect();
-    let mut out: Vec<GaugeRecord> = names.iter().map(|n| GaugeRecord { name: n.clone(), samples: Vec::new() }).collect();
+    let mut out: Vec<GaugeRecord> =
+        names.iter().map(|n| GaugeRecord { name: n.clone(), samples: Vec::new() }).collect();
     for l in lines {
         if l.starts_with('#') {
             continue;
@@ -206,7 +206,10 @@ pub fn report(
         let grow = vec![
             ("diameter (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect()),
             ("depth (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
-            ("ejecta height (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect::<Vec<_>>()),
+            (
+                "ejecta height (cm)".to_string(),
+                ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect::<Vec<_>>(),
+            ),
         ];
         let mut refs = Vec::new();
         let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
@@ -238,7 +241,13 @@ pub fn report(
         let (_, c_end) = ok_hist[ok_hist.len() - 1];
         let mut prof = vec![(
             "original ground".to_string(),
-            c_end.columns_m.iter().zip(&c_end.surface0_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect::<Vec<_>>(),
+            c_end
+                .columns_m
+                .iter()
+                .zip(&c_end.surface0_m)
+                .filter(|p| p.1.is_finite())
+                .map(|(x, y)| (*x, *y))
+                .collect::<Vec<_>>(),
         )];
         for &k in quarters.iter().skip(1) {
             if let Ok(c) = &hist[k].1 {
@@ -252,7 +261,10 @@ pub fn report(
         if let Some(cv) = &c_end.cavity {
             let (x0, x1) = (cv.centre_m[0] - 0.5 * cv.width_m, cv.centre_m[0] + 0.5 * cv.width_m);
             let (y0, y1) = (cv.centre_m[1] - 0.5 * cv.height_m, cv.centre_m[1] + 0.5 * cv.height_m);
-            crefs.push(Reference { label: "cavity (bounding box corners)".into(), points: vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)] });
+            crefs.push(Reference {
+                label: "cavity (bounding box corners)".into(),
+                points: vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)],
+            });
         }
         plot::lines_with_refs(
             &dir.join("crater_profile.png"),
@@ -310,14 +322,19 @@ pub fn report(
         let centre: Option<Vec<f64>> = case.detonation.as_ref().and_then(|d| d.point_m.clone()).or_else(|| {
             let ex = explosive_mask(case);
             let f0 = &frames[0];
-            let k: Vec<usize> = (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).collect();
+            let k: Vec<usize> =
+                (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).collect();
             (!k.is_empty()).then(|| {
-                vec![k.iter().map(|&i| f0.x[i]).sum::<f64>() / k.len() as f64, k.iter().map(|&i| f0.y[i]).sum::<f64>() / k.len() as f64]
+                vec![
+                    k.iter().map(|&i| f0.x[i]).sum::<f64>() / k.len() as f64,
+                    k.iter().map(|&i| f0.y[i]).sum::<f64>() / k.len() as f64,
+                ]
             })
         });
         let ex = explosive_mask(case);
         let f0 = &frames[0];
-        let w: f64 = (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).map(|i| f0.mass[i]).sum();
+        let w: f64 =
+            (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).map(|i| f0.mass[i]).sum();
         if let Some(centre) = centre {
             for gg in &sg {
                 let pt: Vec<f64> =
@@ -326,12 +343,20 @@ pub fn report(
                 let p = gg["peak_pa"].as_f64().unwrap_or(f64::NAN) / 1e6;
                 peaks.push((100.0 * r, p));
                 let z = if w > 0.0 { scaled(r, w, case.dim) } else { f64::NAN };
-                peaks_out.push((z, p, format!("{} ({:.0} cm, {})", gg["name"].as_str().unwrap_or("?"), 100.0 * r, tick(p))));
+                peaks_out.push((
+                    z,
+                    p,
+                    format!("{} ({:.0} cm, {})", gg["name"].as_str().unwrap_or("?"), 100.0 * r, tick(p)),
+                ));
             }
             if w > 0.0 {
                 plot::loglog_on_data(
                     &dir.join("peaks.png"),
-                    &format!("{}: peak pressure against scaled distance (charge {:.3} kg per m of depth)", case.name(), w),
+                    &format!(
+                        "{}: peak pressure against scaled distance (charge {:.3} kg per m of depth)",
+                        case.name(),
+                        w
+                    ),
                     "scaled distance R/√(W/L)  (m/(kg/m)^½, plane strain: a line charge)",
                     "peak p (MPa)",
                     &peaks_out,
@@ -345,8 +370,10 @@ pub fn report(
     let f0 = &frames[0];
     let fin = |v: &[f64]| v.iter().cloned().filter(|x| x.is_finite()).collect::<Vec<_>>();
     let (xs0, ys0) = (fin(&f0.x), fin(&f0.y));
-    let (xlo, xhi) = (xs0.iter().cloned().fold(f64::INFINITY, f64::min), xs0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
-    let (ylo, yhi) = (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let (xlo, xhi) =
+        (xs0.iter().cloned().fold(f64::INFINITY, f64::min), xs0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let (ylo, yhi) =
+        (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let wdt = (xhi - xlo).max(1e-9);
     let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
     let colours = material_colours(case);
@@ -360,13 +387,10 @@ pub fn report(
         .collect();
     // one pressure scale for all maps (MPa, four decades below the highest soil-and-water peak
     // shown after the first frame, so the charge's GPa does not flatten the ground's MPa)
-    let pscale = Scale::log_of(
-        frames.iter().skip(1).flat_map(|f| f.p.iter().map(|p| p / 1e6)),
-        4.0,
-        "p (MPa)",
-    );
-    let speeds = |f: &Frame| -> Vec<f64> { (0..f.x.len()).map(|i| (f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i]).sqrt()).collect() };
-    let vscale = Scale::log_of(frames.iter().skip(1).flat_map(|f| speeds(f)), 4.0, "|v| (m/s)");
+    let pscale = Scale::log_of(frames.iter().skip(1).flat_map(|f| f.p.iter().map(|p| p / 1e6)), 4.0, "p (MPa)");
+    let speeds =
+        |f: &Frame| -> Vec<f64> { (0..f.x.len()).map(|i| (f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i]).sqrt()).collect() };
+    let vscale = Scale::log_of(frames.iter().skip(1).flat_map(&speeds), 4.0, "|v| (m/s)");
     let mut snaps = Vec::new();
     for &k in &picks {
         let f = &frames[k];
@@ -426,7 +450,11 @@ pub fn report(
         plot::map_png(
             &dir.join("ppv_map.png"),
             &MapSpec {
-                title: format!("{}: peak particle velocity max |v| to t = {:.0} µs, at initial positions", case.name(), us(fl.time)),
+                title: format!(
+                    "{}: peak particle velocity max |v| to t = {:.0} µs, at initial positions",
+                    case.name(),
+                    us(fl.time)
+                ),
                 x: &f0.x,
                 y: &f0.y,
                 side: &side0,

@@ -349,7 +349,12 @@ impl TryFrom<toml::Table> for MaterialCfg {
         let preset = match t.get("preset") {
             None => None,
             Some(toml::Value::String(p)) => Some(p.clone()),
-            Some(v) => return Err(format!("material `{name}`: preset = {v}: must be a preset name ({})", crate::presets::names())),
+            Some(v) => {
+                return Err(format!(
+                    "material `{name}`: preset = {v}: must be a preset name ({})",
+                    crate::presets::names()
+                ));
+            }
         };
         if let Some(p) = &preset {
             let mut base = crate::presets::get(p).ok_or_else(|| {
@@ -622,12 +627,18 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
 
 /// The error of a case with overrides, attributed: to the file when the file alone gives the same
 /// error, else to the first override after which it appears.
-fn blame(e: &crate::error::SphError, sets: &[String], attempt: &dyn Fn(usize) -> Result<Case>) -> crate::error::SphError {
+fn blame(
+    e: &crate::error::SphError,
+    sets: &[String],
+    attempt: &dyn Fn(usize) -> Result<Case>,
+) -> crate::error::SphError {
     let msg = |e: &crate::error::SphError| -> String {
         // the message without a leading `origin:line: `
         let s = e.to_string();
         match s.split_once(": ") {
-            Some((head, rest)) if head.rsplit(':').next().is_some_and(|l| l.parse::<usize>().is_ok()) => rest.to_string(),
+            Some((head, rest)) if head.rsplit(':').next().is_some_and(|l| l.parse::<usize>().is_ok()) => {
+                rest.to_string()
+            }
             _ => s,
         }
     };

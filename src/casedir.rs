@@ -61,7 +61,9 @@ pub fn resolve(case: &Path, case_dir: Option<&Path>) -> Result<PathBuf> {
         }
     }
     if dirs.is_empty() {
-        return Err(input(format!("{s}: no such case file, and no case folder to look it up in (give --case-dir DIR)")));
+        return Err(input(format!(
+            "{s}: no such case file, and no case folder to look it up in (give --case-dir DIR)"
+        )));
     }
     Err(input(format!(
         "{s}: no such case file, and no {s}.toml in {}",

@@ -243,8 +243,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
                     )));
                 }
             }
-            let opts =
-                RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
+            let opts = RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
             let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
             println!("{md}");
             println!("written: {}", out.join("validation.md").display());

@@ -227,9 +227,7 @@ impl Gauges {
         let d = self.dim;
         let series: Vec<(f64, f64, f64)> = self.record[k]
             .iter()
-            .filter_map(|(t, r)| {
-                r.as_ref().map(|q| (*t, q[0], q[1..1 + d].iter().map(|v| v * v).sum::<f64>().sqrt()))
-            })
+            .filter_map(|(t, r)| r.as_ref().map(|q| (*t, q[0], q[1..1 + d].iter().map(|v| v * v).sum::<f64>().sqrt())))
             .collect();
         GaugeStats::of(&series)
     }

@@ -280,7 +280,8 @@ fn xdmf_text(h5: &str, _dim: usize, steps: &[StepInfo]) -> String {
         let n1 = format!("{n}");
         let _ = writeln!(s, "    <Grid Name=\"Step#{k}\" GridType=\"Uniform\">");
         let _ = writeln!(s, "      <Time Value=\"{:?}\"/>", st.time);
-        let _ = writeln!(s, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\">");
+        let _ =
+            writeln!(s, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{n}\" NodesPerElement=\"1\">");
         data_item(&mut s, "        ", h5, k, &n1, &Item { name: "id", number: "Int", precision: 8 });
         let _ = writeln!(s, "      </Topology>");
         let _ = writeln!(s, "      <Geometry GeometryType=\"XYZ\">");

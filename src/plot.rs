@@ -484,9 +484,28 @@ pub fn lines_with_refs(
 ) -> Result<()> {
     let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
-    let (x0, x1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.0)).chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.0))));
-    let (y0, y1) = range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)).chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.1))));
-    let colours = [BLUE, RED, RGBColor(0, 150, 0), MAGENTA, RGBColor(0, 150, 170), BLACK, RGBColor(255, 140, 0), RGBColor(128, 0, 128)];
+    let (x0, x1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.1.iter().map(|p| p.0))
+            .chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.0))),
+    );
+    let (y0, y1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.1.iter().map(|p| p.1))
+            .chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.1))),
+    );
+    let colours = [
+        BLUE,
+        RED,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        BLACK,
+        RGBColor(255, 140, 0),
+        RGBColor(128, 0, 128),
+    ];
     let mut ch = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -497,10 +516,13 @@ pub fn lines_with_refs(
     ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).label_style(("sans-serif", 14)).draw().map_err(perr)?;
     for (k, (name, pts)) in series.iter().enumerate() {
         let c = colours[k % colours.len()];
-        ch.draw_series(LineSeries::new(pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()), c.stroke_width(2)))
-            .map_err(perr)?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+        ch.draw_series(LineSeries::new(
+            pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()),
+            c.stroke_width(2),
+        ))
+        .map_err(perr)?
+        .label(name)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
     }
     for (k, r) in refs.iter().enumerate() {
         let c = colours[k % colours.len()];
@@ -576,7 +598,8 @@ pub fn loglog_on_data(
         .draw()
         .map_err(perr)?;
     if let Some((name, c)) = curve {
-        let pts: Vec<(f64, f64)> = c.iter().copied().filter(|p| p.0 >= xl && p.0 <= xh && p.1 >= yl && p.1 <= yh).collect();
+        let pts: Vec<(f64, f64)> =
+            c.iter().copied().filter(|p| p.0 >= xl && p.0 <= xh && p.1 >= yl && p.1 <= yh).collect();
         ch.draw_series(DashedLineSeries::new(pts, 8, 5, RGBColor(120, 120, 120).stroke_width(2)))
             .map_err(perr)?
             .label(name)

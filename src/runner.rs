@@ -3,8 +3,8 @@
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
 use crate::error::{Result, SphError};
-use crate::modules::Module;
 use crate::gauges::Gauges;
+use crate::modules::Module;
 use crate::output::{H5Part, Peaks};
 use crate::progress::{self, Progress};
 use crate::sim::{Overrides, Sim};

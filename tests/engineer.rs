@@ -103,21 +103,15 @@ fn a_run_with_stderr_in_a_file_logs_progress_while_it_runs() {
     let _ = child.kill();
     let _ = child.wait();
     assert!(running, "the progress lines must come while the run goes");
-    let line = seen.lines().find(|l| l.starts_with("progress: ")).unwrap_or_else(|| panic!("no progress line:\n{seen}"));
+    let line =
+        seen.lines().find(|l| l.starts_with("progress: ")).unwrap_or_else(|| panic!("no progress line:\n{seen}"));
     for w in ["step ", "t = ", "dt = ", "particle-steps/s", "ETA "] {
         assert!(line.contains(w), "`{w}` in `{line}`");
     }
     // --quiet: nothing on stderr
     let q = d.path().join("quiet");
-    let o = blastsph(&[
-        "run",
-        "cases/shock_tube.toml",
-        "--quiet",
-        "--progress-every",
-        "0",
-        "--out",
-        q.to_str().unwrap(),
-    ]);
+    let o =
+        blastsph(&["run", "cases/shock_tube.toml", "--quiet", "--progress-every", "0", "--out", q.to_str().unwrap()]);
     ok(&o);
     assert!(text(&o.stderr).is_empty(), "--quiet: {}", text(&o.stderr));
 }
@@ -137,7 +131,10 @@ fn same_h5(a: &Path, b: &Path) {
             let x = ga.dataset(&ds).unwrap();
             if x.dtype().unwrap().is::<f64>() {
                 let (va, vb) = (x.read_raw::<f64>().unwrap(), gb.dataset(&ds).unwrap().read_raw::<f64>().unwrap());
-                assert!(va.iter().zip(&vb).all(|(p, q)| p.to_bits() == q.to_bits()) && va.len() == vb.len(), "{g}/{ds}");
+                assert!(
+                    va.iter().zip(&vb).all(|(p, q)| p.to_bits() == q.to_bits()) && va.len() == vb.len(),
+                    "{g}/{ds}"
+                );
                 n += 1;
             }
         }
@@ -168,8 +165,10 @@ fn presets_give_the_same_run_bit_for_bit() {
             ]));
         }
         same_h5(&a.join("particles.h5"), &b.join("particles.h5"));
-        let (ga, gb) =
-            (std::fs::read_to_string(a.join("gauges.csv")).unwrap(), std::fs::read_to_string(b.join("gauges.csv")).unwrap());
+        let (ga, gb) = (
+            std::fs::read_to_string(a.join("gauges.csv")).unwrap(),
+            std::fs::read_to_string(b.join("gauges.csv")).unwrap(),
+        );
         assert_eq!(ga, gb, "{typed}: gauges.csv");
         let (sa, sb) = (summary(&a), summary(&b));
         assert_eq!(sa["energy"], sb["energy"], "{typed}: energies");
@@ -180,7 +179,11 @@ fn presets_give_the_same_run_bit_for_bit() {
     ok(&o);
     let o = blastsph(&["check", "cases/surface_loose_tnt6_presets.toml", "--set", "material.tnt.preset=tnx"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o.stderr).contains("no such preset") && text(&o.stderr).contains("tnt_dobratz"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("no such preset") && text(&o.stderr).contains("tnt_dobratz"),
+        "{}",
+        text(&o.stderr)
+    );
 }
 
 /// The run directory's case.toml holds every override; rerun from it, the run is the same.
@@ -208,7 +211,9 @@ fn case_toml_reruns_the_same_run_and_set_errors_name_the_override() {
     same_h5(&a.join("particles.h5"), &b.join("particles.h5"));
     assert_eq!(summary(&a)["steps"], summary(&b)["steps"]);
     // an override that breaks the case is named, with no line of a generated file
-    for (set, want) in [("time.colour=1", "--set time.colour=1"), ("region.right.rho_kgm3=-1", "--set region.right.rho_kgm3=-1")] {
+    for (set, want) in
+        [("time.colour=1", "--set time.colour=1"), ("region.right.rho_kgm3=-1", "--set region.right.rho_kgm3=-1")]
+    {
         let o = blastsph(&["check", "cases/shock_tube.toml", "--set", "time.cfl=0.3", "--set", set]);
         let e = text(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{e}");
@@ -226,7 +231,10 @@ fn cases_are_found_by_name_from_anywhere() {
     let o = blastsph_in(d.path(), &["check", "shock_tube"]);
     ok(&o);
     assert!(text(&o.stdout).contains("400 particles"));
-    let o = blastsph_in(d.path(), &["bench", "--dry-run", "--cases", "shock_tube", "--resolutions", "1", "--backends", "rust"]);
+    let o = blastsph_in(
+        d.path(),
+        &["bench", "--dry-run", "--cases", "shock_tube", "--resolutions", "1", "--backends", "rust"],
+    );
     ok(&o);
     let cases: PathBuf = common::root().join("cases");
     let o = blastsph_in(d.path(), &["check", "slope_45", "--case-dir", cases.to_str().unwrap()]);
@@ -300,7 +308,14 @@ fn crater_is_measured_from_the_soil_or_refused_with_a_reason() {
     let mut args = vec!["run", "cases/surface_loose_tnt6.toml", "--out", a.to_str().unwrap()];
     args.extend(common_args);
     ok(&blastsph(&args));
-    let mut args = vec!["run", "cases/surface_loose_tnt6.toml", "--out", b.to_str().unwrap(), "--set", "region.charge.spacing_m=0.005"];
+    let mut args = vec![
+        "run",
+        "cases/surface_loose_tnt6.toml",
+        "--out",
+        b.to_str().unwrap(),
+        "--set",
+        "region.charge.spacing_m=0.005",
+    ];
     args.extend(common_args);
     ok(&blastsph(&args));
     let (ca, cb) = (summary(&a)["crater"].clone(), summary(&b)["crater"].clone());
