@@ -240,16 +240,17 @@ impl Raster {
 /// Ground surface per column from positions (x, y) of the soil particles. Column k is centred at
 /// x0 + (k + 1/2) ds and gathers the particles within ±ds of its centre (two spacings wide, so a
 /// smooth lateral shift of the lattice cannot empty it); the particles are walked upward from the
-/// lowest and the surface is the last one before a vertical gap larger than 2 ds that is not an
-/// enclosed void of `raster` (NaN for an empty column).
+/// lowest up to the first vertical gap larger than 2 ds that is not an enclosed void of `raster`;
+/// the surface is the highest particle within ±ds/2 of the centre that lies at most 2 ds above
+/// the walk's top (the band's top when there is none), NaN for an empty column.
 fn surface(xs: &[f64], ys: &[f64], x0: f64, ds: f64, ncol: usize, raster: &Raster) -> Vec<f64> {
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); ncol];
+    let mut cols: Vec<Vec<(f64, f64)>> = vec![Vec::new(); ncol];
     for (x, y) in xs.iter().zip(ys) {
         let u = (x - x0) / ds - 0.5;
         let (a, b) = ((u - 1.0).ceil(), (u + 1.0).floor());
         let mut k = a.max(0.0);
         while k <= b && (k as usize) < ncol {
-            cols[k as usize].push(*y);
+            cols[k as usize].push((*y, *x));
             k += 1.0;
         }
     }
@@ -260,15 +261,24 @@ fn surface(xs: &[f64], ys: &[f64], x0: f64, ds: f64, ncol: usize, raster: &Raste
                 return f64::NAN;
             }
             let xc = x0 + (k as f64 + 0.5) * ds;
-            c.sort_by(|a, b| a.total_cmp(b));
-            let mut top = c[0];
-            for y in &c[1..] {
-                if *y - top > 2.0 * ds && !raster.enclosed_gap(xc, top, *y) {
+            c.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // walk the two-spacing band up to the first gap open to the sky
+            let mut top = 0;
+            for q in 1..c.len() {
+                if c[q].0 - c[top].0 > 2.0 * ds && !raster.enclosed_gap(xc, c[top].0, c[q].0) {
                     break;
                 }
-                top = *y;
+                top = q;
             }
-            top
+            // the height is read from the particles of the column's own width (its neighbours'
+            // particles would lift a crater's edge to the rim beside it) up to 2 ds above the
+            // band's top (the gap rule), else from the band
+            let lim = c[top].0 + 2.0 * ds;
+            c.iter()
+                .filter(|(y, x)| *y <= lim && (x - xc).abs() <= 0.5 * ds)
+                .map(|p| p.0)
+                .fold(None, |a: Option<f64>, y| Some(a.map_or(y, |a| a.max(y))))
+                .unwrap_or(c[top].0)
         })
         .collect()
 }
@@ -436,4 +446,88 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
         surface0_m: s0,
         surface_m: s1,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Soil on a lattice of spacing `ds` over [0, w] × [0, hgt], less the points `cut` removes.
+    fn lattice(ds: f64, w: f64, hgt: f64, cut: &dyn Fn(f64, f64) -> bool) -> (Vec<f64>, Vec<f64>) {
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        let (nx, ny) = ((w / ds).round() as usize, (hgt / ds).round() as usize);
+        for j in 0..ny {
+            for i in 0..nx {
+                let (x, y) = ((i as f64 + 0.5) * ds, (j as f64 + 0.5) * ds);
+                if !cut(x, y) {
+                    xs.push(x);
+                    ys.push(y);
+                }
+            }
+        }
+        (xs, ys)
+    }
+
+    #[test]
+    fn a_bowl_is_measured_against_the_ground_over_the_charge_pit() {
+        let ds = 0.01;
+        // t = 0: a 6 cm pit in the top of the ground, holding a charge on a 0.5 cm lattice
+        let pit = |x: f64, y: f64| (x - 0.5).abs() < 0.03 && y > 0.94;
+        let soil0 = lattice(ds, 1.0, 1.0, &pit);
+        let mut charge0 = (Vec::new(), Vec::new());
+        for j in 0..12 {
+            for i in 0..12 {
+                charge0.0.push(0.47 + 0.0025 + 0.005 * i as f64);
+                charge0.1.push(0.94 + 0.0025 + 0.005 * j as f64);
+            }
+        }
+        // later: a bowl 20 cm wide and 10 cm deep below the original ground (y = 1)
+        let bowl = |x: f64, y: f64| (x - 0.5).abs() < 0.1 && y > 0.9;
+        let soil1 = lattice(ds, 1.0, 1.0, &bowl);
+        // the same particles must be matched one to one: keep the counts comparable by measuring
+        // each state against its own t = 0 lattice (the measure only uses positions)
+        let inp = CraterInput { soil0: soil0.clone(), soil1, charge0 };
+        let c = measure_xy(&inp, ds).unwrap();
+        assert!((c.depth_m - 0.10).abs() < 1e-9, "depth {} against the ground, not the pit floor", c.depth_m);
+        assert!((c.diameter_m - 0.20).abs() < 1e-9, "diameter {}", c.diameter_m);
+        assert!(c.note.is_none());
+        // the original ground over the pit is the ground's level beside it
+        let k = c.columns_m.iter().position(|x| (x - 0.505).abs() < 1e-9).unwrap();
+        assert!((c.surface0_m[k] - 0.995).abs() < 1e-9, "{}", c.surface0_m[k]);
+    }
+
+    #[test]
+    fn a_cavity_under_an_intact_dome_is_no_crater() {
+        let ds = 0.01;
+        // a charge's hole 3 cm below the surface at t = 0; later a bigger cavity, and the dome
+        // over it raised by 2 cm
+        let hole = |x: f64, y: f64| (x - 0.35).abs() < 0.03 && (y - 0.58).abs() < 0.01;
+        let soil0 = lattice(ds, 0.7, 0.62, &hole);
+        let gas = |x: f64, y: f64| (x - 0.35).abs() < 0.06 && (y - 0.58).abs() < 0.03;
+        let (mut x1, mut y1) = lattice(ds, 0.7, 0.62, &gas);
+        for k in 0..x1.len() {
+            if (x1[k] - 0.35).abs() < 0.06 && y1[k] > 0.61 {
+                y1[k] += 0.02;
+            }
+        }
+        let c = measure_xy(&CraterInput { soil0, soil1: (x1, y1), charge0: (Vec::new(), Vec::new()) }, ds).unwrap();
+        assert_eq!(c.diameter_m, 0.0, "{c:?}");
+        assert!(c.note.as_deref().unwrap().contains("contained"), "{:?}", c.note);
+        let cav = c.cavity.expect("the cavity");
+        assert!(cav.width_m >= 0.08 && cav.height_m >= 0.03, "{cav:?}");
+        assert!(c.mound_height_m > 0.015, "{}", c.mound_height_m);
+    }
+
+    #[test]
+    fn positions_that_are_not_numbers_give_a_reason() {
+        let (x0, y0) = lattice(0.01, 0.2, 0.2, &|_, _| false);
+        let mut y1 = y0.clone();
+        y1[7] = f64::NAN;
+        let e =
+            measure_xy(&CraterInput { soil0: (x0.clone(), y0), soil1: (x0, y1), charge0: Default::default() }, 0.01)
+                .unwrap_err();
+        assert!(e.contains("not finite") && e.contains("unstable"), "{e}");
+        let e = measure_xy(&CraterInput::default(), 0.01).unwrap_err();
+        assert!(e.contains("no soil particles"), "{e}");
+    }
 }
