@@ -5,14 +5,15 @@
 //!
 //! Storage (docs/output.md has the measurements):
 //! - every dataset is chunked (at most 65 536 values a chunk) and compressed (byte shuffle, then
-//!   deflate level 4): the 1 ms surface blast shrinks from 67.6 MB to the size given there;
+//!   deflate level 4): the 1 ms surface blast shrinks from 67.6 MB to 36.4 MB;
 //! - a component that is zero by construction (z in 1D and 2D, y in 1D, and the matching
 //!   velocity and shear-stress components) is declared with fill value 0 and never written:
 //!   HDF5 allocates no chunk for it, so it costs a few hundred bytes of header and no data, and
-//!   reads back as zeros. They stay because ParaView's H5PartReader builds its points from `x`,
-//!   `y` and `z` and refuses a file without all three, and because the DESIGN.md contract names
-//!   `z` and `vz`; the XDMF uses them as the zero components of the velocity vector and the
-//!   stress tensor.
+//!   reads back as zeros. They stay because ParaView's H5PartReader takes its points from its
+//!   coordinate arrays `x`, `y`, `z`, and the DESIGN.md contract names `z` (0 in 2D) and `vz`;
+//! - `/xdmf/Step#N/{xyz, vxyz, stress}` are (N, 3) and (N, 9) HDF5 virtual datasets over the 1D
+//!   columns (no data of their own): ParaView's Xdmf3 reader builds points and vectors only from
+//!   such arrays.
 //!
 //! `particles.xmf` is rewritten (to a temporary name, then renamed) after every output step, so
 //! a run that is killed leaves an XDMF that names exactly the steps in the HDF5 file.

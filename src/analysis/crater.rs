@@ -5,9 +5,10 @@
 //!   material with strength); Δs is the coarsest initial spacing of the soil's regions, so the
 //!   measure does not depend on the spacing of any other material (a finer charge lattice);
 //! - the ground surface is measured in vertical columns Δs apart, each gathering the soil
-//!   particles within ±Δs of its centre: they are walked upward from the lowest; the surface is
-//!   the highest particle reached before a vertical gap larger than 2Δs that opens to the sky
-//!   (particles above such a gap are ejecta, not ground). A gap that is an enclosed void of the
+//!   particles within ±Δs of its centre: they are walked upward from the lowest to the first
+//!   vertical gap larger than 2Δs that opens to the sky (particles above such a gap are ejecta,
+//!   not ground); the surface is the highest particle within ±3Δs/4 of the column's centre no more
+//!   than 2Δs above where the walk stopped (so a bowl's edge is not read at the rim beside it). A gap that is an enclosed void of the
 //!   soil (a cavity: gas under an intact dome, or the charge's hole at t = 0) does not end the
 //!   ground. "Enclosed" is decided on a raster of Δs cells, solid where a soil particle lies within
 //!   Δs of the cell's centre: a void cell is open when the empty cells connect it to the raster's
@@ -241,7 +242,7 @@ impl Raster {
 /// x0 + (k + 1/2) ds and gathers the particles within ±ds of its centre (two spacings wide, so a
 /// smooth lateral shift of the lattice cannot empty it); the particles are walked upward from the
 /// lowest up to the first vertical gap larger than 2 ds that is not an enclosed void of `raster`;
-/// the surface is the highest particle within ±ds/2 of the centre that lies at most 2 ds above
+/// the surface is the highest particle within ±3ds/4 of the centre that lies at most 2 ds above
 /// the walk's top (the band's top when there is none), NaN for an empty column.
 fn surface(xs: &[f64], ys: &[f64], x0: f64, ds: f64, ncol: usize, raster: &Raster) -> Vec<f64> {
     let mut cols: Vec<Vec<(f64, f64)>> = vec![Vec::new(); ncol];
@@ -270,12 +271,14 @@ fn surface(xs: &[f64], ys: &[f64], x0: f64, ds: f64, ncol: usize, raster: &Raste
                 }
                 top = q;
             }
-            // the height is read from the particles of the column's own width (its neighbours'
-            // particles would lift a crater's edge to the rim beside it) up to 2 ds above the
-            // band's top (the gap rule), else from the band
+            // the height is read from the particles within ±3ds/4 of the column's centre (the
+            // band's ±ds would lift a crater's edge to the rim beside it; ±ds/2 finds no
+            // particle near the top of a column whose own particles moved sideways, and then
+            // reads a hole one or two spacings deep), up to 2 ds above the band's top (the gap
+            // rule), else from the band
             let lim = c[top].0 + 2.0 * ds;
             c.iter()
-                .filter(|(y, x)| *y <= lim && (x - xc).abs() <= 0.5 * ds)
+                .filter(|(y, x)| *y <= lim && (x - xc).abs() <= 0.75 * ds)
                 .map(|p| p.0)
                 .fold(None, |a: Option<f64>, y| Some(a.map_or(y, |a| a.max(y))))
                 .unwrap_or(c[top].0)
