@@ -507,7 +507,7 @@ mod tests {
         let hole = |x: f64, y: f64| (x - 0.35).abs() < 0.03 && (y - 0.58).abs() < 0.01;
         let soil0 = lattice(ds, 0.7, 0.62, &hole);
         let gas = |x: f64, y: f64| (x - 0.35).abs() < 0.06 && (y - 0.58).abs() < 0.03;
-        let (mut x1, mut y1) = lattice(ds, 0.7, 0.62, &gas);
+        let (x1, mut y1) = lattice(ds, 0.7, 0.62, &gas);
         for k in 0..x1.len() {
             if (x1[k] - 0.35).abs() < 0.06 && y1[k] > 0.61 {
                 y1[k] += 0.02;
