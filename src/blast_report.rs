@@ -385,9 +385,9 @@ pub fn report(
             _ => m.name.clone(),
         })
         .collect();
-    // one pressure scale for all maps (MPa, four decades below the highest soil-and-water peak
-    // shown after the first frame, so the charge's GPa does not flatten the ground's MPa)
-    let pscale = Scale::log_of(frames.iter().skip(1).flat_map(|f| f.p.iter().map(|p| p / 1e6)), 4.0, "p (MPa)");
+    // one pressure scale for all maps: MPa on a log scale over the six decades below the highest
+    // pressure after t = 0 (GPa in the products down to kPa ahead of the wave in the ground)
+    let pscale = Scale::log_of(frames.iter().skip(1).flat_map(|f| f.p.iter().map(|p| p / 1e6)), 6.0, "p (MPa)");
     let speeds =
         |f: &Frame| -> Vec<f64> { (0..f.x.len()).map(|i| (f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i]).sqrt()).collect() };
     let vscale = Scale::log_of(frames.iter().skip(1).flat_map(&speeds), 4.0, "|v| (m/s)");
