@@ -113,7 +113,7 @@ pub enum Cmd {
         /// default: the start, the quarters and the end
         #[arg(long, value_delimiter = ',', value_name = "SECONDS,..")]
         times: Vec<f64>,
-        /// Also write an animation of the run (animation.gif: pressure and material, every
+        /// Also write an animation of the run (animation.gif: the pressure map at every
         /// output step)
         #[arg(long)]
         animate: bool,
