@@ -1,74 +1,92 @@
-//! The blast part of `blastsph report`: crater growth and profile, ejecta, gauge pressure–time
-//! curves, peak pressure against distance, and particle snapshots coloured by material and by
-//! pressure. Thesis values (analysis.thesis_crater_m) are printed beside ours.
+//! The blast part of `blastsph report`: crater growth and profile (with the cavity of a
+//! contained charge), ejecta, gauge histories (pressure and particle velocity), peak pressure
+//! against scaled distance, and particle maps: by material, pressure, velocity magnitude and
+//! peak particle velocity. Reference values the case carries (`analysis.thesis_*`) are drawn on
+//! the plots and printed beside ours. `--animate` adds animation.gif.
+//!
+//! Units on every plot: m, cm, µs, MPa, m/s. Colour maps are viridis (perceptually uniform),
+//! logarithmic for pressure and speeds, with a colour bar in those units.
 
-use crate::analysis::crater::{Crater, measure_xy, soil_mask};
+use crate::analysis::crater::{Crater, CraterInput, explosive_mask, measure_xy, soil_mask, soil_spacing};
 use crate::case::Case;
 use crate::error::{Result, SphError};
 use crate::output::Frame;
-use crate::plot;
+use crate::plot::{self, Colouring, MapSpec, Reference, Scale};
 use plotters::style::RGBColor;
 use serde_json::{Value, json};
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Soil positions of a frame, and the initial positions of the same particles (matched by id).
-fn soil_xy(
-    f: &Frame,
-    f0: &Frame,
-    soil: &[bool],
-    idx0: &HashMap<i64, usize>,
-) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
-    let (mut x0, mut y0, mut x1, mut y1) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for i in 0..f.x.len() {
-        if !soil.get(f.mat[i] as usize).copied().unwrap_or(false) {
-            continue;
-        }
-        if let Some(&k) = idx0.get(&f.id[i]) {
-            x0.push(f0.x[k]);
-            y0.push(f0.y[k]);
-            x1.push(f.x[i]);
-            y1.push(f.y[i]);
-        }
-    }
-    (x0, y0, x1, y1)
-}
-
-/// Crater of every frame.
-pub fn crater_history(case: &Case, frames: &[Frame], dx: f64) -> Vec<(f64, Crater)> {
+/// Crater of every frame: Ok, or the reason it cannot be measured.
+pub fn crater_history(case: &Case, frames: &[Frame]) -> Vec<(f64, std::result::Result<Crater, String>)> {
     let soil = soil_mask(case);
+    let expl = explosive_mask(case);
+    let Some(ds) = soil_spacing(case) else {
+        return frames.iter().map(|f| (f.time, Err("no region of a soil material".to_string()))).collect();
+    };
     let f0 = &frames[0];
     let idx0: HashMap<i64, usize> = f0.id.iter().enumerate().map(|(k, id)| (*id, k)).collect();
+    let mut charge0 = (Vec::new(), Vec::new());
+    for k in 0..f0.x.len() {
+        if expl.get(f0.mat[k] as usize).copied().unwrap_or(false) {
+            charge0.0.push(f0.x[k]);
+            charge0.1.push(f0.y[k]);
+        }
+    }
     frames
         .iter()
         .map(|f| {
-            let (x0, y0, x1, y1) = soil_xy(f, f0, &soil, &idx0);
-            (f.time, measure_xy(&x0, &y0, &x1, &y1, dx))
+            let mut inp = CraterInput { charge0: charge0.clone(), ..Default::default() };
+            for i in 0..f.x.len() {
+                if !soil.get(f.mat[i] as usize).copied().unwrap_or(false) {
+                    continue;
+                }
+                if let Some(&k) = idx0.get(&f.id[i]) {
+                    inp.soil0.0.push(f0.x[k]);
+                    inp.soil0.1.push(f0.y[k]);
+                    inp.soil1.0.push(f.x[i]);
+                    inp.soil1.1.push(f.y[i]);
+                }
+            }
+            (f.time, measure_xy(&inp, ds))
         })
         .collect()
 }
 
-/// Gauge names and their (time s, pressure Pa) records.
-type GaugeRecords = (Vec<String>, Vec<Vec<(f64, f64)>>);
+/// A gauge's record read back from gauges.csv: (time s, pressure Pa, speed |v| m/s).
+#[derive(Debug, Clone, Default)]
+pub struct GaugeRecord {
+    pub name: String,
+    pub samples: Vec<(f64, f64, f64)>,
+}
 
-fn read_gauges(path: &Path) -> Result<GaugeRecords> {
+/// Reads gauges.csv (docs/cases.md `[[gauge]]` lists its columns); empty fields (a point
+/// gauge in a void) are left out.
+pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
     let text = std::fs::read_to_string(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     let mut lines = text.lines();
-    let head: Vec<String> =
-        lines.next().unwrap_or("").split(',').skip(1).map(|s| s.trim_end_matches("_p_pa").to_string()).collect();
-    let mut series = vec![Vec::new(); head.len()];
+    let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let names: Vec<String> = head.iter().filter_map(|h| h.strip_suffix("_p_pa")).map(String::from).collect::<Vec<_>>();
+    let col = |n: &str, q: &str| head.iter().position(|h| *h == format!("{n}_{q}"));
+    let cols: Vec<(Option<usize>, Vec<usize>)> = names
+        .iter()
+        .map(|n| (col(n, "p_pa"), ["vx_ms", "vy_ms", "vz_ms"].iter().filter_map(|q| col(n, q)).collect()))
+        .collect();
+    let mut out: Vec<GaugeRecord> =
+        names.iter().map(|n| GaugeRecord { name: n.clone(), samples: Vec::new() }).collect();
     for l in lines {
         if l.starts_with('#') {
             continue;
         }
-        let v: Vec<f64> = l.split(',').filter_map(|s| s.parse().ok()).collect();
-        if v.len() == head.len() + 1 {
-            for k in 0..head.len() {
-                series[k].push((v[0], v[k + 1]));
-            }
+        let f: Vec<&str> = l.split(',').collect();
+        let Some(t) = f.first().and_then(|s| s.parse::<f64>().ok()) else { continue };
+        for (g, (pc, vc)) in cols.iter().enumerate() {
+            let Some(p) = pc.and_then(|c| f.get(c)).and_then(|s| s.parse::<f64>().ok()) else { continue };
+            let v2: f64 = vc.iter().filter_map(|&c| f.get(c).and_then(|s| s.parse::<f64>().ok())).map(|v| v * v).sum();
+            out[g].samples.push((t, p, v2.sqrt()));
         }
     }
-    Ok((head, series))
+    Ok(out)
 }
 
 /// Snapshot colour of a material, by its kind: explosive red, water blue, soil tan, gas grey
@@ -92,24 +110,66 @@ fn material_colours(case: &Case) -> Vec<RGBColor> {
         .collect()
 }
 
-pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame], times: &[f64]) -> Result<Value> {
+fn us(t: f64) -> f64 {
+    t * 1e6
+}
+
+/// A length in cm with one decimal, or "-" when not a number.
+fn cm1(v: f64) -> String {
+    if v.is_finite() { format!("{:.1}", 100.0 * v) } else { "-".into() }
+}
+
+/// The side of each particle's square on a map: √(m/ρ) in 2D (its area), capped at twice the
+/// median so a stretched particle does not cover its neighbours.
+fn sides(f: &Frame) -> Vec<f64> {
+    let mut s: Vec<f64> =
+        (0..f.x.len()).map(|i| if f.rho[i] > 0.0 { (f.mass[i] / f.rho[i]).sqrt() } else { 0.0 }).collect();
+    let mut sorted: Vec<f64> = s.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(|a, b| a.total_cmp(b));
+    let med = sorted.get(sorted.len() / 2).copied().unwrap_or(0.01);
+    for v in s.iter_mut() {
+        if !v.is_finite() {
+            *v = med;
+        }
+        // 15 % larger than the particle's own area, so neighbours overlap instead of leaving
+        // hairline gaps between rounded pixel edges
+        *v = 1.15 * v.min(2.0 * med);
+    }
+    s
+}
+
+/// Scaled distance of a gauge at `r` m from the charge: R/√(W/L) in plane strain (W/L in kg per
+/// metre of depth, a line charge), R/W^(1/3) in 3D, R/(W/A) in 1D.
+fn scaled(r: f64, w: f64, dim: usize) -> f64 {
+    match dim {
+        2 => r / w.sqrt(),
+        3 => r / w.cbrt(),
+        _ => r / w,
+    }
+}
+
+pub fn report(
+    dir: &Path,
+    case: &Case,
+    summary: &Value,
+    frames: &[Frame],
+    times: &[f64],
+    animate: bool,
+) -> Result<Value> {
     if frames.is_empty() || case.dim != 2 {
         return Ok(json!({}));
     }
-    let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
     let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
-    let hist = if crater { crater_history(case, frames, dx) } else { Vec::new() };
-    let last = &hist.last().map(|h| h.1.clone()).unwrap_or_default();
-    let us = |t: f64| t * 1e6;
+    let hist = if crater { crater_history(case, frames) } else { Vec::new() };
+    let ok_hist: Vec<(f64, &Crater)> = hist.iter().filter_map(|(t, c)| c.as_ref().ok().map(|c| (*t, c))).collect();
+    let last = hist.last().map(|h| h.1.clone());
+    let n = frames.len();
     let quarters: Vec<usize> = {
-        let n = frames.len();
         let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
         v.dedup();
         v
     };
-    // frames of the snapshots: the quarters, or the outputs nearest the times asked for
     let picks: Vec<usize> = {
-        let n = frames.len();
         let mut v = if times.is_empty() {
             quarters.clone()
         } else {
@@ -126,191 +186,420 @@ pub fn report(dir: &Path, case: &Case, summary: &Value, frames: &[Frame], times:
         v.dedup();
         v
     };
+    let mut written: Vec<String> = Vec::new();
     let bubble = bubble_history(case, frames);
     if !bubble.is_empty() {
         plot::lines(
             &dir.join("bubble_growth.png"),
-            &format!("{}: detonation products, equivalent radius sqrt(A/pi)", case.name()),
-            "t (us)",
+            &format!("{}: detonation products, equivalent radius √(A/π)", case.name()),
+            "t (µs)",
             "radius (cm)",
             &[("products".to_string(), bubble.iter().map(|(t, r)| (us(*t), 100.0 * r)).collect())],
             false,
         )?;
+        written.push("bubble_growth.png".into());
         if let Some((t, r)) = bubble.last() {
-            println!("detonation products at t = {:.0} us: equivalent radius {:.1} cm", us(*t), 100.0 * r);
+            println!("detonation products at t = {:.0} µs: equivalent radius {:.1} cm", us(*t), 100.0 * r);
         }
     }
-    if crater {
-        // crater growth
+    if crater && !ok_hist.is_empty() {
         let grow = vec![
-            ("diameter (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect::<Vec<_>>()),
-            ("depth (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
-            ("ejecta height (cm)".to_string(), hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect()),
+            ("diameter (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect()),
+            ("depth (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
+            (
+                "ejecta height (cm)".to_string(),
+                ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect::<Vec<_>>(),
+            ),
         ];
-        plot::lines(
+        let mut refs = Vec::new();
+        let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
+        let mut dref: Vec<(f64, f64)> = rows.iter().map(|r| (us(r[0]), 100.0 * r[1])).collect();
+        let mut zref: Vec<(f64, f64)> = rows.iter().map(|r| (us(r[0]), 100.0 * r[2])).collect();
+        if let Some(th) = &case.analysis.thesis_crater_m
+            && th.len() == 2
+        {
+            let tend = us(frames[n - 1].time);
+            dref.push((tend, 100.0 * th[0]));
+            zref.push((tend, 100.0 * th[1]));
+        }
+        if dref.iter().any(|p| p.1.is_finite()) {
+            refs.push(Reference { label: "thesis: diameter (cm)".into(), points: dref });
+        }
+        if zref.iter().any(|p| p.1.is_finite()) {
+            refs.push(Reference { label: "thesis: depth (cm)".into(), points: zref });
+        }
+        plot::lines_with_refs(
             &dir.join("crater_growth.png"),
-            &format!("{}: crater and ejecta", case.name()),
-            "t (us)",
+            &format!("{}: apparent crater and ejecta (thesis values as triangles)", case.name()),
+            "t (µs)",
             "cm",
             &grow,
-            false,
+            &refs,
         )?;
+        written.push("crater_growth.png".into());
         // crater profile at a few times
+        let (_, c_end) = ok_hist[ok_hist.len() - 1];
         let mut prof = vec![(
-            "t = 0".to_string(),
-            last.columns_m
+            "original ground".to_string(),
+            c_end
+                .columns_m
                 .iter()
-                .zip(&last.surface0_m)
+                .zip(&c_end.surface0_m)
                 .filter(|p| p.1.is_finite())
                 .map(|(x, y)| (*x, *y))
                 .collect::<Vec<_>>(),
         )];
         for &k in quarters.iter().skip(1) {
-            let c = &hist[k].1;
-            prof.push((
-                format!("t = {:.0} us", us(hist[k].0)),
-                c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
-            ));
+            if let Ok(c) = &hist[k].1 {
+                prof.push((
+                    format!("t = {:.0} µs", us(hist[k].0)),
+                    c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
+                ));
+            }
         }
-        plot::lines(
+        let mut crefs = Vec::new();
+        if let Some(cv) = &c_end.cavity {
+            let (x0, x1) = (cv.centre_m[0] - 0.5 * cv.width_m, cv.centre_m[0] + 0.5 * cv.width_m);
+            let (y0, y1) = (cv.centre_m[1] - 0.5 * cv.height_m, cv.centre_m[1] + 0.5 * cv.height_m);
+            crefs.push(Reference {
+                label: "cavity (bounding box corners)".into(),
+                points: vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)],
+            });
+        }
+        plot::lines_with_refs(
             &dir.join("crater_profile.png"),
-            &format!("{}: ground surface", case.name()),
+            &format!("{}: ground surface (columns {:.1} cm wide)", case.name(), 100.0 * c_end.column_m),
             "x (m)",
             "surface height (m)",
             &prof,
-            false,
+            &crefs,
         )?;
+        written.push("crater_profile.png".into());
     }
     // gauges
     let gpath = dir.join("gauges.csv");
+    let mut peaks_out = Vec::new();
     let mut peaks = Vec::new();
     if gpath.exists() {
-        let (names, series) = read_gauges(&gpath)?;
-        let s: Vec<(String, Vec<(f64, f64)>)> = names
+        let recs = read_gauges(&gpath)?;
+        let ps: Vec<(String, Vec<(f64, f64)>)> = recs
             .iter()
-            .zip(&series)
-            .map(|(n, v)| (format!("gauge {n}"), v.iter().map(|(t, p)| (us(*t), p / 1e6)).collect()))
+            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, p, _)| (us(*t), p / 1e6)).collect()))
             .collect();
-        plot::lines(
+        let sg: Vec<Value> = summary["gauges"].as_array().cloned().unwrap_or_default();
+        let mut refs = Vec::new();
+        for tg in &case.analysis.thesis_gauge {
+            let ours = sg.iter().find(|g| g["name"] == tg.gauge.as_str());
+            let y = tg.peak_pa.map(|p| p / 1e6).or_else(|| ours.and_then(|g| g["peak_pa"].as_f64()).map(|p| p / 1e6));
+            if let (Some(t), Some(y)) = (tg.peak_time_s, y) {
+                let what = if tg.peak_pa.is_some() { "peak" } else { "time of the peak (height: ours)" };
+                refs.push(Reference { label: format!("thesis {}: {what}", tg.gauge), points: vec![(us(t), y)] });
+            }
+        }
+        plot::lines_with_refs(
             &dir.join("gauges.png"),
-            &format!("{}: pressure at the gauges", case.name()),
-            "t (us)",
+            &format!("{}: pressure at the gauges (thesis values as triangles)", case.name()),
+            "t (µs)",
             "p (MPa)",
-            &s,
-            false,
+            &ps,
+            &refs,
         )?;
-        let centre: Vec<f64> =
-            case.detonation.as_ref().and_then(|d| d.point_m.clone()).unwrap_or_else(|| vec![0.5, 1.0]);
-        if let Some(g) = summary["gauges"].as_array() {
-            for gg in g {
+        written.push("gauges.png".into());
+        let vs: Vec<(String, Vec<(f64, f64)>)> = recs
+            .iter()
+            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, _, v)| (us(*t), *v)).collect()))
+            .collect();
+        plot::lines_with_refs(
+            &dir.join("gauges_velocity.png"),
+            &format!("{}: particle velocity |v| at the gauges", case.name()),
+            "t (µs)",
+            "|v| (m/s)",
+            &vs,
+            &[],
+        )?;
+        written.push("gauges_velocity.png".into());
+        // peak pressure against scaled distance
+        let centre: Option<Vec<f64>> = case.detonation.as_ref().and_then(|d| d.point_m.clone()).or_else(|| {
+            let ex = explosive_mask(case);
+            let f0 = &frames[0];
+            let k: Vec<usize> =
+                (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).collect();
+            (!k.is_empty()).then(|| {
+                vec![
+                    k.iter().map(|&i| f0.x[i]).sum::<f64>() / k.len() as f64,
+                    k.iter().map(|&i| f0.y[i]).sum::<f64>() / k.len() as f64,
+                ]
+            })
+        });
+        let ex = explosive_mask(case);
+        let f0 = &frames[0];
+        let w: f64 =
+            (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).map(|i| f0.mass[i]).sum();
+        if let Some(centre) = centre {
+            for gg in &sg {
                 let pt: Vec<f64> =
                     gg["point_m"].as_array().map(|a| a.iter().filter_map(|v| v.as_f64()).collect()).unwrap_or_default();
                 let r = pt.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-                peaks.push((100.0 * r, gg["peak_pa"].as_f64().unwrap_or(0.0) / 1e6));
+                let p = gg["peak_pa"].as_f64().unwrap_or(f64::NAN) / 1e6;
+                peaks.push((100.0 * r, p));
+                let z = if w > 0.0 { scaled(r, w, case.dim) } else { f64::NAN };
+                peaks_out.push((
+                    z,
+                    p,
+                    format!("{} ({:.0} cm, {})", gg["name"].as_str().unwrap_or("?"), 100.0 * r, tick(p)),
+                ));
             }
-            plot::lines(
-                &dir.join("peaks.png"),
-                &format!("{}: peak pressure against distance", case.name()),
-                "distance from the charge centre (cm)",
-                "peak p (MPa)",
-                &[("SPH".to_string(), peaks.clone())],
-                true,
-            )?;
+            if w > 0.0 {
+                plot::loglog_on_data(
+                    &dir.join("peaks.png"),
+                    &format!(
+                        "{}: peak pressure against scaled distance (charge {:.3} kg per m of depth)",
+                        case.name(),
+                        w
+                    ),
+                    "scaled distance R/√(W/L)  (m/(kg/m)^½, plane strain: a line charge)",
+                    "peak p (MPa)",
+                    &peaks_out,
+                    None,
+                )?;
+                written.push("peaks.png".into());
+            }
         }
     }
-    // snapshots
+    // particle maps
     let f0 = &frames[0];
+    let fin = |v: &[f64]| v.iter().cloned().filter(|x| x.is_finite()).collect::<Vec<_>>();
+    let (xs0, ys0) = (fin(&f0.x), fin(&f0.y));
     let (xlo, xhi) =
-        (f0.x.iter().cloned().fold(f64::INFINITY, f64::min), f0.x.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+        (xs0.iter().cloned().fold(f64::INFINITY, f64::min), xs0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let (ylo, yhi) =
-        (f0.y.iter().cloned().fold(f64::INFINITY, f64::min), f0.y.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
-    let w = xhi - xlo;
-    let bounds = ((xlo - 0.05 * w, xhi + 0.05 * w), (ylo - 0.05 * w, yhi + 0.5 * w));
-    let mut snaps = Vec::new();
+        (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
+    let wdt = (xhi - xlo).max(1e-9);
+    let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
     let colours = material_colours(case);
+    let names: Vec<String> = case
+        .materials
+        .iter()
+        .map(|m| match &m.preset {
+            Some(p) if *p != m.name => format!("{} ({p})", m.name),
+            _ => m.name.clone(),
+        })
+        .collect();
+    // one pressure scale for all maps: MPa on a log scale over the six decades below the highest
+    // pressure after t = 0 (GPa in the products down to kPa ahead of the wave in the ground)
+    let pscale = Scale::log_of(frames.iter().skip(1).flat_map(|f| f.p.iter().map(|p| p / 1e6)), 6.0, "p (MPa)");
+    let speeds =
+        |f: &Frame| -> Vec<f64> { (0..f.x.len()).map(|i| (f.vx[i] * f.vx[i] + f.vy[i] * f.vy[i]).sqrt()).collect() };
+    let vscale = Scale::log_of(frames.iter().skip(1).flat_map(&speeds), 4.0, "|v| (m/s)");
+    let mut snaps = Vec::new();
     for &k in &picks {
         let f = &frames[k];
         let tag = format!("{:05.0}us", us(f.time));
-        let pm = dir.join(format!("snap_material_{tag}.png"));
-        plot::snapshot(
-            &pm,
-            &format!("{} t = {:.0} us, by material", case.name(), us(f.time)),
-            &f.x,
-            &f.y,
-            &|i| colours[(f.mat[i].max(0) as usize).min(colours.len() - 1)],
-            bounds,
+        let side = sides(f);
+        let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
+        let pm = format!("snap_material_{tag}.png");
+        plot::map_png(
+            &dir.join(&pm),
+            &MapSpec {
+                title: format!("{}  t = {:.0} µs: materials", case.name(), us(f.time)),
+                x: &f.x,
+                y: &f.y,
+                side: &side,
+                colouring: Colouring::Material { index: &mat, colours: &colours, names: &names },
+                bounds,
+                note: None,
+            },
         )?;
-        let pp = dir.join(format!("snap_pressure_{tag}.png"));
-        plot::snapshot(
-            &pp,
-            &format!("{} t = {:.0} us, pressure: log10(p/0.1 MPa) on [0, 5] (blue to red)", case.name(), us(f.time)),
-            &f.x,
-            &f.y,
-            &|i| plot::heat((f.p[i].max(1e5) / 1e5).log10() / 5.0),
-            bounds,
+        let pmpa: Vec<f64> = f.p.iter().map(|p| p / 1e6).collect();
+        let pp = format!("snap_pressure_{tag}.png");
+        plot::map_png(
+            &dir.join(&pp),
+            &MapSpec {
+                title: format!("{}  t = {:.0} µs: pressure", case.name(), us(f.time)),
+                x: &f.x,
+                y: &f.y,
+                side: &side,
+                colouring: Colouring::Field { values: &pmpa, scale: &pscale },
+                bounds,
+                note: None,
+            },
         )?;
-        snaps.push(pm.file_name().map(|s| s.to_string_lossy().to_string()));
-        snaps.push(pp.file_name().map(|s| s.to_string_lossy().to_string()));
+        let sp = speeds(f);
+        let pv = format!("snap_velocity_{tag}.png");
+        plot::map_png(
+            &dir.join(&pv),
+            &MapSpec {
+                title: format!("{}  t = {:.0} µs: velocity magnitude", case.name(), us(f.time)),
+                x: &f.x,
+                y: &f.y,
+                side: &side,
+                colouring: Colouring::Field { values: &sp, scale: &vscale },
+                bounds,
+                note: None,
+            },
+        )?;
+        snaps.extend([pm, pp, pv]);
     }
-    if crater {
-        println!(
-            "crater at t = {:.0} us: diameter {:.1} cm, depth {:.1} cm (bowl {:.1} cm wide at half depth), ejecta height {:.1} cm",
-            us(hist.last().map(|h| h.0).unwrap_or(0.0)),
-            100.0 * last.diameter_m,
-            100.0 * last.depth_m,
-            100.0 * last.width_half_depth_m,
-            100.0 * last.ejecta_height_m
-        );
+    // peak particle velocity, at each particle's initial position
+    let fl = &frames[n - 1];
+    if !fl.ppv.is_empty() {
+        let by_id: HashMap<i64, f64> = fl.id.iter().zip(&fl.ppv).map(|(i, v)| (*i, *v)).collect();
+        let ppv0: Vec<f64> = f0.id.iter().map(|i| by_id.get(i).copied().unwrap_or(0.0)).collect();
+        let side0 = sides(f0);
+        let scale = Scale::log_of(ppv0.iter().copied(), 4.0, "PPV (m/s)");
+        plot::map_png(
+            &dir.join("ppv_map.png"),
+            &MapSpec {
+                title: format!(
+                    "{}: peak particle velocity max |v| to t = {:.0} µs, at initial positions",
+                    case.name(),
+                    us(fl.time)
+                ),
+                x: &f0.x,
+                y: &f0.y,
+                side: &side0,
+                colouring: Colouring::Field { values: &ppv0, scale: &scale },
+                bounds: ((bounds.0.0, bounds.0.1), (bounds.1.0, yhi + 0.03 * wdt)),
+                note: None,
+            },
+        )?;
+        written.push("ppv_map.png".into());
     }
+    if animate {
+        let sides_all: Vec<Vec<f64>> = frames.iter().map(sides).collect();
+        let pmpa_all: Vec<Vec<f64>> = frames.iter().map(|f| f.p.iter().map(|p| p / 1e6).collect()).collect();
+        let maps: Vec<MapSpec> = frames
+            .iter()
+            .enumerate()
+            .map(|(k, f)| MapSpec {
+                title: format!("{}  t = {:.0} µs: pressure", case.name(), us(f.time)),
+                x: &f.x,
+                y: &f.y,
+                side: &sides_all[k],
+                colouring: Colouring::Field { values: &pmpa_all[k], scale: &pscale },
+                bounds,
+                note: None,
+            })
+            .collect();
+        plot::animate(&dir.join("animation.gif"), &maps, 150)?;
+        written.push("animation.gif".into());
+        println!("animation: {} ({} frames)", dir.join("animation.gif").display(), maps.len());
+    }
+    // text
+    let crater_json = match &last {
+        Some(Ok(c)) => {
+            let t_end = us(hist.last().map(|h| h.0).unwrap_or(0.0));
+            match &c.note {
+                None => println!(
+                    "crater at t = {:.0} µs: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} cm (columns {:.1} cm wide, the soil's spacing)",
+                    t_end,
+                    cm1(c.diameter_m),
+                    cm1(c.depth_m),
+                    cm1(c.width_half_depth_m),
+                    cm1(c.ejecta_height_m),
+                    100.0 * c.column_m
+                ),
+                Some(why) => println!("crater at t = {t_end:.0} µs: {why}"),
+            }
+            if let Some(cv) = &c.cavity {
+                println!(
+                    "cavity: {} cm wide, {} cm tall, {:.1} cm² in section, its top {} cm {} the original surface",
+                    cm1(cv.width_m),
+                    cm1(cv.height_m),
+                    cv.area_m2 * 1e4,
+                    cm1(cv.top_depth_m.abs()),
+                    if cv.top_depth_m >= 0.0 { "below" } else { "above" }
+                );
+            }
+            let mut v = serde_json::to_value(c).unwrap_or(Value::Null);
+            v["measured"] = json!(true);
+            v
+        }
+        Some(Err(why)) => {
+            println!("crater: cannot be measured: {why}");
+            json!({ "measured": false, "reason": why })
+        }
+        None => Value::Null,
+    };
+    let measured = matches!(&last, Some(Ok(c)) if c.note.is_none());
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2
     {
-        println!(
-            "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours/thesis: diameter {:.2}, depth {:.2}",
-            100.0 * th[0],
-            100.0 * th[1],
-            last.diameter_m / th[0],
-            last.depth_m / th[1]
-        );
+        match &last {
+            Some(Ok(c)) if measured => println!(
+                "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours/thesis: diameter {:.2}, depth {:.2}",
+                100.0 * th[0],
+                100.0 * th[1],
+                c.diameter_m / th[0],
+                c.depth_m / th[1]
+            ),
+            _ => println!(
+                "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours: no apparent crater to compare",
+                100.0 * th[0],
+                100.0 * th[1]
+            ),
+        }
     }
-    for (r, p) in &peaks {
-        println!("gauge at {r:.0} cm: peak {p:.2} MPa");
+    for g in summary["gauges"].as_array().cloned().unwrap_or_default() {
+        let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
+            g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
+        };
+        println!(
+            "gauge {} ({}): peak {} at {}, arrival {}, impulse {}, PPV {}",
+            g["name"].as_str().unwrap_or("?"),
+            g["kind"].as_str().unwrap_or("particle"),
+            f("peak_pa", 1e-6, "MPa", 2),
+            f("peak_time_s", 1e6, "µs", 0),
+            f("arrival_s", 1e6, "µs", 0),
+            f("impulse_pa_s", 1e-3, "kPa·s", 3),
+            f("ppv_ms", 1.0, "m/s", 2)
+        );
     }
     let growth = thesis_growth(case, &hist);
     for g in &growth {
         println!(
-            "thesis at {:.0} us: diameter {} cm, depth {} cm; ours at {:.0} us: diameter {:.1} cm, depth {:.1} cm",
+            "thesis at {:.0} µs: diameter {} cm, depth {} cm; ours at {:.0} µs: diameter {} cm, depth {} cm",
             g["thesis_t_s"].as_f64().unwrap_or(0.0) * 1e6,
             fmt_cm(g["thesis_diameter_m"].as_f64()),
             fmt_cm(g["thesis_depth_m"].as_f64()),
             g["our_t_s"].as_f64().unwrap_or(0.0) * 1e6,
-            100.0 * g["diameter_m"].as_f64().unwrap_or(0.0),
-            100.0 * g["depth_m"].as_f64().unwrap_or(0.0)
+            fmt_cm1(g["diameter_m"].as_f64()),
+            fmt_cm1(g["depth_m"].as_f64())
         );
     }
     let gauges = thesis_gauges(case, summary);
     for g in &gauges {
         println!(
-            "gauge {}: thesis peak {} at {}; ours {:.2} MPa at {:.0} us (arrival {:.0} us)",
+            "gauge {}: thesis peak {} at {}; ours {} at {} (arrival {})",
             g["gauge"].as_str().unwrap_or("?"),
             g["thesis_peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
-            g["thesis_peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} us", t * 1e6)),
-            g["peak_pa"].as_f64().unwrap_or(0.0) / 1e6,
-            g["peak_time_s"].as_f64().unwrap_or(0.0) * 1e6,
-            g["arrival_s"].as_f64().unwrap_or(0.0) * 1e6
+            g["thesis_peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
+            g["peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.2} MPa", p / 1e6)),
+            g["peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
+            g["arrival_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6))
         );
     }
+    println!("plots in {}: {}", dir.display(), written.iter().chain(&snaps).cloned().collect::<Vec<_>>().join(", "));
     Ok(json!({
-        "crater": { "diameter_m": last.diameter_m, "depth_m": last.depth_m, "width_half_depth_m": last.width_half_depth_m, "ejecta_height_m": last.ejecta_height_m },
+        "crater": crater_json,
         "thesis_crater_m": case.analysis.thesis_crater_m,
-        "history": hist.iter().map(|(t, c)| json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m})).collect::<Vec<_>>(),
-        "profile": { "x_m": last.columns_m, "surface0_m": last.surface0_m, "surface_m": last.surface_m },
+        "history": hist.iter().map(|(t, c)| match c {
+            Ok(c) => json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m, "cavity": c.cavity}),
+            Err(why) => json!({"t_s": t, "measured": false, "reason": why}),
+        }).collect::<Vec<_>>(),
+        "profile": match &last { Some(Ok(c)) => json!({ "x_m": c.columns_m, "surface0_m": c.surface0_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>(), "surface_m": c.surface_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>() }), _ => Value::Null },
         "peaks_cm_mpa": peaks,
+        "peaks_scaled": peaks_out.iter().map(|(z, p, l)| json!({"scaled_distance": z, "peak_mpa": p, "gauge": l})).collect::<Vec<_>>(),
         "thesis_growth": growth,
         "thesis_gauges": gauges,
         "bubble": bubble.iter().map(|(t, r)| json!({"t_s": t, "equivalent_radius_m": r})).collect::<Vec<_>>(),
+        "plots": written,
         "snapshots": snaps,
     }))
+}
+
+fn tick(p: f64) -> String {
+    if p.is_finite() { format!("{p:.3} MPa") } else { "-".into() }
 }
 
 fn fmt_cm(v: Option<f64>) -> String {
@@ -320,20 +609,31 @@ fn fmt_cm(v: Option<f64>) -> String {
     }
 }
 
+fn fmt_cm1(v: Option<f64>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{:.1}", 100.0 * x),
+        _ => "-".into(),
+    }
+}
+
 /// Our crater at each time of the thesis's crater-growth rows (the nearest output).
-pub fn thesis_growth(case: &Case, hist: &[(f64, Crater)]) -> Vec<Value> {
+pub fn thesis_growth(case: &Case, hist: &[(f64, std::result::Result<Crater, String>)]) -> Vec<Value> {
     let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
     rows.iter()
         .filter_map(|r| {
             let (t, d, z) = (r[0], r[1], r[2]);
             let (tt, c) = hist.iter().min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))?;
+            let (dm, zm) = match c {
+                Ok(c) => (json!(c.diameter_m), json!(c.depth_m)),
+                Err(_) => (Value::Null, Value::Null),
+            };
             Some(json!({
                 "thesis_t_s": t,
                 "thesis_diameter_m": if d.is_finite() { json!(d) } else { Value::Null },
                 "thesis_depth_m": if z.is_finite() { json!(z) } else { Value::Null },
                 "our_t_s": tt,
-                "diameter_m": c.diameter_m,
-                "depth_m": c.depth_m,
+                "diameter_m": dm,
+                "depth_m": zm,
             }))
         })
         .collect()
@@ -362,7 +662,7 @@ pub fn thesis_gauges(case: &Case, summary: &Value) -> Vec<Value> {
 /// Equivalent radius √(A/π) of the detonation products (2D: A = Σ m_i/ρ_i over the JWL
 /// particles, m²) at every frame; empty without an explosive.
 pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
-    let jwl: Vec<bool> = case.materials.iter().map(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. })).collect();
+    let jwl = explosive_mask(case);
     if !jwl.iter().any(|j| *j) {
         return Vec::new();
     }

@@ -310,11 +310,14 @@ pub struct PhysicsCfg {
     pub gravity_ms2: Option<Vec<f64>>,
 }
 
-/// One material: its equation of state and, for soils, its strength.
+/// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
+/// the table does not give ([`crate::presets`]).
 #[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "toml::Table")]
 pub struct MaterialCfg {
     pub name: String,
+    /// The preset the material was built from, if any.
+    pub preset: Option<String>,
     pub eos: EosCfg,
     pub strength: Option<StrengthCfg>,
     /// Pressure floor (Pa): tension cut-off of soils, cavitation of water. Absent = none.
@@ -324,6 +327,56 @@ pub struct MaterialCfg {
     /// Materials with the same penalty group feel no penalty force between them
     /// (default: each material its own group).
     pub penalty_group: Option<String>,
+}
+
+/// The keys of a `[[material]]` table once its preset is merged in.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFields {
+    name: String,
+    preset: Option<String>,
+    eos: EosCfg,
+    strength: Option<StrengthCfg>,
+    pmin_pa: Option<f64>,
+    e0_jkg: Option<f64>,
+    penalty_group: Option<String>,
+}
+
+impl TryFrom<toml::Table> for MaterialCfg {
+    type Error = String;
+    fn try_from(mut t: toml::Table) -> std::result::Result<MaterialCfg, String> {
+        let name = t.get("name").and_then(|n| n.as_str()).unwrap_or("?").to_string();
+        let preset = match t.get("preset") {
+            None => None,
+            Some(toml::Value::String(p)) => Some(p.clone()),
+            Some(v) => {
+                return Err(format!(
+                    "material `{name}`: preset = {v}: must be a preset name ({})",
+                    crate::presets::names()
+                ));
+            }
+        };
+        if let Some(p) = &preset {
+            let mut base = crate::presets::get(p).ok_or_else(|| {
+                format!("material `{name}`: preset = \"{p}\": no such preset (presets: {})", crate::presets::names())
+            })?;
+            t.remove("preset");
+            crate::presets::merge(&mut base, t);
+            t = base;
+            t.insert("preset".into(), toml::Value::String(p.clone()));
+        }
+        let f = MaterialFields::deserialize(toml::Value::Table(t))
+            .map_err(|e| format!("material `{name}`: {}", e.message().replace('\n', " ")))?;
+        Ok(MaterialCfg {
+            name: f.name,
+            preset: f.preset,
+            eos: f.eos,
+            strength: f.strength,
+            pmin_pa: f.pmin_pa,
+            e0_jkg: f.e0_jkg,
+            penalty_group: f.penalty_group,
+        })
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -455,12 +508,28 @@ pub struct DetonationCfg {
     pub width_h: f64,
 }
 
+/// What a gauge follows (docs/cases.md `[[gauge]]`).
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum GaugeKind {
+    /// Lagrangian: the real particle nearest `point_m` at t = 0 (ties within 1e-6 of the finest
+    /// spacing go to the particle generated first, i.e. the lowest id), followed as it moves.
+    #[default]
+    Particle,
+    /// Eulerian: the fixed point `point_m`, values by the Shepard-normalised SPH interpolation
+    /// Σ_j (m_j/ρ_j) f_j W(|x − x_j|, h_j) / Σ_j (m_j/ρ_j) W(|x − x_j|, h_j) over the real particles.
+    Point,
+}
+
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GaugeCfg {
     pub name: String,
-    /// Where the gauge is (m): it records the particle nearest this point at t = 0.
+    /// Where the gauge is (m).
     pub point_m: Vec<f64>,
+    /// "particle" (default: the particle nearest the point at t = 0) or "point" (the fixed point).
+    #[serde(default)]
+    pub kind: GaugeKind,
 }
 
 #[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
@@ -535,26 +604,61 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Case> {
     parse(&text, &path.display().to_string(), sets, path.file_stem().and_then(|s| s.to_str()))
 }
 
-/// Parses case text; `origin` names it in error messages.
+/// Parses case text; `origin` names it in error messages. The `--set` overrides are applied to
+/// the text ([`apply_sets`]); an error they cause names the override, not a line of the edited
+/// text.
 pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> Result<Case> {
-    let mut value: toml::Table = text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
-    for s in sets {
-        apply_set(&mut value, s)?;
-    }
-    let text2 =
-        if sets.is_empty() { text.to_string() } else { toml::to_string(&value).map_err(|e| input(e.to_string()))? };
-    let mut case: Case = toml::from_str(&text2).map_err(|e| {
-        if sets.is_empty() {
-            toml_error(origin, text, &e)
-        } else {
-            toml_error(&format!("{origin} (with --set)"), &text2, &e)
+    text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
+    let attempt = |k: usize| -> Result<Case> {
+        let edited = apply_sets(text, &sets[..k])?;
+        let mut case: Case = toml::from_str(&edited).map_err(|e| toml_error(origin, &edited, &e))?;
+        if case.name.is_none() {
+            case.name = Some(stem.unwrap_or("case").to_string());
         }
-    })?;
-    if case.name.is_none() {
-        case.name = Some(stem.unwrap_or("case").to_string());
+        case.validate()?;
+        Ok(case)
+    };
+    match attempt(sets.len()) {
+        Ok(c) => Ok(c),
+        Err(e) if sets.is_empty() => Err(e),
+        Err(e) => Err(blame(&e, sets, &attempt)),
     }
-    case.validate()?;
-    Ok(case)
+}
+
+/// The error of a case with overrides, attributed: to the file when the file alone gives the same
+/// error, else to the first override after which it appears.
+fn blame(
+    e: &crate::error::SphError,
+    sets: &[String],
+    attempt: &dyn Fn(usize) -> Result<Case>,
+) -> crate::error::SphError {
+    let msg = |e: &crate::error::SphError| -> String {
+        // the message without a leading `origin:line: `
+        let s = e.to_string();
+        match s.split_once(": ") {
+            Some((head, rest)) if head.rsplit(':').next().is_some_and(|l| l.parse::<usize>().is_ok()) => {
+                rest.to_string()
+            }
+            _ => s,
+        }
+    };
+    let want = msg(e);
+    if let Err(e0) = attempt(0)
+        && msg(&e0) == want
+    {
+        return e0;
+    }
+    for k in 1..=sets.len() {
+        if let Err(ek) = attempt(k)
+            && msg(&ek) == want
+        {
+            if want.starts_with("--set ") {
+                return input(want);
+            }
+            return input(format!("--set {}: {want}", sets[k - 1]));
+        }
+    }
+    input(format!("--set {}: {want}", sets.join(" --set ")))
 }
 
 fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::SphError {
@@ -566,58 +670,78 @@ fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::Sp
     }
 }
 
-/// Applies one `--set a.b.c=value` override (value parsed as TOML, else taken as a string).
-/// Arrays of tables are indexed by number or by their `name`: `material.loose_sand.pmin_pa=0`.
-fn apply_set(root: &mut toml::Table, s: &str) -> Result<()> {
-    let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {s}: expected key=value")))?;
-    let parsed: toml::Value = match format!("v = {val}").parse::<toml::Table>() {
-        Ok(mut t) => t.remove("v").unwrap_or(toml::Value::String(val.to_string())),
-        Err(_) => toml::Value::String(val.to_string()),
-    };
-    let mut whole = toml::Value::Table(std::mem::take(root));
-    let res = set_path(&mut whole, key, parsed);
-    if let toml::Value::Table(t) = whole {
-        *root = t;
+/// The case text with `--set a.b.c=value` overrides applied (value parsed as TOML, else taken as
+/// a string), keeping the file's layout and comments; a changed value is marked with a comment
+/// `# set by --set (was …)`. Arrays of tables are indexed by number or by their `name`:
+/// `material.loose_sand.pmin_pa=0`.
+pub fn apply_sets(text: &str, sets: &[String]) -> Result<String> {
+    if sets.is_empty() {
+        return Ok(text.to_string());
     }
-    res
+    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| input(format!("{e}")))?;
+    for s in sets {
+        apply_set(&mut doc, s)?;
+    }
+    Ok(doc.to_string())
 }
 
-fn set_path(whole: &mut toml::Value, key: &str, parsed: toml::Value) -> Result<()> {
+fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
+    use toml_edit::Item;
+    let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {s}: expected key=value")))?;
+    let key = key.trim();
+    let mut parsed: toml_edit::Value = match format!("v = {val}").parse::<toml_edit::DocumentMut>() {
+        Ok(d) => match d.get("v").and_then(|v| v.as_value()) {
+            Some(v) => v.clone(),
+            None => toml_edit::Value::from(val),
+        },
+        Err(_) => toml_edit::Value::from(val),
+    };
+    if key.is_empty() || key.split('.').any(|p| p.is_empty()) {
+        return Err(input(format!("--set {s}: an empty key")));
+    }
     let parts: Vec<&str> = key.split('.').collect();
-    let mut cur = whole;
-    for (k, part) in parts.iter().enumerate() {
-        let last = k + 1 == parts.len();
-        cur = match cur {
-            toml::Value::Table(t) => {
-                if last {
-                    t.insert(part.to_string(), parsed);
-                    return Ok(());
+    let mut cur: &mut Item = doc.as_item_mut();
+    for part in parts {
+        let array_len = match &*cur {
+            Item::ArrayOfTables(a) => Some(a.len()),
+            Item::Value(toml_edit::Value::Array(a)) => Some(a.len()),
+            _ => None,
+        };
+        cur = if let Some(len) = array_len {
+            let idx = match part.parse::<usize>() {
+                Ok(i) => i,
+                Err(_) => {
+                    let named = |t: Option<&str>| t == Some(part);
+                    let pos = match &*cur {
+                        Item::ArrayOfTables(a) => a.iter().position(|t| named(t.get("name").and_then(|n| n.as_str()))),
+                        Item::Value(toml_edit::Value::Array(a)) => a.iter().position(|v| {
+                            named(v.as_inline_table().and_then(|t| t.get("name")).and_then(|n| n.as_str()))
+                        }),
+                        _ => None,
+                    };
+                    pos.ok_or_else(|| input(format!("--set {key}: no entry named `{part}`")))?
                 }
-                t.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            };
+            if idx >= len {
+                return Err(input(format!("--set {key}: index {idx} out of range ({len} entries)")));
             }
-            toml::Value::Array(a) => {
-                let idx = match part.parse::<usize>() {
-                    Ok(i) => i,
-                    Err(_) => a
-                        .iter()
-                        .position(|v| v.get("name").and_then(|n| n.as_str()) == Some(*part))
-                        .ok_or_else(|| input(format!("--set {key}: no entry named `{part}`")))?,
-                };
-                let len = a.len();
-                let slot = a
-                    .get_mut(idx)
-                    .ok_or_else(|| input(format!("--set {key}: index {idx} out of range ({len} entries)")))?;
-                if last {
-                    *slot = parsed;
-                    return Ok(());
-                }
-                slot
-            }
-            _ => {
-                return Err(input(format!("--set {key}: `{part}` is not inside a table")));
-            }
+            cur.get_mut(idx).ok_or_else(|| input(format!("--set {key}: index {idx} out of range")))?
+        } else if cur.is_table_like() || cur.is_none() {
+            cur.get_mut(part).ok_or_else(|| input(format!("--set {key}: `{part}` is not inside a table")))?
+        } else {
+            return Err(input(format!("--set {key}: `{part}` is not inside a table")));
         };
     }
+    if let Some(old) = cur.as_value() {
+        let mut was = old.clone();
+        was.decor_mut().clear();
+        let prefix = old.decor().prefix().and_then(|p| p.as_str()).unwrap_or(" ").to_string();
+        parsed.decor_mut().set_prefix(prefix);
+        parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", was.to_string().trim()));
+    } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
+        return Err(input(format!("--set {key}: replaces a table with a value")));
+    }
+    *cur = Item::Value(parsed);
     Ok(())
 }
 

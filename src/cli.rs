@@ -44,67 +44,99 @@ pub struct CaseArgs {
 
 #[derive(Subcommand, Debug)]
 pub enum Cmd {
-    /// Run a case into a run directory (particles.h5, summary.json, gauges.csv)
+    /// Run a case into a run directory (particles.h5, particles.xmf, summary.json, gauges.csv,
+    /// case.toml)
     Run {
+        /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
         case: PathBuf,
-        #[arg(long)]
+        /// Run directory (default: runs/<case name>)
+        #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         #[command(flatten)]
         args: CaseArgs,
-        /// Worker threads of the Rust modules
-        #[arg(long)]
+        /// Worker threads of the Rust modules (default: one per core)
+        #[arg(long, value_name = "N")]
         threads: Option<usize>,
-        /// No progress bar
+        /// No progress bar and no progress lines
         #[arg(long)]
         quiet: bool,
+        /// Seconds between progress lines on stderr when it is not a terminal (a log file, a
+        /// batch queue); on a terminal a bar is shown instead
+        #[arg(long = "progress-every", value_name = "SECONDS", default_value = "5")]
+        progress_every: f64,
+        /// Folder to look a case name up in (default: cases/ of the repository around the
+        /// current directory, else of the source tree this binary was built from)
+        #[arg(long = "case-dir", value_name = "DIR")]
+        case_dir: Option<PathBuf>,
     },
     /// Run both implementations of every module at every step and compare them
     Dual {
+        /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
         case: PathBuf,
         /// Steps to run (default 100)
-        #[arg(long)]
+        #[arg(long, value_name = "N")]
         steps: Option<u64>,
-        #[arg(long)]
+        /// Where dual_report.json goes (default: runs/<case name>_dual)
+        #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Free-running mode: an all-Fortran and an all-Rust run from the same start
         #[arg(long)]
         free: bool,
+        /// Override a case key: --set sph.nnps=cell, --set material.loose_sand.pmin_pa=0
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Neighbour search
         #[arg(long, value_name = "direct|cell")]
         nnps: Option<String>,
-        #[arg(long)]
+        /// Worker threads of the Rust modules (default: one per core)
+        #[arg(long, value_name = "N")]
         threads: Option<usize>,
+        /// Folder to look a case name up in (default as for `run`)
+        #[arg(long = "case-dir", value_name = "DIR")]
+        case_dir: Option<PathBuf>,
     },
     /// Validate a case, print the module plan and the particle count
     Check {
+        /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
         case: PathBuf,
         #[command(flatten)]
         args: CaseArgs,
+        /// Folder to look a case name up in (default as for `run`)
+        #[arg(long = "case-dir", value_name = "DIR")]
+        case_dir: Option<PathBuf>,
     },
     /// Measurements and plots of a finished run directory
     Report {
+        /// The run directory (holds summary.json, case.toml, particles.h5)
         dir: PathBuf,
         /// Times of the particle snapshots (s, comma-separated; the nearest output of each);
         /// default: the start, the quarters and the end
         #[arg(long, value_delimiter = ',', value_name = "SECONDS,..")]
         times: Vec<f64>,
+        /// Also write an animation of the run (animation.gif: the pressure map at every
+        /// output step)
+        #[arg(long)]
+        animate: bool,
     },
     /// Run every thesis scene, compare with the thesis and check its trends (validation.md)
     Validate {
         /// Where the runs and validation.md go
-        #[arg(long, default_value = "runs/validation")]
+        #[arg(long, default_value = "runs/validation", value_name = "DIR")]
         out: PathBuf,
-        /// Folder of the case files
-        #[arg(long, default_value = "cases")]
-        cases: PathBuf,
+        /// Folder of the case files (default as for `run`)
+        #[arg(long, alias = "case-dir", value_name = "DIR")]
+        cases: Option<PathBuf>,
         /// Only these scenes (comma-separated)
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', value_name = "SCENE,..")]
         only: Vec<String>,
         #[command(flatten)]
         args: CaseArgs,
-        #[arg(long)]
+        /// Worker threads of the Rust modules (default: one per core)
+        #[arg(long, value_name = "N")]
         threads: Option<usize>,
+        /// No progress lines of the runs
+        #[arg(long)]
+        quiet: bool,
     },
     /// Bring your own legacy code: build it with shims into a library (docs/migration.md)
     Legacy {
@@ -188,7 +220,12 @@ pub fn main() -> i32 {
 
 fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
-        Cmd::Run { case, out, args, threads: th, quiet } => {
+        Cmd::Run { case, out, args, threads: th, quiet, progress_every, case_dir } => {
+            if !(progress_every.is_finite() && progress_every >= 0.0) {
+                return Err(input(format!("--progress-every {progress_every}: must be zero or more seconds")));
+            }
+            crate::progress::set_every(progress_every);
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
             let opts = RunOptions { out, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
             let r = on_pool(|| runner::run(&case, &opts))?;
@@ -205,13 +242,15 @@ fn dispatch(cli: Cli) -> Result<i32> {
             );
             Ok(0)
         }
-        Cmd::Check { case, args } => {
+        Cmd::Check { case, args, case_dir } => {
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let c = case::load(&case, &args.sets)?;
             let sim = Sim::new(c, &overrides(&args)?)?;
             print!("{}", check_text(&sim));
             Ok(0)
         }
-        Cmd::Validate { out, cases, only, args, threads: th } => {
+        Cmd::Validate { out, cases, only, args, threads: th, quiet } => {
+            let cases = crate::casedir::folder(cases.as_deref())?;
             threads(th)?;
             for o in &only {
                 if !crate::validate::SCENES.contains(&o.as_str()) {
@@ -221,8 +260,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
                     )));
                 }
             }
-            let opts =
-                RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet: true, threads: th };
+            let opts = RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
             let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
             println!("{md}");
             println!("written: {}", out.join("validation.md").display());
@@ -266,14 +304,15 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
         }
-        Cmd::Report { dir, times } => {
+        Cmd::Report { dir, times, animate } => {
             if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0) {
                 return Err(input(format!("--times {t}: times must be finite and not negative")));
             }
-            crate::report::report_at(&dir, &times)?;
+            crate::report::report_with(&dir, &times, animate)?;
             Ok(0)
         }
-        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th } => {
+        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir } => {
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
             let c = case::load(&case, &sets)?;
             let ov = Overrides { nnps, ..Default::default() };

@@ -269,3 +269,371 @@ pub fn loglog_panels(path: &Path, panels: &[LogPanel], cols: usize, size: (u32, 
     root.present().map_err(perr)?;
     Ok(())
 }
+
+// ---------------------------------------------------------------------------------------------
+// Field maps, colour bars, reference overlays, scaled-distance plots and animations (report).
+
+use plotters::style::colors::colormaps::ViridisRGB;
+
+/// The perceptually uniform viridis colour map at t in [0, 1].
+pub fn viridis(t: f64) -> RGBColor {
+    ViridisRGB::get_color(t.clamp(0.0, 1.0))
+}
+
+/// How values map to colours: linear or logarithmic between `lo` and `hi` (in display units).
+#[derive(Debug, Clone)]
+pub struct Scale {
+    pub lo: f64,
+    pub hi: f64,
+    pub log: bool,
+    /// Colour-bar label with its unit, e.g. "p (MPa)".
+    pub label: String,
+}
+
+impl Scale {
+    /// Position in [0, 1] of value `v` (display units); values below `lo` give 0.
+    pub fn t(&self, v: f64) -> f64 {
+        if !v.is_finite() {
+            return 0.0;
+        }
+        if self.log {
+            if v <= 0.0 {
+                return 0.0;
+            }
+            ((v.ln() - self.lo.ln()) / (self.hi.ln() - self.lo.ln())).clamp(0.0, 1.0)
+        } else {
+            ((v - self.lo) / (self.hi - self.lo)).clamp(0.0, 1.0)
+        }
+    }
+
+    /// A log scale over the positive values of `vals`, at most `decades` decades below the top.
+    pub fn log_of(vals: impl Iterator<Item = f64>, decades: f64, label: &str) -> Scale {
+        let hi = vals.filter(|v| v.is_finite() && *v > 0.0).fold(0.0, f64::max);
+        let hi = if hi > 0.0 { hi } else { 1.0 };
+        Scale { lo: hi / 10f64.powf(decades), hi, log: true, label: label.to_string() }
+    }
+
+    /// Tick values of the colour bar.
+    fn ticks(&self) -> Vec<f64> {
+        if self.log {
+            let (a, b) = (self.lo.log10().ceil() as i32, self.hi.log10().floor() as i32);
+            let mut v: Vec<f64> = (a..=b).map(|e| 10f64.powi(e)).collect();
+            if v.len() < 2 {
+                v = vec![self.lo, self.hi];
+            }
+            v
+        } else {
+            (0..=4).map(|k| self.lo + (self.hi - self.lo) * k as f64 / 4.0).collect()
+        }
+    }
+}
+
+fn tick_label(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&a) {
+        let s = format!("{v:.3}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// What a particle map colours by.
+pub enum Colouring<'a> {
+    /// By material: the material index of each particle, a colour and a legend name per material.
+    Material { index: &'a [usize], colours: &'a [RGBColor], names: &'a [String] },
+    /// By a value per particle (display units) on `scale`.
+    Field { values: &'a [f64], scale: &'a Scale },
+}
+
+/// One particle map: positions (m), a side length per particle (m; its initial spacing or
+/// √(m/ρ)), a colouring, the frame and the title. Particles whose square would cross the frame
+/// are not drawn; the caption says how many lie outside.
+pub struct MapSpec<'a> {
+    pub title: String,
+    pub x: &'a [f64],
+    pub y: &'a [f64],
+    pub side: &'a [f64],
+    pub colouring: Colouring<'a>,
+    pub bounds: ((f64, f64), (f64, f64)),
+    /// Extra text under the title (reference values, notes).
+    pub note: Option<String>,
+}
+
+/// Pixel size of a map of `bounds` at a plot width of `w` pixels.
+pub fn map_size(bounds: ((f64, f64), (f64, f64)), w: u32) -> (u32, u32) {
+    let ((x0, x1), (y0, y1)) = bounds;
+    let plot_h = ((w as f64) * (y1 - y0) / (x1 - x0)).clamp(200.0, 1400.0) as u32;
+    (w + 260, plot_h + 110)
+}
+
+/// Draws a particle map on `area` (which [`map_size`] sized): the map on the left, the colour
+/// bar or the material legend on the right.
+pub fn draw_map<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, m: &MapSpec) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    area.fill(&WHITE).map_err(perr)?;
+    let (w, _) = area.dim_in_pixel();
+    let (left, right) = area.split_horizontally(w.saturating_sub(250));
+    let ((x0, x1), (y0, y1)) = m.bounds;
+    let inside = |i: usize| {
+        let a = 0.5 * m.side[i];
+        m.x[i].is_finite()
+            && m.y[i].is_finite()
+            && m.x[i] - a >= x0
+            && m.x[i] + a <= x1
+            && m.y[i] - a >= y0
+            && m.y[i] + a <= y1
+    };
+    let outside = (0..m.x.len()).filter(|&i| !inside(i)).count();
+    let mut caption = m.title.clone();
+    if outside > 0 {
+        caption += &format!("  ({outside} particles outside the frame)");
+    }
+    let mut ch = ChartBuilder::on(&left)
+        .caption(&caption, ("sans-serif", 17))
+        .margin(10)
+        .margin_top(if m.note.is_some() { 30 } else { 10 })
+        .x_label_area_size(40)
+        .y_label_area_size(56)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(perr)?;
+    ch.configure_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .disable_mesh()
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(perr)?;
+    ch.draw_series((0..m.x.len()).filter(|&i| inside(i)).map(|i| {
+        let a = 0.5 * m.side[i];
+        let c = match &m.colouring {
+            Colouring::Material { index, colours, .. } => {
+                colours.get(index[i]).copied().unwrap_or(RGBColor(128, 128, 128))
+            }
+            Colouring::Field { values, scale } => viridis(scale.t(values[i])),
+        };
+        Rectangle::new([(m.x[i] - a, m.y[i] - a), (m.x[i] + a, m.y[i] + a)], c.filled())
+    }))
+    .map_err(perr)?;
+    if let Some(n) = &m.note {
+        left.draw(&Text::new(n.clone(), (70, 34), ("sans-serif", 13).into_font())).map_err(perr)?;
+    }
+    match &m.colouring {
+        Colouring::Material { names, colours, .. } => {
+            right.draw(&Text::new("material", (10, 40), ("sans-serif", 15).into_font())).map_err(perr)?;
+            for (k, name) in names.iter().enumerate() {
+                let y = 66 + 26 * k as i32;
+                let c = colours.get(k).copied().unwrap_or(BLACK);
+                right.draw(&Rectangle::new([(10, y), (30, y + 16)], c.filled())).map_err(perr)?;
+                right.draw(&Text::new(name.clone(), (38, y + 1), ("sans-serif", 14).into_font())).map_err(perr)?;
+            }
+        }
+        Colouring::Field { scale, .. } => {
+            let (_, hgt) = right.dim_in_pixel();
+            let (top, bot) = (50i32, hgt as i32 - 60);
+            let (bx0, bx1) = (20i32, 46i32);
+            right.draw(&Text::new(scale.label.clone(), (10, 22), ("sans-serif", 15).into_font())).map_err(perr)?;
+            let span = (bot - top).max(1);
+            for py in top..bot {
+                let t = (bot - py) as f64 / span as f64;
+                right.draw(&Rectangle::new([(bx0, py), (bx1, py + 1)], viridis(t).filled())).map_err(perr)?;
+            }
+            right.draw(&Rectangle::new([(bx0, top), (bx1, bot)], BLACK.stroke_width(1))).map_err(perr)?;
+            for v in scale.ticks() {
+                let t = scale.t(v);
+                let py = bot - (t * span as f64).round() as i32;
+                right.draw(&PathElement::new(vec![(bx1, py), (bx1 + 6, py)], BLACK)).map_err(perr)?;
+                right
+                    .draw(&Text::new(tick_label(v), (bx1 + 10, py - 7), ("sans-serif", 13).into_font()))
+                    .map_err(perr)?;
+            }
+            let under = if scale.log { format!("≤ {}: bottom colour", tick_label(scale.lo)) } else { String::new() };
+            right.draw(&Text::new(under, (10, bot + 16), ("sans-serif", 12).into_font())).map_err(perr)?;
+        }
+    }
+    Ok(())
+}
+
+/// A particle map written to a PNG.
+pub fn map_png(path: &Path, m: &MapSpec) -> Result<()> {
+    let size = map_size(m.bounds, 820);
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    draw_map(&root, m)?;
+    root.present().map_err(perr)?;
+    Ok(())
+}
+
+/// A reference series: points drawn as open markers with a label (thesis values).
+pub struct Reference {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Curves with references overlaid (markers) on linear axes.
+pub fn lines_with_refs(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+    refs: &[Reference],
+) -> Result<()> {
+    let root = BitMapBackend::new(path, (1000, 640)).into_drawing_area();
+    root.fill(&WHITE).map_err(perr)?;
+    let (x0, x1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.1.iter().map(|p| p.0))
+            .chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.0))),
+    );
+    let (y0, y1) = range(
+        series
+            .iter()
+            .flat_map(|s| s.1.iter().map(|p| p.1))
+            .chain(refs.iter().flat_map(|r| r.points.iter().map(|p| p.1))),
+    );
+    let colours = [
+        BLUE,
+        RED,
+        RGBColor(0, 150, 0),
+        MAGENTA,
+        RGBColor(0, 150, 170),
+        BLACK,
+        RGBColor(255, 140, 0),
+        RGBColor(128, 0, 128),
+    ];
+    let mut ch = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(76)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(perr)?;
+    ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).label_style(("sans-serif", 14)).draw().map_err(perr)?;
+    for (k, (name, pts)) in series.iter().enumerate() {
+        let c = colours[k % colours.len()];
+        ch.draw_series(LineSeries::new(
+            pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()),
+            c.stroke_width(2),
+        ))
+        .map_err(perr)?
+        .label(name)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+    }
+    for (k, r) in refs.iter().enumerate() {
+        let c = colours[k % colours.len()];
+        let pts: Vec<(f64, f64)> = r.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
+        ch.draw_series(pts.iter().map(|&p| TriangleMarker::new(p, 9, c.stroke_width(2))))
+            .map_err(perr)?
+            .label(&r.label)
+            .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, c.stroke_width(2)));
+    }
+    ch.configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(perr)?;
+    root.present().map_err(perr)?;
+    Ok(())
+}
+
+/// Points (x, y, label) on log–log axes whose ticks sit on the data: every x and every y of the
+/// points is a tick, labelled with its value; `curve` (optional) is drawn as a dashed line.
+pub fn loglog_on_data(
+    path: &Path,
+    title: &str,
+    xlabel: &str,
+    ylabel: &str,
+    points: &[(f64, f64, String)],
+    curve: Option<(&str, &[(f64, f64)])>,
+) -> Result<()> {
+    let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
+    root.fill(&WHITE).map_err(perr)?;
+    let good: Vec<&(f64, f64, String)> =
+        points.iter().filter(|p| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0).collect();
+    if good.is_empty() {
+        root.draw(&Text::new(format!("{title}: no positive values to plot"), (40, 40), ("sans-serif", 18).into_font()))
+            .map_err(perr)?;
+        root.present().map_err(perr)?;
+        return Ok(());
+    }
+    let (mut xl, mut xh) = good.iter().fold((f64::INFINITY, 0.0f64), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+    let (mut yl, mut yh) = good.iter().fold((f64::INFINITY, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+    if let Some((_, c)) = curve {
+        for p in c.iter().filter(|p| p.0 >= xl && p.0 <= xh && p.1 > 0.0) {
+            yl = yl.min(p.1);
+            yh = yh.max(p.1);
+        }
+    }
+    xl /= 1.25;
+    xh *= 1.25;
+    yl /= 1.5;
+    yh *= 1.5;
+    let mut xt: Vec<f64> = good.iter().map(|p| p.0).collect();
+    let mut yt: Vec<f64> = good.iter().map(|p| p.1).collect();
+    xt.sort_by(|a, b| a.total_cmp(b));
+    yt.sort_by(|a, b| a.total_cmp(b));
+    // ticks closer than 4 % on a log axis would print on top of each other
+    xt.dedup_by(|a, b| (*a / *b) < 1.04);
+    yt.dedup_by(|a, b| (*a / *b) < 1.04);
+    let mut ch = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(14)
+        .x_label_area_size(52)
+        .y_label_area_size(80)
+        .build_cartesian_2d((xl..xh).log_scale().with_key_points(xt), (yl..yh).log_scale().with_key_points(yt))
+        .map_err(perr)?;
+    ch.configure_mesh()
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .x_label_formatter(&|v| format!("{v:.3}"))
+        .y_label_formatter(&|v| tick_label(*v))
+        .label_style(("sans-serif", 13))
+        .draw()
+        .map_err(perr)?;
+    if let Some((name, c)) = curve {
+        let pts: Vec<(f64, f64)> =
+            c.iter().copied().filter(|p| p.0 >= xl && p.0 <= xh && p.1 >= yl && p.1 <= yh).collect();
+        ch.draw_series(DashedLineSeries::new(pts, 8, 5, RGBColor(120, 120, 120).stroke_width(2)))
+            .map_err(perr)?
+            .label(name)
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], RGBColor(120, 120, 120).stroke_width(2)));
+    }
+    ch.draw_series(LineSeries::new(good.iter().map(|p| (p.0, p.1)), BLUE.stroke_width(2)))
+        .map_err(perr)?
+        .label("SPH gauges")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.stroke_width(2)));
+    ch.draw_series(good.iter().map(|p| {
+        EmptyElement::at((p.0, p.1))
+            + Circle::new((0, 0), 5, BLUE.filled())
+            + Text::new(p.2.clone(), (8, -16), ("sans-serif", 13).into_font())
+    }))
+    .map_err(perr)?;
+    ch.configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .draw()
+        .map_err(perr)?;
+    root.present().map_err(perr)?;
+    Ok(())
+}
+
+/// An animated GIF of particle maps, `delay_ms` between frames.
+pub fn animate(path: &Path, maps: &[MapSpec], delay_ms: u32) -> Result<()> {
+    let Some(first) = maps.first() else { return Ok(()) };
+    let size = map_size(first.bounds, 640);
+    let root = BitMapBackend::gif(path, size, delay_ms).map_err(perr)?.into_drawing_area();
+    for m in maps {
+        draw_map(&root, m)?;
+        root.present().map_err(perr)?;
+    }
+    Ok(())
+}

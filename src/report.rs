@@ -27,10 +27,16 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
             .map_err(|e| input(format!("{}: {e} (is this a run directory?)", sp.display())))?,
     )
     .map_err(|e| input(format!("{}: {e}", sp.display())))?;
-    let sets: Vec<String> = summary["sets"]
-        .as_array()
-        .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
-        .unwrap_or_default();
+    // since case.toml holds the case as run, the overrides are in it; older run directories
+    // kept the case file as given and the overrides in summary.json `sets`
+    let sets: Vec<String> = if summary.get("case_toml").is_some() {
+        Vec::new()
+    } else {
+        summary["sets"]
+            .as_array()
+            .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
+            .unwrap_or_default()
+    };
     let cp = dir.join("case.toml");
     let text = std::fs::read_to_string(&cp).map_err(|e| input(format!("{}: {e}", cp.display())))?;
     let name = summary["case"].as_str().map(String::from);
@@ -153,6 +159,11 @@ pub fn report(dir: &Path) -> Result<Value> {
 
 /// The report, with particle snapshots at `times` (s; empty: the start, the quarters, the end).
 pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
+    report_with(dir, times, false)
+}
+
+/// The report, with snapshots at `times` and, when `animate`, animation.gif.
+pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     let (case, summary) = load_case(dir)?;
     let frames = read_frames(&dir.join("particles.h5"))?;
     println!(
@@ -184,8 +195,10 @@ pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
     );
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
-        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
-        AnalysisKind::None if case.dim == 2 => crate::blast_report::report(dir, &case, &summary, &frames, times)?,
+        AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?,
+        AnalysisKind::None if case.dim == 2 => {
+            crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?
+        }
         AnalysisKind::None => json!({}),
     };
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();

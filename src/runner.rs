@@ -3,7 +3,9 @@
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
 use crate::error::{Result, SphError};
-use crate::output::{Gauges, H5Part};
+use crate::gauges::Gauges;
+use crate::output::{H5Part, Peaks};
+use crate::progress::{self, Progress};
 use crate::sim::{Overrides, Sim};
 use serde::Serialize;
 use serde_json::json;
@@ -58,13 +60,69 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     )?;
     let sim = Sim::new(case, &opts.ov)?;
     let dir = opts.out.clone().unwrap_or_else(|| PathBuf::from("runs").join(sim.case.name()));
-    run_sim(sim, &dir, &text, opts)
+    let as_run = case_as_run(&text, &case_path.display().to_string(), opts)?;
+    run_sim_as(sim, &dir, &text, &as_run, opts)
 }
 
-/// Runs a prepared simulation into `dir`.
-pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> Result<RunResult> {
+/// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
+/// `--end-time`, `--nnps` as the keys they replace), each changed value marked, and a header
+/// that lists the overrides and the flags that do not change the results (backends).
+pub fn case_as_run(text: &str, origin: &str, opts: &RunOptions) -> Result<String> {
+    let mut sets = opts.sets.clone();
+    if let Some(t) = opts.ov.end_time {
+        sets.push(format!("time.end_s={t:?}"));
+    }
+    if let Some(n) = &opts.ov.nnps {
+        sets.push(format!("sph.nnps=\"{n}\""));
+    }
+    let body = case::apply_sets(text, &sets)?;
+    let mut head = format!(
+        "# The case as run by blastsph {} from {origin}.\n# Rerun it as it is: blastsph run case.toml\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    if sets.is_empty() {
+        head += "# No command-line override: the text below is the case file's.\n";
+    } else {
+        head += "# The case file with these command-line overrides applied (each value marked `# set by --set`):\n";
+        for s in &opts.sets {
+            head += &format!("#   --set {s}\n");
+        }
+        if let Some(t) = opts.ov.end_time {
+            head += &format!("#   --end-time {t:?}  (as time.end_s)\n");
+        }
+        if let Some(n) = &opts.ov.nnps {
+            head += &format!("#   --nnps {n}  (as sph.nnps)\n");
+        }
+    }
+    let mut flags = Vec::new();
+    if let Some(b) = opts.ov.backend {
+        flags.push(format!("--backend {}", b.name()));
+    }
+    if !opts.ov.rust.is_empty() {
+        flags.push(format!("--rust {}", opts.ov.rust.join(",")));
+    }
+    if !opts.ov.fortran.is_empty() {
+        flags.push(format!("--fortran {}", opts.ov.fortran.join(",")));
+    }
+    if !flags.is_empty() {
+        head += &format!(
+            "# Run with {} (the implementations are bitwise equal; pass the same flags to rerun it the same way).\n",
+            flags.join(" ")
+        );
+    }
+    Ok(format!("{head}\n{body}"))
+}
+
+/// Runs a prepared simulation into `dir`; `case_text` is the case file as given (its SHA-256
+/// goes into summary.json) and case.toml holds the case file's text unchanged.
+pub fn run_sim(sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> Result<RunResult> {
+    run_sim_as(sim, dir, case_text, case_text, opts)
+}
+
+/// Runs a prepared simulation into `dir`, writing `as_run` as case.toml.
+pub fn run_sim_as(mut sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts: &RunOptions) -> Result<RunResult> {
     std::fs::create_dir_all(dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
-    std::fs::write(dir.join("case.toml"), case_text).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
+    std::fs::write(dir.join("case.toml"), as_run).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
     let mut h5 = H5Part::create(&dir.join("particles.h5"))?;
     let gpath = dir.join("gauges.csv");
     let mut gauges = Gauges::new(&sim, Some(&gpath))?;
@@ -81,19 +139,16 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
     let mut next_out = if interval > 0.0 { interval } else { f64::INFINITY };
     sim.rates();
     sim.interface_stats();
-    h5.write(&sim)?;
+    let mut peaks = Peaks::new(&sim);
+    h5.write(&sim, Some(&peaks))?;
     gauges.sample(&sim)?;
 
-    let pb = if opts.quiet {
-        indicatif::ProgressBar::hidden()
-    } else {
-        let pb = indicatif::ProgressBar::new(1000);
-        pb.set_style(
-            indicatif::ProgressStyle::with_template("{bar:30} {percent:>3}% {msg} [{elapsed} < {eta}]")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        pb
-    };
+    let mut pb = Progress::new(
+        progress::Mode::choose(opts.quiet, progress::every()),
+        sim.cfg.end,
+        n,
+        &format!("{}: ", sim.case.name()),
+    );
     let mut diag: Option<SphError> = None;
     let mut last_written = 0u64;
     loop {
@@ -107,26 +162,17 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
         match sim.step() {
             Ok(dt) => {
                 gauges.sample(&sim)?;
+                peaks.update(&sim);
                 if sim.t >= next_out * (1.0 - 1e-9) {
                     sim.interface_stats();
-                    h5.write(&sim)?;
+                    h5.write(&sim, Some(&peaks))?;
                     gauges.flush();
                     last_written = sim.nstep;
                     while next_out <= sim.t * (1.0 + 1e-9) {
                         next_out += interval;
                     }
                 }
-                if sim.nstep % 10 == 0 {
-                    let el = start.elapsed().as_secs_f64().max(1e-9);
-                    pb.set_position(((sim.t / sim.cfg.end) * 1000.0).min(1000.0) as u64);
-                    pb.set_message(format!(
-                        "step {} t = {:.3e} s dt = {:.2e} s {:.2e} particle-steps/s",
-                        sim.nstep,
-                        sim.t,
-                        dt,
-                        (n as f64 * sim.nstep as f64) / el
-                    ));
-                }
+                pb.update(sim.nstep, sim.t, dt);
             }
             Err(e) => {
                 diag = Some(e);
@@ -134,10 +180,10 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
             }
         }
     }
-    pb.finish_and_clear();
+    pb.finish();
     if last_written != sim.nstep {
         sim.interface_stats();
-        h5.write(&sim)?;
+        h5.write(&sim, Some(&peaks))?;
     }
     gauges.flush();
     let wall = start.elapsed().as_secs_f64();
@@ -183,29 +229,22 @@ pub fn run_sim(mut sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> 
         "version": env!("CARGO_PKG_VERSION"),
         "case_sha256": sha256_hex(case_text.as_bytes()),
         "sets": opts.sets,
+        "case_toml": "the case as run: every --set (and --end-time, --nnps) already applied",
         "status": if diag.is_some() { "unstable" } else { "ok" },
         "diagnostic": diag.as_ref().map(|d| d.to_string()),
     });
     if !gauges.names.is_empty() {
-        let g: Vec<_> = (0..gauges.names.len())
-            .map(|k| {
-                let i = sim.index_of_id[gauges.particle[k]] as usize;
-                json!({
-                    "name": gauges.names[k],
-                    "point_m": gauges.points[k],
-                    "particle": sim.p.id[i],
-                    "peak_pa": gauges.peak[k].0,
-                    "peak_time_s": gauges.peak[k].1,
-                    "arrival_s": gauges.arrival(k),
-                })
-            })
-            .collect();
-        summary["gauges"] = json!(g);
+        summary["gauges"] = json!(gauges.summary());
     }
     if sim.case.analysis.kind == AnalysisKind::Crater {
-        let c = analysis::crater::measure(&sim);
-        summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
-        summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+        match analysis::crater::measure(&sim) {
+            Ok(c) => {
+                summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
+                summary["crater"]["measured"] = json!(true);
+                summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+            }
+            Err(why) => summary["crater"] = json!({ "measured": false, "reason": why }),
+        }
     }
     let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
     std::fs::write(dir.join("summary.json"), text).map_err(|e| SphError::Io(format!("summary.json: {e}")))?;

@@ -123,6 +123,15 @@ fn markdown(scenes: &[Scene]) -> String {
             st["min_interface_gap_dx"].as_f64().map_or("-".into(), |g| format!("{g:.2}"))
         );
     }
+    for sc in scenes {
+        let c = &sc.report["crater"];
+        if c["measured"] == false {
+            let _ =
+                writeln!(s, "\n{}: the crater cannot be measured: {}", sc.name, c["reason"].as_str().unwrap_or("?"));
+        } else if let Some(note) = c["note"].as_str() {
+            let _ = writeln!(s, "\n{}: {note}", sc.name);
+        }
+    }
     let _ =
         writeln!(s, "\nGauges (peak pressure in MPa at peak time in µs; arrival = first time above half the peak):\n");
     let _ = writeln!(s, "| case | gauge | distance (cm) | ours: peak | at | arrival | thesis: peak | at |");

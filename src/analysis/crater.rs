@@ -1,22 +1,47 @@
-//! Crater and ejecta of a blast in soil (2D).
+//! Crater, cavity and ejecta of a blast in soil (2D), measured from the soil's own particles.
 //!
-//! Definitions (docs/validation.md):
+//! Definitions (docs/validation.md, "Crater and ejecta definitions"):
 //! - the soil is the particles of the soil materials (`analysis.soil_materials`, default: every
-//!   material with strength);
-//! - the ground surface is measured in vertical columns Δx apart (Δx the finest spacing), each
-//!   gathering the soil particles within ±Δx of its centre: they are walked upward from the
-//!   lowest; the surface is the highest particle reached before a vertical gap larger than 2Δx
-//!   (particles above such a gap are ejecta, not ground). The original surface s0(x) is the same
-//!   measure at t = 0;
-//! - crater depth = max over columns of s0 − s;
-//! - crater diameter = width of the run of columns around the deepest one whose surface lies
-//!   more than Δx/2 below the original surface (the apparent crater at the original ground level);
-//! - bowl width = the same run where the surface lies more than half the depth below (it tells a
-//!   bowl from a broad settlement of a soft soil);
-//! - ejecta height = highest soil particle above the original surface (m).
+//!   material with strength); Δs is the coarsest initial spacing of the soil's regions, so the
+//!   measure does not depend on the spacing of any other material (a finer charge lattice);
+//! - the ground surface is measured in vertical columns Δs apart, each gathering the soil
+//!   particles within ±Δs of its centre: they are walked upward from the lowest to the first
+//!   vertical gap larger than 2Δs that opens to the sky (particles above such a gap are ejecta,
+//!   not ground); the surface is the highest particle within ±3Δs/4 of the column's centre no more
+//!   than 2Δs above where the walk stopped (so a bowl's edge is not read at the rim beside it). A gap that is an enclosed void of the
+//!   soil (a cavity: gas under an intact dome, or the charge's hole at t = 0) does not end the
+//!   ground. "Enclosed" is decided on a raster of Δs cells, solid where a soil particle lies within
+//!   Δs of the cell's centre: a void cell is open when the empty cells connect it to the raster's
+//!   border, enclosed otherwise;
+//! - the original ground surface s0(x) is the same measure at t = 0, except over a charge that
+//!   sits in a pit of the ground (an explosive particle above the soil's top in that column at
+//!   t = 0): there the ground level is interpolated linearly between the nearest columns on each
+//!   side with no explosive above them;
+//! - apparent crater depth = max over columns of s0 − s; diameter = width of the run of columns
+//!   around the deepest one whose surface lies more than Δs/2 below the original surface; bowl
+//!   width = the same where it lies more than half the depth below;
+//! - the cavity (reported apart) = the largest enclosed void of the soil raster below the
+//!   surface: its width, height and area;
+//! - ejecta height = highest soil particle above the highest point of the original surface.
+//!
+//! A quantity that cannot be measured is not reported as a number: [`measure_xy`] returns the
+//! reason (no soil particles, positions that are not finite after an unstable run, not 2D).
 
 use crate::sim::Sim;
 use serde::Serialize;
+
+/// An enclosed void in the soil (a cavity).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Cavity {
+    /// Horizontal and vertical extent (m) and area (m²; per metre of depth, a cross-section).
+    pub width_m: f64,
+    pub height_m: f64,
+    pub area_m2: f64,
+    /// Centre of its bounding box (m).
+    pub centre_m: [f64; 2],
+    /// Depth of its top below the original surface above it (m).
+    pub top_depth_m: f64,
+}
 
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Crater {
@@ -27,7 +52,15 @@ pub struct Crater {
     /// Horizontal position of the deepest column (m).
     pub centre_m: f64,
     pub ejecta_height_m: f64,
-    /// Column centres (m), original and final surface heights (m).
+    /// Highest rise of the ground surface above the original (a mound over a contained charge).
+    pub mound_height_m: f64,
+    /// Column width Δs (m): the coarsest soil spacing.
+    pub column_m: f64,
+    /// The largest enclosed void of the soil, if any.
+    pub cavity: Option<Cavity>,
+    /// Why there is no apparent crater, when there is none.
+    pub note: Option<String>,
+    /// Column centres (m), original and current surface heights (m; NaN for an empty column).
     #[serde(skip)]
     pub columns_m: Vec<f64>,
     #[serde(skip)]
@@ -44,73 +77,300 @@ pub fn soil_mask(case: &crate::case::Case) -> Vec<bool> {
     }
 }
 
+/// Which materials are explosives (JWL).
+pub fn explosive_mask(case: &crate::case::Case) -> Vec<bool> {
+    case.materials.iter().map(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. })).collect()
+}
+
+/// Δs: the coarsest initial spacing of the regions of soil materials.
+pub fn soil_spacing(case: &crate::case::Case) -> Option<f64> {
+    let soil = soil_mask(case);
+    case.regions
+        .iter()
+        .filter(|r| case.material_index(&r.material).is_some_and(|m| soil[m]))
+        .map(|r| r.spacing_m)
+        .fold(None, |a: Option<f64>, s| Some(a.map_or(s, |a| a.max(s))))
+}
+
+/// Soil occupancy on a raster of square cells: solid where a soil particle lies within one cell
+/// size of the cell's centre; `open` marks the empty cells connected to the border.
+struct Raster {
+    x0: f64,
+    y0: f64,
+    ds: f64,
+    nx: usize,
+    ny: usize,
+    solid: Vec<bool>,
+    open: Vec<bool>,
+}
+
+impl Raster {
+    fn new(xs: &[f64], ys: &[f64], ds: f64, xlim: (f64, f64), ylim: (f64, f64)) -> Raster {
+        let x0 = xlim.0 - 2.0 * ds;
+        let y0 = ylim.0 - 2.0 * ds;
+        let nx = (((xlim.1 - xlim.0) / ds).ceil() as usize + 4).max(1);
+        let ny = (((ylim.1 - ylim.0) / ds).ceil() as usize + 4).max(1);
+        let mut solid = vec![false; nx * ny];
+        for (x, y) in xs.iter().zip(ys) {
+            let (u, v) = ((x - x0) / ds, (y - y0) / ds);
+            if u < -1.0 || v < -1.0 || u > nx as f64 + 1.0 || v > ny as f64 + 1.0 {
+                continue;
+            }
+            let (iu, iv) = (u.floor() as i64, v.floor() as i64);
+            for dj in -1..=1 {
+                for di in -1..=1 {
+                    let (i, j) = (iu + di, iv + dj);
+                    if i < 0 || j < 0 || i >= nx as i64 || j >= ny as i64 {
+                        continue;
+                    }
+                    let (cx, cy) = (x0 + (i as f64 + 0.5) * ds, y0 + (j as f64 + 0.5) * ds);
+                    if (cx - x).powi(2) + (cy - y).powi(2) <= ds * ds {
+                        solid[i as usize + nx * j as usize] = true;
+                    }
+                }
+            }
+        }
+        // flood the empty cells from the border (4-connected)
+        let mut open = vec![false; nx * ny];
+        let mut stack = Vec::new();
+        for i in 0..nx {
+            for j in [0, ny - 1] {
+                stack.push((i, j));
+            }
+        }
+        for j in 0..ny {
+            for i in [0, nx - 1] {
+                stack.push((i, j));
+            }
+        }
+        while let Some((i, j)) = stack.pop() {
+            let k = i + nx * j;
+            if solid[k] || open[k] {
+                continue;
+            }
+            open[k] = true;
+            if i > 0 {
+                stack.push((i - 1, j));
+            }
+            if i + 1 < nx {
+                stack.push((i + 1, j));
+            }
+            if j > 0 {
+                stack.push((i, j - 1));
+            }
+            if j + 1 < ny {
+                stack.push((i, j + 1));
+            }
+        }
+        Raster { x0, y0, ds, nx, ny, solid, open }
+    }
+
+    fn cell(&self, x: f64, y: f64) -> Option<usize> {
+        let (u, v) = ((x - self.x0) / self.ds, (y - self.y0) / self.ds);
+        if u < 0.0 || v < 0.0 || u >= self.nx as f64 || v >= self.ny as f64 {
+            return None;
+        }
+        Some(u as usize + self.nx * v as usize)
+    }
+
+    /// Is the vertical gap (x, ya..yb) an enclosed void: no open cell along it, and some empty?
+    fn enclosed_gap(&self, x: f64, ya: f64, yb: f64) -> bool {
+        let mut any_void = false;
+        let mut y = ya + self.ds;
+        while y < yb - 0.5 * self.ds {
+            match self.cell(x, y) {
+                None => return false,
+                Some(k) if self.open[k] => return false,
+                Some(k) if !self.solid[k] => any_void = true,
+                _ => {}
+            }
+            y += 0.5 * self.ds;
+        }
+        any_void
+    }
+
+    /// The largest enclosed void (4-connected component of empty, not open cells).
+    fn largest_void(&self) -> Option<(usize, [f64; 4])> {
+        let mut seen = vec![false; self.nx * self.ny];
+        let mut best: Option<(usize, [f64; 4])> = None;
+        for k0 in 0..self.nx * self.ny {
+            if seen[k0] || self.solid[k0] || self.open[k0] {
+                continue;
+            }
+            let mut count = 0;
+            let (mut ilo, mut ihi, mut jlo, mut jhi) = (usize::MAX, 0, usize::MAX, 0);
+            let mut stack = vec![k0];
+            while let Some(k) = stack.pop() {
+                if seen[k] || self.solid[k] || self.open[k] {
+                    continue;
+                }
+                seen[k] = true;
+                count += 1;
+                let (i, j) = (k % self.nx, k / self.nx);
+                ilo = ilo.min(i);
+                ihi = ihi.max(i);
+                jlo = jlo.min(j);
+                jhi = jhi.max(j);
+                if i > 0 {
+                    stack.push(k - 1);
+                }
+                if i + 1 < self.nx {
+                    stack.push(k + 1);
+                }
+                if j > 0 {
+                    stack.push(k - self.nx);
+                }
+                if j + 1 < self.ny {
+                    stack.push(k + self.nx);
+                }
+            }
+            let bb = [
+                self.x0 + ilo as f64 * self.ds,
+                self.x0 + (ihi + 1) as f64 * self.ds,
+                self.y0 + jlo as f64 * self.ds,
+                self.y0 + (jhi + 1) as f64 * self.ds,
+            ];
+            if best.as_ref().is_none_or(|b| count > b.0) {
+                best = Some((count, bb));
+            }
+        }
+        best
+    }
+}
+
 /// Ground surface per column from positions (x, y) of the soil particles. Column k is centred at
-/// x0 + (k + 1/2) dx and gathers the particles within ±dx of its centre (two spacings wide, so a
+/// x0 + (k + 1/2) ds and gathers the particles within ±ds of its centre (two spacings wide, so a
 /// smooth lateral shift of the lattice cannot empty it); the particles are walked upward from the
-/// lowest and the surface is the last one before a vertical gap larger than 2 dx.
-pub fn surface(xs: &[f64], ys: &[f64], x0: f64, dx: f64, ncol: usize) -> Vec<f64> {
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); ncol];
+/// lowest up to the first vertical gap larger than 2 ds that is not an enclosed void of `raster`;
+/// the surface is the highest particle within ±3ds/4 of the centre that lies at most 2 ds above
+/// the walk's top (the band's top when there is none), NaN for an empty column.
+fn surface(xs: &[f64], ys: &[f64], x0: f64, ds: f64, ncol: usize, raster: &Raster) -> Vec<f64> {
+    let mut cols: Vec<Vec<(f64, f64)>> = vec![Vec::new(); ncol];
     for (x, y) in xs.iter().zip(ys) {
-        let u = (x - x0) / dx - 0.5;
+        let u = (x - x0) / ds - 0.5;
         let (a, b) = ((u - 1.0).ceil(), (u + 1.0).floor());
         let mut k = a.max(0.0);
         while k <= b && (k as usize) < ncol {
-            cols[k as usize].push(*y);
+            cols[k as usize].push((*y, *x));
             k += 1.0;
         }
     }
     cols.into_iter()
-        .map(|mut c| {
+        .enumerate()
+        .map(|(k, mut c)| {
             if c.is_empty() {
                 return f64::NAN;
             }
-            c.sort_by(|a, b| a.total_cmp(b));
-            let mut top = c[0];
-            for y in &c[1..] {
-                if *y - top > 2.0 * dx {
+            let xc = x0 + (k as f64 + 0.5) * ds;
+            c.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // walk the two-spacing band up to the first gap open to the sky
+            let mut top = 0;
+            for q in 1..c.len() {
+                if c[q].0 - c[top].0 > 2.0 * ds && !raster.enclosed_gap(xc, c[top].0, c[q].0) {
                     break;
                 }
-                top = *y;
+                top = q;
             }
-            top
+            // the height is read from the particles within ±3ds/4 of the column's centre (the
+            // band's ±ds would lift a crater's edge to the rim beside it; ±ds/2 finds no
+            // particle near the top of a column whose own particles moved sideways, and then
+            // reads a hole one or two spacings deep), up to 2 ds above the band's top (the gap
+            // rule), else from the band
+            let lim = c[top].0 + 2.0 * ds;
+            c.iter()
+                .filter(|(y, x)| *y <= lim && (x - xc).abs() <= 0.75 * ds)
+                .map(|p| p.0)
+                .fold(None, |a: Option<f64>, y| Some(a.map_or(y, |a| a.max(y))))
+                .unwrap_or(c[top].0)
         })
         .collect()
 }
 
-/// Measures the crater of a 2D run from the soil particles' initial and current positions.
-pub fn measure(sim: &Sim) -> Crater {
-    if sim.cfg.dim != 2 {
-        return Crater::default();
-    }
-    let soil = soil_mask(&sim.case);
-    let n = sim.p.nreal;
-    let pick = |x: &[f64]| -> (Vec<f64>, Vec<f64>) {
-        let mut xs = Vec::new();
-        let mut ys = Vec::new();
-        for i in 0..n {
-            if soil[sim.p.mat[i] as usize] {
-                xs.push(x[2 * i]);
-                ys.push(x[2 * i + 1]);
-            }
-        }
-        (xs, ys)
-    };
-    let (x0s, y0s) = pick(&sim.x_init);
-    let (x1s, y1s) = pick(&sim.p.x);
-    measure_xy(&x0s, &y0s, &x1s, &y1s, sim.cfg.dx_min)
+/// The particles a crater is measured from: soil at t = 0 and now, explosive at t = 0.
+#[derive(Debug, Clone, Default)]
+pub struct CraterInput {
+    pub soil0: (Vec<f64>, Vec<f64>),
+    pub soil1: (Vec<f64>, Vec<f64>),
+    pub charge0: (Vec<f64>, Vec<f64>),
 }
 
-/// The crater from soil positions at t = 0 (`x0s`, `y0s`) and now (`x1s`, `y1s`); `dx` is the
-/// column width (the finest initial spacing).
-pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -> Crater {
-    if x0s.is_empty() {
-        return Crater::default();
+/// Measures the crater of a 2D run from the soil particles' initial and current positions.
+pub fn measure(sim: &Sim) -> Result<Crater, String> {
+    if sim.cfg.dim != 2 {
+        return Err(format!("the crater is measured in 2D only (this case has dim = {})", sim.cfg.dim));
     }
-    let lo = x0s.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * dx;
-    let hi = x0s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * dx;
-    let ncol = ((hi - lo) / dx).round().max(1.0) as usize;
-    let s0 = surface(x0s, y0s, lo, dx, ncol);
-    let s1 = surface(x1s, y1s, lo, dx, ncol);
+    let soil = soil_mask(&sim.case);
+    let expl = explosive_mask(&sim.case);
+    let ds = soil_spacing(&sim.case).ok_or("no region of a soil material (analysis.soil_materials)")?;
+    let mut inp = CraterInput::default();
+    for i in 0..sim.p.nreal {
+        let m = sim.p.mat[i] as usize;
+        if soil[m] {
+            inp.soil0.0.push(sim.x_init[2 * i]);
+            inp.soil0.1.push(sim.x_init[2 * i + 1]);
+            inp.soil1.0.push(sim.p.x[2 * i]);
+            inp.soil1.1.push(sim.p.x[2 * i + 1]);
+        } else if expl[m] {
+            inp.charge0.0.push(sim.x_init[2 * i]);
+            inp.charge0.1.push(sim.x_init[2 * i + 1]);
+        }
+    }
+    measure_xy(&inp, ds)
+}
+
+/// The crater from `inp` with columns `ds` wide (the coarsest soil spacing).
+pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
+    let (x0s, y0s) = (&inp.soil0.0, &inp.soil0.1);
+    let (x1s, y1s) = (&inp.soil1.0, &inp.soil1.1);
+    if x0s.is_empty() {
+        return Err("no soil particles (analysis.soil_materials names no material with particles)".into());
+    }
+    let bad = x1s.iter().chain(y1s).filter(|v| !v.is_finite()).count();
+    if bad > 0 {
+        return Err(format!(
+            "{} soil coordinates are not finite numbers (the run went unstable): no surface can be traced",
+            bad
+        ));
+    }
+    if !(ds.is_finite() && ds > 0.0) {
+        return Err(format!("the soil spacing {ds} m is not a positive number"));
+    }
+    let lo = x0s.iter().cloned().fold(f64::INFINITY, f64::min) - 0.5 * ds;
+    let hi = x0s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) + 0.5 * ds;
+    let ncol = ((hi - lo) / ds).round().max(1.0) as usize;
+    let ymin0 = y0s.iter().cloned().fold(f64::INFINITY, f64::min);
+    let ymax0 = y0s.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let ymin1 = y1s.iter().cloned().fold(f64::INFINITY, f64::min);
+    // the raster covers the ground and what lies just above it (ejecta higher up are ejecta)
+    let ytop = ymax0 + 0.5 * (hi - lo);
+    let r0 = Raster::new(x0s, y0s, ds, (lo, hi), (ymin0.min(ymin1), ytop));
+    let r1 = Raster::new(x1s, y1s, ds, (lo, hi), (ymin0.min(ymin1), ytop));
+    let mut s0 = surface(x0s, y0s, lo, ds, ncol, &r0);
+    let s1 = surface(x1s, y1s, lo, ds, ncol, &r1);
+    // a charge in a pit of the ground: the ground level over it is interpolated
+    let covered: Vec<bool> = (0..ncol)
+        .map(|k| {
+            let xc = lo + (k as f64 + 0.5) * ds;
+            s0[k].is_finite()
+                && inp.charge0.0.iter().zip(&inp.charge0.1).any(|(x, y)| (x - xc).abs() < 0.5 * ds && *y > s0[k])
+        })
+        .collect();
+    if covered.iter().any(|c| *c) {
+        let base = s0.clone();
+        for k in 0..ncol {
+            if !covered[k] {
+                continue;
+            }
+            let left = (0..k).rev().find(|&a| !covered[a] && base[a].is_finite());
+            let right = (k + 1..ncol).find(|&b| !covered[b] && base[b].is_finite());
+            s0[k] = match (left, right) {
+                (Some(a), Some(b)) => base[a] + (base[b] - base[a]) * (k - a) as f64 / (b - a) as f64,
+                (Some(a), None) => base[a],
+                (None, Some(b)) => base[b],
+                (None, None) => base[k],
+            };
+        }
+    }
     let drop: Vec<f64> = s0
         .iter()
         .zip(&s1)
@@ -118,7 +378,7 @@ pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -
             if a.is_finite() && b.is_finite() {
                 a - b
             } else if a.is_finite() {
-                *a
+                *a - ymin0
             } else {
                 0.0
             }
@@ -126,21 +386,7 @@ pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -
         .collect();
     let (kmax, depth) =
         drop.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (k, d)| if *d > acc.1 { (k, *d) } else { acc });
-    let mut diameter = 0.0;
-    if depth > 0.5 * dx {
-        let mut a = kmax;
-        while a > 0 && drop[a - 1] > 0.5 * dx {
-            a -= 1;
-        }
-        let mut b = kmax;
-        while b + 1 < ncol && drop[b + 1] > 0.5 * dx {
-            b += 1;
-        }
-        diameter = (b - a + 1) as f64 * dx;
-    }
-    let mut half = 0.0;
-    if depth > 0.5 * dx {
-        let lim = 0.5 * depth;
+    let run = |lim: f64| -> f64 {
         let (mut a, mut b) = (kmax, kmax);
         while a > 0 && drop[a - 1] > lim {
             a -= 1;
@@ -148,18 +394,143 @@ pub fn measure_xy(x0s: &[f64], y0s: &[f64], x1s: &[f64], y1s: &[f64], dx: f64) -
         while b + 1 < ncol && drop[b + 1] > lim {
             b += 1;
         }
-        half = (b - a + 1) as f64 * dx;
-    }
+        (b - a + 1) as f64 * ds
+    };
+    let crater = depth > 0.5 * ds;
+    let (diameter, half) = if crater { (run(0.5 * ds), run(0.5 * depth)) } else { (0.0, 0.0) };
     let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
-    Crater {
+    let mound = drop.iter().cloned().map(|d| -d).fold(0.0, f64::max);
+    let cavity = r1.largest_void().filter(|(cells, _)| *cells >= 4).map(|(cells, bb)| {
+        let xc = 0.5 * (bb[0] + bb[1]);
+        let k = (((xc - lo) / ds).floor().max(0.0) as usize).min(ncol - 1);
+        Cavity {
+            width_m: bb[1] - bb[0],
+            height_m: bb[3] - bb[2],
+            area_m2: cells as f64 * ds * ds,
+            centre_m: [xc, 0.5 * (bb[2] + bb[3])],
+            top_depth_m: if s0[k].is_finite() { s0[k] - bb[3] } else { f64::NAN },
+        }
+    });
+    let note = if crater {
+        None
+    } else {
+        Some(match &cavity {
+            Some(c) => format!(
+                "no apparent crater: the ground surface has not dropped by more than half a spacing ({:.1} cm); \
+                 the charge is contained in a cavity {:.1} cm wide and {:.1} cm tall under ground that rose up to {:.1} cm",
+                50.0 * ds,
+                100.0 * c.width_m,
+                100.0 * c.height_m,
+                100.0 * mound
+            ),
+            None => format!(
+                "no apparent crater: the ground surface has not dropped by more than half a spacing ({:.1} cm)",
+                50.0 * ds
+            ),
+        })
+    };
+    Ok(Crater {
         diameter_m: diameter,
-        depth_m: depth.max(0.0),
+        depth_m: if crater { depth } else { depth.max(0.0) },
         width_half_depth_m: half,
-        centre_m: lo + (kmax as f64 + 0.5) * dx,
+        centre_m: lo + (kmax as f64 + 0.5) * ds,
         ejecta_height_m: ejecta.max(0.0),
-        columns_m: (0..ncol).map(|k| lo + (k as f64 + 0.5) * dx).collect(),
+        mound_height_m: mound,
+        column_m: ds,
+        cavity: cavity.map(|mut c| {
+            if !c.top_depth_m.is_finite() {
+                c.top_depth_m = 0.0;
+            }
+            c
+        }),
+        note,
+        columns_m: (0..ncol).map(|k| lo + (k as f64 + 0.5) * ds).collect(),
         surface0_m: s0,
         surface_m: s1,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Soil on a lattice of spacing `ds` over [0, w] × [0, hgt], less the points `cut` removes.
+    fn lattice(ds: f64, w: f64, hgt: f64, cut: &dyn Fn(f64, f64) -> bool) -> (Vec<f64>, Vec<f64>) {
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        let (nx, ny) = ((w / ds).round() as usize, (hgt / ds).round() as usize);
+        for j in 0..ny {
+            for i in 0..nx {
+                let (x, y) = ((i as f64 + 0.5) * ds, (j as f64 + 0.5) * ds);
+                if !cut(x, y) {
+                    xs.push(x);
+                    ys.push(y);
+                }
+            }
+        }
+        (xs, ys)
+    }
+
+    #[test]
+    fn a_bowl_is_measured_against_the_ground_over_the_charge_pit() {
+        let ds = 0.01;
+        // t = 0: a 6 cm pit in the top of the ground, holding a charge on a 0.5 cm lattice
+        let pit = |x: f64, y: f64| (x - 0.5).abs() < 0.03 && y > 0.94;
+        let soil0 = lattice(ds, 1.0, 1.0, &pit);
+        let mut charge0 = (Vec::new(), Vec::new());
+        for j in 0..12 {
+            for i in 0..12 {
+                charge0.0.push(0.47 + 0.0025 + 0.005 * i as f64);
+                charge0.1.push(0.94 + 0.0025 + 0.005 * j as f64);
+            }
+        }
+        // later: a bowl 20 cm wide and 10 cm deep below the original ground (y = 1)
+        let bowl = |x: f64, y: f64| (x - 0.5).abs() < 0.1 && y > 0.9;
+        let soil1 = lattice(ds, 1.0, 1.0, &bowl);
+        // the same particles must be matched one to one: keep the counts comparable by measuring
+        // each state against its own t = 0 lattice (the measure only uses positions)
+        let inp = CraterInput { soil0: soil0.clone(), soil1, charge0 };
+        let c = measure_xy(&inp, ds).unwrap();
+        assert!((c.depth_m - 0.10).abs() < 1e-9, "depth {} against the ground, not the pit floor", c.depth_m);
+        assert!((c.diameter_m - 0.20).abs() < 1e-9, "diameter {}", c.diameter_m);
+        assert!(c.note.is_none());
+        // the original ground over the pit is the ground's level beside it
+        let k = c.columns_m.iter().position(|x| (x - 0.505).abs() < 1e-9).unwrap();
+        assert!((c.surface0_m[k] - 0.995).abs() < 1e-9, "{}", c.surface0_m[k]);
+    }
+
+    #[test]
+    fn a_cavity_under_an_intact_dome_is_no_crater() {
+        let ds = 0.01;
+        // a charge's hole 3 cm below the surface at t = 0; later a bigger cavity, and the dome
+        // over it raised by 2 cm
+        let hole = |x: f64, y: f64| (x - 0.35).abs() < 0.03 && (y - 0.58).abs() < 0.01;
+        let soil0 = lattice(ds, 0.7, 0.62, &hole);
+        let gas = |x: f64, y: f64| (x - 0.35).abs() < 0.06 && (y - 0.58).abs() < 0.03;
+        let (x1, mut y1) = lattice(ds, 0.7, 0.62, &gas);
+        for k in 0..x1.len() {
+            if (x1[k] - 0.35).abs() < 0.06 && y1[k] > 0.61 {
+                y1[k] += 0.02;
+            }
+        }
+        let c = measure_xy(&CraterInput { soil0, soil1: (x1, y1), charge0: (Vec::new(), Vec::new()) }, ds).unwrap();
+        assert_eq!(c.diameter_m, 0.0, "{c:?}");
+        assert!(c.note.as_deref().unwrap().contains("contained"), "{:?}", c.note);
+        let cav = c.cavity.expect("the cavity");
+        assert!(cav.width_m >= 0.08 && cav.height_m >= 0.03, "{cav:?}");
+        assert!(c.mound_height_m > 0.015, "{}", c.mound_height_m);
+    }
+
+    #[test]
+    fn positions_that_are_not_numbers_give_a_reason() {
+        let (x0, y0) = lattice(0.01, 0.2, 0.2, &|_, _| false);
+        let mut y1 = y0.clone();
+        y1[7] = f64::NAN;
+        let e =
+            measure_xy(&CraterInput { soil0: (x0.clone(), y0), soil1: (x0, y1), charge0: Default::default() }, 0.01)
+                .unwrap_err();
+        assert!(e.contains("not finite") && e.contains("unstable"), "{e}");
+        let e = measure_xy(&CraterInput::default(), 0.01).unwrap_err();
+        assert!(e.contains("no soil particles"), "{e}");
     }
 }

@@ -13,9 +13,9 @@ pub struct BenchArgs {
     /// Cases: names in the case folder, or paths to .toml files (comma-separated)
     #[arg(long, value_delimiter = ',', default_value = "shock_tube", value_name = "NAME,..")]
     pub cases: Vec<String>,
-    /// Folder of the case files
-    #[arg(long = "case-dir", default_value = "cases", value_name = "DIR")]
-    pub case_dir: PathBuf,
+    /// Folder of the case files (default: cases/ of the repository around the current directory, else of the source tree)
+    #[arg(long = "case-dir", value_name = "DIR")]
+    pub case_dir: Option<PathBuf>,
     /// Refinement factors k: every spacing Δx becomes Δx/k (0.5 = twice as coarse)
     #[arg(long, value_delimiter = ',', default_value = "1,2,4", value_name = "K,..", allow_hyphen_values = true)]
     pub resolutions: Vec<String>,
@@ -40,11 +40,11 @@ pub struct BenchArgs {
     /// Skip direct-search runs with more particles than this (reported as skipped)
     #[arg(long = "max-direct-particles", default_value = "20000", value_name = "N", allow_hyphen_values = true)]
     pub max_direct_particles: String,
-    /// List the matrix (with particle counts) and run nothing
     /// Runs of each configuration; the row reports the fastest (the physics of the repeats is
     /// bitwise the same) and lists every wall time. For timings on a machine shared with other work.
     #[arg(long, default_value = "1", value_name = "N", allow_hyphen_values = true)]
     pub repeat: String,
+    /// List the matrix (with particle counts) and run nothing
     #[arg(long = "dry-run")]
     pub dry_run: bool,
     /// Override a key of every case before it is refined: --set 'analysis.window_m=[-0.35, 0.35]'
@@ -176,7 +176,7 @@ impl BenchOptions {
             let path = if c.ends_with(".toml") || c.contains('/') {
                 PathBuf::from(c)
             } else {
-                a.case_dir.join(format!("{c}.toml"))
+                crate::casedir::folder(a.case_dir.as_deref())?.join(format!("{c}.toml"))
             };
             if !path.is_file() {
                 return Err(input(format!("--cases {c}: no case file {}", path.display())));

@@ -2,7 +2,7 @@
 //! interval, the end, the walls for the penetration checks, gravity for the energy book-keeping.
 //! (What a module needs lives in its stages.)
 
-use crate::case::{Case, NnpsKind, StepRule};
+use crate::case::{Case, KernelKind, NnpsKind, StepRule};
 use crate::modules::boundary;
 use crate::modules::param::{MatTable, Segments};
 
@@ -12,6 +12,8 @@ pub type Frame = ([f64; 3], f64, [f64; 3]);
 #[derive(Debug, Clone)]
 pub struct Config {
     pub dim: usize,
+    /// The kernel (for interpolation outside the modules: point gauges).
+    pub kernel: KernelKind,
     /// Kernel support in units of h.
     pub kappa: f64,
     /// The cell search (for reports).
@@ -40,6 +42,7 @@ impl Config {
         let all_segs = crate::setup::segments(case, x0, |_| true);
         Config {
             dim,
+            kernel: case.sph.kernel,
             kappa: case.sph.kernel.support(),
             cell: case.sph.nnps == NnpsKind::Cell,
             mt,

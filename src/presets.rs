@@ -1,0 +1,124 @@
+//! Material presets: `[[material]] name = "charge" preset = "tnt"` (docs/cases.md lists each
+//! preset's constants and source). A preset is a block of case keys, merged under the keys the
+//! case gives beside it, so any key can be overridden (`eos = { b_pa = 3.231e9 }` changes B
+//! only; an `eos` of another `kind` replaces the preset's eos whole). The constants are the
+//! decimal literals the thesis's case files carry, so a case written with presets is bit for bit
+//! the same run as one with the constants typed out.
+
+use toml::{Table, Value};
+
+/// (name, source, keys as TOML).
+pub const PRESETS: [(&str, &str, &str); 8] = [
+    (
+        "tnt",
+        "thesis Table 4-2 after Liu (A as Liu publishes it, 3.712e11 Pa; B = 3.21e9 Pa as the thesis and Liu's cases use)",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.21e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0 }
+e0_jkg = 4.29e6"#,
+    ),
+    (
+        "tnt_dobratz",
+        "Dobratz & Crawford, LLNL Explosives Handbook (1985): TNT at 1630 kg/m3, B = 3.231e9 Pa, E0 = 7.0 GJ/m3 (e0 = E0/rho0)",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.231e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0 }
+e0_jkg = 4294478.5"#,
+    ),
+    (
+        "c4",
+        "thesis Table 5-1 after An (2010), with the LLNL A = 609.77e9 Pa (the thesis prints 609,970 MPa), rho0 = 1601 and D = 8193 m/s (LLNL; the thesis gives neither); e0 = 9.0 GJ/m3 / 1601 kg/m3",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1601.0, a_pa = 609.77e9, b_pa = 12.95e9, r1 = 4.5, r2 = 1.4, omega = 0.25, d_ms = 8193.0 }
+e0_jkg = 5.6215e6"#,
+    ),
+    (
+        "water",
+        "thesis (4-40, 4-41) after Liu et al. (2003), the unrounded constants; e0 = 357.1 J/kg as the thesis tables give",
+        r#"eos = { kind = "water", rho0_kgm3 = 1000.0, a1_pa = 2.19e9, a2_pa = 9.224e9, a3_pa = 8.767e9, b0 = 0.4934, b1 = 1.3937, c0_ms = 1480.0 }
+e0_jkg = 357.1"#,
+    ),
+    (
+        "loose_sand",
+        "thesis Table 5-2 \"soil 1\"; k = 200 Pa, no tension (pmin 0) and e0 = 417 J/m3 / rho0 are this project's readings (docs/validation.md)",
+        r#"eos = { kind = "soil", rho0_kgm3 = 1450.0, c_ms = 1440.0, s = 1.6, gamma = 0.11 }
+strength = { shear_modulus_pa = 6.358e+07, alpha_phi = 0.25, cohesion_pa = 200.0 }
+pmin_pa = 0.0
+e0_jkg = 0.2876"#,
+    ),
+    (
+        "dense_sand",
+        "thesis Table 5-2 \"soil 2\"; k, pmin and e0 read as for loose_sand",
+        r#"eos = { kind = "soil", rho0_kgm3 = 2200.0, c_ms = 1614.0, s = 1.5, gamma = 0.11 }
+strength = { shear_modulus_pa = 2.4e+08, alpha_phi = 0.25, cohesion_pa = 200.0 }
+pmin_pa = 0.0
+e0_jkg = 0.1895"#,
+    ),
+    (
+        "saturated_sand",
+        "thesis Table 5-6; k, pmin and e0 read as for loose_sand",
+        r#"eos = { kind = "soil", rho0_kgm3 = 1840.0, c_ms = 320.0, s = 4.92, gamma = 0.11 }
+strength = { shear_modulus_pa = 2e+07, alpha_phi = 0.25, cohesion_pa = 200.0 }
+pmin_pa = 0.0
+e0_jkg = 0.2266"#,
+    ),
+    (
+        "dry_soil",
+        "thesis V2 (buried C4, after An 2010): rho0 = 1802 kg/m3 with the loose-sand constants of Table 5-2 (the source gives no others)",
+        r#"eos = { kind = "soil", rho0_kgm3 = 1802.0, c_ms = 1440.0, s = 1.6, gamma = 0.11 }
+strength = { shear_modulus_pa = 6.358e+07, alpha_phi = 0.25, cohesion_pa = 200.0 }
+pmin_pa = 0.0
+e0_jkg = 0.2314"#,
+    ),
+];
+
+/// The names of the presets, comma-separated (for error messages).
+pub fn names() -> String {
+    PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
+}
+
+/// The keys of preset `name`, or None.
+pub fn get(name: &str) -> Option<Table> {
+    let (_, _, body) = PRESETS.iter().find(|p| p.0 == name)?;
+    body.parse::<Table>().ok()
+}
+
+/// Merges `user` over `base`: tables merge key by key, anything else replaces; an `eos` whose
+/// `kind` differs from the base's replaces the base's eos whole.
+pub fn merge(base: &mut Table, user: Table) {
+    for (k, v) in user {
+        match (base.get_mut(&k), v) {
+            (Some(Value::Table(b)), Value::Table(u)) => {
+                let other_kind = k == "eos" && u.get("kind").is_some_and(|uk| Some(uk) != b.get("kind"));
+                if other_kind {
+                    *b = u;
+                } else {
+                    merge(b, u);
+                }
+            }
+            (_, v) => {
+                base.insert(k, v);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_parses_and_is_named_once() {
+        for (k, (name, _, _)) in PRESETS.iter().enumerate() {
+            assert!(get(name).is_some(), "preset {name} does not parse");
+            assert!(PRESETS[k + 1..].iter().all(|p| p.0 != *name), "{name} twice");
+        }
+    }
+
+    #[test]
+    fn merge_overrides_one_key_and_replaces_an_eos_of_another_kind() {
+        let mut t = get("tnt").unwrap();
+        merge(&mut t, "eos = { b_pa = 3.231e9 }".parse().unwrap());
+        assert_eq!(t["eos"]["b_pa"].as_float(), Some(3.231e9));
+        assert_eq!(t["eos"]["a_pa"].as_float(), Some(3.712e11));
+        let mut t = get("tnt").unwrap();
+        merge(&mut t, "eos = { kind = \"ideal_gas\", gamma = 1.4 }".parse().unwrap());
+        assert!(t["eos"].get("a_pa").is_none());
+        assert_eq!(t["e0_jkg"].as_float(), Some(4.29e6));
+    }
+}

@@ -1,0 +1,344 @@
+//! What a blast engineer meets (issue 15): help on every argument, progress in a log file while
+//! a run goes, material presets equal to the constants typed out, a run directory that reruns
+//! the same run, `--set` errors that name the override, cases found by name, gauges of both
+//! kinds, and a crater that is measured from the soil or refused with a reason.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn blastsph_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).current_dir(dir).output().expect("blastsph")
+}
+
+fn blastsph(args: &[&str]) -> Output {
+    blastsph_in(&common::root(), args)
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn ok(o: &Output) {
+    assert_eq!(o.status.code(), Some(0), "stdout:\n{}\nstderr:\n{}", text(&o.stdout), text(&o.stderr));
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// Every argument and option of every subcommand has a help line in `--help`.
+#[test]
+fn every_argument_of_every_subcommand_has_a_help_line() {
+    let top = text(&blastsph(&["--help"]).stdout);
+    let subs: Vec<String> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(String::from))
+        .filter(|s| s != "help")
+        .collect();
+    assert!(subs.len() >= 6, "subcommands: {subs:?}\n{top}");
+    for sub in &subs {
+        let h = text(&blastsph(&[sub, "--help"]).stdout);
+        let mut entries = 0;
+        let lines: Vec<&str> = h.lines().collect();
+        let mut in_list = false;
+        for (k, l) in lines.iter().enumerate() {
+            if l.starts_with("Arguments:") || l.starts_with("Options:") {
+                in_list = true;
+                continue;
+            }
+            if !l.starts_with(' ') {
+                in_list = false;
+            }
+            let t = l.trim_start();
+            let indent = l.len() - t.len();
+            let entry = (t.starts_with('-') && (2..=6).contains(&indent))
+                || ((t.starts_with('<') || t.starts_with('[')) && indent == 2);
+            if !in_list || !entry {
+                continue;
+            }
+            entries += 1;
+            // the help text follows on the line (after two spaces) or on the next, deeper line
+            let inline = t.split_once("  ").is_some_and(|(_, rest)| !rest.trim().is_empty());
+            let next = lines.get(k + 1).is_some_and(|n| {
+                let nt = n.trim_start();
+                n.len() - nt.len() > 6 && !nt.is_empty() && !nt.starts_with('-')
+            });
+            assert!(inline || next, "`blastsph {sub} --help`: `{}` has no help line\n{h}", t);
+        }
+        assert!(entries >= 2, "`blastsph {sub} --help` lists its arguments\n{h}");
+    }
+}
+
+/// With stderr redirected to a file (a batch job), a run logs progress lines while it runs.
+#[test]
+fn a_run_with_stderr_in_a_file_logs_progress_while_it_runs() {
+    let d = tempfile::tempdir().unwrap();
+    let log = d.path().join("run.log");
+    let out = d.path().join("run");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["run", "cases/surface_loose_tnt6.toml", "--end-time", "2e-3", "--progress-every", "0.2", "--out"])
+        .arg(&out)
+        .current_dir(common::root())
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    let mut seen = String::new();
+    while start.elapsed() < Duration::from_secs(120) {
+        seen = std::fs::read_to_string(&log).unwrap_or_default();
+        if seen.lines().filter(|l| l.starts_with("progress: ")).count() >= 2 {
+            break;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before two progress lines:\n{seen}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let running = child.try_wait().unwrap().is_none();
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(running, "the progress lines must come while the run goes");
+    let line =
+        seen.lines().find(|l| l.starts_with("progress: ")).unwrap_or_else(|| panic!("no progress line:\n{seen}"));
+    for w in ["step ", "t = ", "dt = ", "particle-steps/s", "ETA "] {
+        assert!(line.contains(w), "`{w}` in `{line}`");
+    }
+    // --quiet: nothing on stderr
+    let q = d.path().join("quiet");
+    let o =
+        blastsph(&["run", "cases/shock_tube.toml", "--quiet", "--progress-every", "0", "--out", q.to_str().unwrap()]);
+    ok(&o);
+    assert!(text(&o.stderr).is_empty(), "--quiet: {}", text(&o.stderr));
+}
+
+/// Every dataset of every step, bitwise.
+fn same_h5(a: &Path, b: &Path) {
+    let (fa, fb) = (hdf5::File::open(a).unwrap(), hdf5::File::open(b).unwrap());
+    let names = fa.member_names().unwrap();
+    assert_eq!(names, fb.member_names().unwrap());
+    let mut n = 0;
+    for g in names.iter().filter(|n| n.starts_with("Step#")) {
+        let (ga, gb) = (fa.group(g).unwrap(), fb.group(g).unwrap());
+        let ta: f64 = ga.attr("TimeValue").unwrap().read_scalar().unwrap();
+        let tb: f64 = gb.attr("TimeValue").unwrap().read_scalar().unwrap();
+        assert_eq!(ta.to_bits(), tb.to_bits(), "{g} TimeValue");
+        for ds in ga.member_names().unwrap() {
+            let x = ga.dataset(&ds).unwrap();
+            if x.dtype().unwrap().is::<f64>() {
+                let (va, vb) = (x.read_raw::<f64>().unwrap(), gb.dataset(&ds).unwrap().read_raw::<f64>().unwrap());
+                assert!(
+                    va.iter().zip(&vb).all(|(p, q)| p.to_bits() == q.to_bits()) && va.len() == vb.len(),
+                    "{g}/{ds}"
+                );
+                n += 1;
+            }
+        }
+    }
+    assert!(n > 20, "compared {n} datasets");
+}
+
+/// A thesis case written with presets is bit for bit the same run as with the constants typed
+/// out (S1 loose sand and V2 buried C4).
+#[test]
+fn presets_give_the_same_run_bit_for_bit() {
+    let d = tempfile::tempdir().unwrap();
+    for (typed, preset, end) in
+        [("surface_loose_tnt6", "surface_loose_tnt6_presets", "5e-5"), ("buried_c4", "buried_c4_presets", "6e-5")]
+    {
+        let (a, b) = (d.path().join(typed), d.path().join(preset));
+        for (case, dir) in [(typed, &a), (preset, &b)] {
+            ok(&blastsph(&[
+                "run",
+                &format!("cases/{case}.toml"),
+                "--quiet",
+                "--end-time",
+                end,
+                "--set",
+                "time.output_interval_s=1e-5",
+                "--out",
+                dir.to_str().unwrap(),
+            ]));
+        }
+        same_h5(&a.join("particles.h5"), &b.join("particles.h5"));
+        let (ga, gb) = (
+            std::fs::read_to_string(a.join("gauges.csv")).unwrap(),
+            std::fs::read_to_string(b.join("gauges.csv")).unwrap(),
+        );
+        assert_eq!(ga, gb, "{typed}: gauges.csv");
+        let (sa, sb) = (summary(&a), summary(&b));
+        assert_eq!(sa["energy"], sb["energy"], "{typed}: energies");
+        assert_eq!(sa["steps"], sb["steps"]);
+    }
+    // a key beside the preset overrides the preset's
+    let o = blastsph(&["check", "cases/surface_loose_tnt6_presets.toml", "--set", "material.tnt.preset=tnt_dobratz"]);
+    ok(&o);
+    let o = blastsph(&["check", "cases/surface_loose_tnt6_presets.toml", "--set", "material.tnt.preset=tnx"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("no such preset") && text(&o.stderr).contains("tnt_dobratz"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+/// The run directory's case.toml holds every override; rerun from it, the run is the same.
+#[test]
+fn case_toml_reruns_the_same_run_and_set_errors_name_the_override() {
+    let d = tempfile::tempdir().unwrap();
+    let (a, b) = (d.path().join("a"), d.path().join("b"));
+    ok(&blastsph(&[
+        "run",
+        "cases/shock_tube.toml",
+        "--quiet",
+        "--set",
+        "viscosity.alpha=1.2",
+        "--set",
+        "time.output_interval_s=0.05",
+        "--end-time",
+        "0.1",
+        "--out",
+        a.to_str().unwrap(),
+    ]));
+    let ct = std::fs::read_to_string(a.join("case.toml")).unwrap();
+    assert!(ct.contains("--set viscosity.alpha=1.2") && ct.contains("alpha = 1.2  # set by --set (was 1.0)"), "{ct}");
+    assert!(ct.contains("# Liu"), "the case file's comments are kept:\n{ct}");
+    ok(&blastsph(&["run", a.join("case.toml").to_str().unwrap(), "--quiet", "--out", b.to_str().unwrap()]));
+    same_h5(&a.join("particles.h5"), &b.join("particles.h5"));
+    assert_eq!(summary(&a)["steps"], summary(&b)["steps"]);
+    // an override that breaks the case is named, with no line of a generated file
+    for (set, want) in
+        [("time.colour=1", "--set time.colour=1"), ("region.right.rho_kgm3=-1", "--set region.right.rho_kgm3=-1")]
+    {
+        let o = blastsph(&["check", "cases/shock_tube.toml", "--set", "time.cfl=0.3", "--set", set]);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+        assert!(e.contains(want), "the error names the override: {e}");
+        assert!(!e.contains("(with --set)"), "{e}");
+    }
+}
+
+/// Cases by name from outside the repository (the source tree's cases/), or from --case-dir;
+/// a name found nowhere is refused with one line.
+#[test]
+fn cases_are_found_by_name_from_anywhere() {
+    let d = tempfile::tempdir().unwrap();
+    let o = blastsph_in(d.path(), &["check", "shock_tube"]);
+    ok(&o);
+    assert!(text(&o.stdout).contains("400 particles"));
+    let o = blastsph_in(
+        d.path(),
+        &["bench", "--dry-run", "--cases", "shock_tube", "--resolutions", "1", "--backends", "rust"],
+    );
+    ok(&o);
+    let cases: PathBuf = common::root().join("cases");
+    let o = blastsph_in(d.path(), &["check", "slope_45", "--case-dir", cases.to_str().unwrap()]);
+    ok(&o);
+    let o = blastsph_in(d.path(), &["check", "no_such_scene"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(text(&o.stderr).lines().count(), 1);
+    assert!(text(&o.stderr).contains("no_such_scene"), "{}", text(&o.stderr));
+    let o = blastsph_in(d.path(), &["check", "shock_tube", "--case-dir", d.path().to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+}
+
+/// Gauges: a particle gauge on a point between four particles picks one without a tie-break by
+/// rounding (the lowest id, the same after the case is rescaled); a point gauge interpolates
+/// and records pressure, velocity and stress; gauges.csv has a column per quantity.
+#[test]
+fn gauges_of_both_kinds_record_pressure_velocity_and_stress() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path().join("g");
+    ok(&blastsph(&[
+        "run",
+        "cases/surface_loose_tnt6.toml",
+        "--quiet",
+        "--end-time",
+        "1e-4",
+        "--set",
+        "gauge.B.kind=point",
+        "--out",
+        dir.to_str().unwrap(),
+    ]));
+    let s = summary(&dir);
+    let g = s["gauges"].as_array().unwrap();
+    let a = g.iter().find(|g| g["name"] == "A").unwrap();
+    let b = g.iter().find(|g| g["name"] == "B").unwrap();
+    assert_eq!(a["kind"], "particle");
+    assert_eq!(a["tied_particles"], 4, "A at (0.5, 0.82) lies between four lattice sites");
+    let st: Vec<f64> = a["particle_start_m"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert!((st[0] - 0.495).abs() < 1e-12 && (st[1] - 0.815).abs() < 1e-12, "the lowest of the tied: {st:?}");
+    assert_eq!(b["kind"], "point");
+    assert!(b["particle"].is_null());
+    for k in ["peak_pa", "peak_time_s", "arrival_s", "impulse_pa_s", "ppv_ms"] {
+        assert!(a[k].as_f64().is_some_and(|v| v.is_finite()), "A {k}: {}", a[k]);
+        assert!(b[k].as_f64().is_some_and(|v| v.is_finite()), "B {k}: {}", b[k]);
+    }
+    assert!(b["peak_pa"].as_f64().unwrap() > 1e6, "the wave passed B by 100 µs");
+    assert!(a["impulse_pa_s"].as_f64().unwrap() > 0.0 && a["ppv_ms"].as_f64().unwrap() > 1.0);
+    let csv = std::fs::read_to_string(dir.join("gauges.csv")).unwrap();
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for c in ["time_s", "A_p_pa", "B_p_pa", "A_vx_ms", "A_vy_ms", "B_sxx_pa", "B_syy_pa", "B_szz_pa", "B_sxy_pa"] {
+        assert!(head.contains(&c), "gauges.csv column {c}: {head:?}");
+    }
+    // the pressure columns come first, as before gauges recorded more
+    assert_eq!(&head[..6], &["time_s", "A_p_pa", "B_p_pa", "C_p_pa", "D_p_pa", "E_p_pa"]);
+    let rows: Vec<Vec<f64>> =
+        csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap_or(f64::NAN)).collect()).collect();
+    assert_eq!(rows.len() as u64, s["steps"].as_u64().unwrap() + 1, "a row per step and t = 0");
+    // the point gauge's peak is the largest interpolated pressure of its column
+    let kb = head.iter().position(|c| *c == "B_p_pa").unwrap();
+    let peak = rows.iter().map(|r| r[kb]).fold(f64::NEG_INFINITY, f64::max);
+    assert!((peak - b["peak_pa"].as_f64().unwrap()).abs() <= 1e-6 * peak, "{peak} vs {}", b["peak_pa"]);
+}
+
+/// The crater: with a charge lattice finer than the soil's the crater is the same (within a
+/// column) as with equal lattices; a buried charge under an intact dome has a cavity and no
+/// apparent crater yet; a report never prints NaN.
+#[test]
+fn crater_is_measured_from_the_soil_or_refused_with_a_reason() {
+    let d = tempfile::tempdir().unwrap();
+    let (a, b) = (d.path().join("coarse"), d.path().join("fine"));
+    let common_args = ["--quiet", "--end-time", "6e-5", "--set", "time.output_interval_s=2e-5"];
+    let mut args = vec!["run", "cases/surface_loose_tnt6.toml", "--out", a.to_str().unwrap()];
+    args.extend(common_args);
+    ok(&blastsph(&args));
+    let mut args = vec![
+        "run",
+        "cases/surface_loose_tnt6.toml",
+        "--out",
+        b.to_str().unwrap(),
+        "--set",
+        "region.charge.spacing_m=0.005",
+    ];
+    args.extend(common_args);
+    ok(&blastsph(&args));
+    let (ca, cb) = (summary(&a)["crater"].clone(), summary(&b)["crater"].clone());
+    assert_eq!(ca["measured"], true);
+    assert_eq!(cb["measured"], true);
+    assert_eq!(cb["column_m"], 0.01, "columns of the soil's spacing, not the charge's");
+    let (da, db) = (ca["diameter_m"].as_f64().unwrap(), cb["diameter_m"].as_f64().unwrap());
+    let (za, zb) = (ca["depth_m"].as_f64().unwrap(), cb["depth_m"].as_f64().unwrap());
+    assert!(da > 0.05 && za > 0.03, "a crater by 60 µs: {ca}");
+    assert!((da - db).abs() <= 0.041 && (za - zb).abs() <= 0.02, "coarse {ca} against fine {cb}");
+    // buried C4 at 60 µs: the dome is up, the gas under it
+    let c = d.path().join("c4");
+    ok(&blastsph(&["run", "cases/buried_c4.toml", "--quiet", "--end-time", "6e-5", "--out", c.to_str().unwrap()]));
+    let cc = summary(&c)["crater"].clone();
+    assert_eq!(cc["measured"], true, "{cc}");
+    assert_eq!(cc["diameter_m"], 0.0, "no apparent crater under an intact dome: {cc}");
+    assert!(cc["note"].as_str().unwrap().contains("contained"), "{cc}");
+    let cav = &cc["cavity"];
+    assert!(cav["width_m"].as_f64().unwrap() >= 0.06 && cav["height_m"].as_f64().unwrap() >= 0.02, "{cc}");
+    assert!(cc["mound_height_m"].as_f64().unwrap() > 0.0, "{cc}");
+    let o = blastsph(&["report", c.to_str().unwrap()]);
+    ok(&o);
+    let so = text(&o.stdout);
+    assert!(so.contains("no apparent crater") && so.contains("cavity:"), "{so}");
+    assert!(!so.contains("NaN") && !so.contains("nan"), "{so}");
+}
