@@ -156,6 +156,7 @@ pub enum LegacyCmd {
     /// Compile the legacy sources of a manifest, unmodified, with generated shims into
     /// DIR/liblegacy.so; DIR/build.json says what was built, DIR/build.log holds the compiler's output
     Build {
+        /// The manifest (legacy.toml) beside the legacy sources
         manifest: PathBuf,
         /// The build folder (default: runs/legacy_<name of the manifest's folder>)
         #[arg(long)]

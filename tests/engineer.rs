@@ -42,8 +42,29 @@ fn every_argument_of_every_subcommand_has_a_help_line() {
         .filter(|s| s != "help")
         .collect();
     assert!(subs.len() >= 6, "subcommands: {subs:?}\n{top}");
+    // a subcommand with subcommands of its own is checked through them
+    let mut paths: Vec<Vec<String>> = Vec::new();
     for sub in &subs {
         let h = text(&blastsph(&[sub, "--help"]).stdout);
+        let nested: Vec<String> = h
+            .lines()
+            .skip_while(|l| !l.starts_with("Commands:"))
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .filter_map(|l| l.split_whitespace().next().map(String::from))
+            .filter(|s| s != "help")
+            .collect();
+        if nested.is_empty() {
+            paths.push(vec![sub.clone()]);
+        } else {
+            paths.extend(nested.into_iter().map(|n| vec![sub.clone(), n]));
+        }
+    }
+    for path in &paths {
+        let sub = path.join(" ");
+        let mut args: Vec<&str> = path.iter().map(String::as_str).collect();
+        args.push("--help");
+        let h = text(&blastsph(&args).stdout);
         let mut entries = 0;
         let lines: Vec<&str> = h.lines().collect();
         let mut in_list = false;
