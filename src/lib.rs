@@ -10,23 +10,32 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod analysis;
+#[cfg(feature = "plot")]
 pub mod bench;
+#[cfg(feature = "plot")]
 pub mod blast_report;
 pub mod case;
 pub mod casedir;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod dual;
 pub mod error;
 pub mod gauges;
 pub mod migration;
 pub mod modules;
+#[cfg(feature = "io")]
 pub mod output;
+#[cfg(feature = "plot")]
 pub mod plot;
 pub mod presets;
+#[cfg(feature = "io")]
 pub mod progress;
+#[cfg(feature = "plot")]
 pub mod report;
+#[cfg(feature = "io")]
 pub mod runner;
 pub mod setup;
 pub mod sim;
 pub mod state;
+#[cfg(feature = "plot")]
 pub mod validate;
