@@ -6,6 +6,7 @@
 use super::{CHUNK, Frame, Sim};
 use crate::error::{Result, SphError};
 use crate::modules::param::NSTR;
+use crate::state::Particles;
 
 /// What is wrong with a particle's state.
 #[derive(Debug, Clone, Copy)]
@@ -24,7 +25,7 @@ enum Bad {
 #[derive(Debug, Clone, Copy)]
 struct Part {
     /// The first particle with a bad value.
-    bad: Option<(usize, Bad)>,
+    bad: Option<usize>,
     /// The first particle deeper than the limit behind a wall: (particle, wall, depth).
     crossed: Option<(usize, usize, f64)>,
     /// The first particle outside the domain.
@@ -79,6 +80,32 @@ fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
         tp += r * ut[d];
     }
     (tp >= 0.0 && tp <= *el && dn < 0.0).then_some(-dn)
+}
+
+/// What is wrong with particle `i`: the first bad quantity in the order x, v (by component), ρ,
+/// e, p, τ, h.
+fn what_is_bad(p: &Particles, dim: usize, i: usize, h0: f64) -> Bad {
+    for d in 0..dim {
+        if !p.x[d + dim * i].is_finite() {
+            return Bad::X(d);
+        }
+        if !p.v[d + dim * i].is_finite() {
+            return Bad::V(d);
+        }
+    }
+    let r = p.h[i] / h0;
+    if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
+        Bad::Rho
+    } else if !p.e[i].is_finite() {
+        Bad::E
+    } else if !p.p[i].is_finite() {
+        Bad::P
+    } else if let Some(k) = (!p.tau.is_empty()).then(|| (0..NSTR).find(|&k| !p.tau[k + NSTR * i].is_finite())).flatten()
+    {
+        Bad::Tau(k)
+    } else {
+        Bad::H(r)
+    }
 }
 
 impl Sim {
@@ -178,37 +205,21 @@ impl Sim {
         let chunk = |c: usize| {
             let mut q = Part::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                // branch-free: whether anything is wrong (which, is found below for one particle)
                 let mut v2 = 0.0;
-                let mut bad = None;
+                let mut bad = false;
                 for d in 0..dim {
+                    bad |= !p.x[d + dim * i].is_finite() || !p.v[d + dim * i].is_finite();
                     v2 += p.v[d + dim * i] * p.v[d + dim * i];
-                    if bad.is_none() && !p.x[d + dim * i].is_finite() {
-                        bad = Some(Bad::X(d));
-                    }
-                    if bad.is_none() && !p.v[d + dim * i].is_finite() {
-                        bad = Some(Bad::V(d));
-                    }
+                }
+                bad |= !p.rho[i].is_finite() || p.rho[i] <= 0.0 || !p.e[i].is_finite() || !p.p[i].is_finite();
+                if !p.tau.is_empty() {
+                    bad |= !p.tau[NSTR * i..NSTR * i + NSTR].iter().all(|t| t.is_finite());
                 }
                 let r = p.h[i] / h_init[i];
-                if bad.is_none() {
-                    bad = if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
-                        Some(Bad::Rho)
-                    } else if !p.e[i].is_finite() {
-                        Some(Bad::E)
-                    } else if !p.p[i].is_finite() {
-                        Some(Bad::P)
-                    } else if let Some(k) =
-                        (!p.tau.is_empty()).then(|| (0..NSTR).find(|&k| !p.tau[k + NSTR * i].is_finite())).flatten()
-                    {
-                        Some(Bad::Tau(k))
-                    } else if !r.is_finite() || r < 1e-3 {
-                        Some(Bad::H(r))
-                    } else {
-                        None
-                    };
-                }
-                if let (None, Some(b)) = (q.bad, bad) {
-                    q.bad = Some((i, b));
+                bad |= !r.is_finite() || r < 1e-3;
+                if bad && q.bad.is_none() {
+                    q.bad = Some(i);
                 }
                 q.hr = (q.hr.0.min(r), q.hr.1.max(r));
                 let ke = 0.5 * p.mass[i] * v2;
@@ -238,7 +249,8 @@ impl Sim {
         let all = parts.iter().fold(Part::new(), |a, q| a.then(q));
         let step = self.nstep;
         let at = format!("step {step} (t = {:.6e} s)", self.t);
-        if let Some((i, b)) = all.bad {
+        if let Some(i) = all.bad {
+            let b = what_is_bad(p, dim, i, h_init[i]);
             self.stab.nan |= !matches!(b, Bad::Rho | Bad::H(_)) || !p.rho[i].is_finite();
             let (what, v) = match b {
                 Bad::X(d) => (format!("x[{d}]"), p.x[d + dim * i]),
