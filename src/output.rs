@@ -439,6 +439,36 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
     Ok(out)
 }
 
+/// Reads the groups of a particles.h5 up to the last complete one: a last group that cannot be
+/// read (a run killed while writing it) is left out and named in the second value.
+pub fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)> {
+    match read_frames(path) {
+        Ok(f) => Ok((f, None)),
+        Err(e) => {
+            let damaged = |e: hdf5::Error| crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
+            let f = hdf5::File::open(path).map_err(damaged)?;
+            let mut names: Vec<(usize, String)> = f
+                .member_names()
+                .map_err(damaged)?
+                .into_iter()
+                .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
+                .collect();
+            names.sort();
+            let mut out = Vec::new();
+            for (k, (_, name)) in names.iter().enumerate() {
+                match read_group(&f, name) {
+                    Ok(fr) if fr.x.len() == fr.id.len() => out.push(fr),
+                    _ if k + 1 == names.len() && k > 0 => {
+                        return Ok((out, Some(format!("{name}, incomplete, left out"))));
+                    }
+                    _ => return Err(e),
+                }
+            }
+            Err(e)
+        }
+    }
+}
+
 fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
     let g = f.group(name).map_err(h5err)?;
     let rd = |n: &str| -> Result<Vec<f64>> { g.dataset(n).and_then(|d| d.read_raw::<f64>()).map_err(h5err) };
