@@ -4,7 +4,13 @@
 //! so the particle named is the lowest-numbered one whatever the thread count.
 
 use super::{CHUNK, Frame, Sim};
+use crate::case::{DT_MIN_FRACTION, StepRule};
 use crate::error::{Result, SphError};
+
+/// Steps of a window of the progress check.
+pub const PACE_WINDOW: u64 = 1000;
+/// How far beyond `time.max_steps` a projection may reach before the run is stopped.
+pub const PACE_FACTOR: f64 = 10.0;
 use crate::modules::param::NSTR;
 use crate::state::Particles;
 
@@ -71,7 +77,7 @@ impl Part {
 /// normal at `2 dim`) whose frame is `fr`, if it is behind it and within the segment's extent
 /// along it.
 #[inline]
-fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
+pub fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
     let (ut, el, nrm) = fr;
     let (mut dn, mut tp) = (0.0, 0.0);
     for d in 0..dim {
@@ -188,6 +194,57 @@ impl Sim {
             self.p.rho[i],
             self.p.e[i]
         ))
+    }
+
+    /// The floor of the CFL step (s): `time.dt_min_s`, else [`DT_MIN_FRACTION`] × the first step.
+    pub fn dt_floor(&self) -> f64 {
+        self.case.time.dt_min_s.unwrap_or(DT_MIN_FRACTION * self.dt_first)
+    }
+
+    /// The diagnostic of a step that fell below the floor: the particle that limits it.
+    pub(super) fn collapsed(&self, dt: f64) -> SphError {
+        let why = match self.case.time.dt_min_s {
+            Some(m) => format!("time.dt_min_s = {m:e} s"),
+            None => format!("time.dt_min_s, by default {DT_MIN_FRACTION:e} × the first step {:e} s", self.dt_first),
+        };
+        let detail = self.bad_step(dt).to_string();
+        let detail = detail.split_once("; ").map_or(detail.as_str(), |(_, d)| d).to_string();
+        SphError::Unstable(format!(
+            "step {} (t = {:.6e} s): the time step collapsed: dt = {dt:e} s is below the floor {:e} s ({why}); {detail}",
+            self.nstep,
+            self.t,
+            self.dt_floor()
+        ))
+    }
+
+    /// Stops a CFL run whose pace makes its end unreachable: every [`PACE_WINDOW`] steps, the
+    /// steps still needed at the mean step of the window are projected; beyond [`PACE_FACTOR`] ×
+    /// `time.max_steps` in all, the run stops with a diagnostic (it would end at `max_steps`
+    /// anyway, after hours).
+    pub(super) fn check_pace(&mut self) -> Result<()> {
+        if self.cfg.step != StepRule::Cfl {
+            return Ok(());
+        }
+        let (n0, t0) = self.pace;
+        let steps = self.nstep.saturating_sub(n0);
+        if steps < PACE_WINDOW {
+            return Ok(());
+        }
+        self.pace = (self.nstep, self.t);
+        let mean = (self.t - t0) / steps as f64;
+        let left = self.cfg.end - self.t;
+        if left <= 0.0 {
+            return Ok(());
+        }
+        let need = if mean > 0.0 { left / mean } else { f64::INFINITY };
+        let limit = PACE_FACTOR * self.cfg.max_steps as f64;
+        if self.nstep as f64 + need > limit {
+            return Err(SphError::Unstable(format!(
+                "step {} (t = {:.6e} s): at the pace of the last {steps} steps (mean dt = {mean:e} s) the run needs about {need:.3e} more steps to reach {:e} s, more than {PACE_FACTOR} × time.max_steps = {:e} in all: the end is out of reach",
+                self.nstep, self.t, self.cfg.end, limit
+            )));
+        }
+        Ok(())
     }
 
     /// The health of the state after a step, in one pass: stops a run that went unstable, naming
