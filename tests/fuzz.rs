@@ -161,7 +161,8 @@ fn apply(text: &str, edits: &[Edit]) -> String {
         let n = lines.len();
         // a key line: `key = value` (not a comment, not a table header)
         let kv = |l: &str| !l.trim_start().starts_with(['#', '[']) && l.contains('=');
-        let pick = |k: usize, lines: &[String]| -> Option<usize> { (0..n).map(|i| (k + i) % n).find(|&i| kv(&lines[i])) };
+        let pick =
+            |k: usize, lines: &[String]| -> Option<usize> { (0..n).map(|i| (k + i) % n).find(|&i| kv(&lines[i])) };
         match *e {
             Edit::Value(k, v) => {
                 if let Some(i) = pick(k, &lines) {

@@ -46,6 +46,9 @@ fn blastsph_in(cwd: &Path, args: &[OsString], limit: Duration) -> Option<Output>
     }
 }
 
+/// A damage done to a copy of a run directory.
+type Damage = Box<dyn Fn(&Path)>;
+
 /// One bad input: what it is, and the command line.
 struct Bad {
     what: String,
@@ -98,7 +101,12 @@ fn check_all(cwd: &Path, corpus: Vec<Bad>) -> usize {
         }
     });
     let f = failures.into_inner().unwrap();
-    assert!(f.is_empty(), "{} of {n} bad inputs not refused with one line and exit status 2:\n{}", f.len(), f.join("\n"));
+    assert!(
+        f.is_empty(),
+        "{} of {n} bad inputs not refused with one line and exit status 2:\n{}",
+        f.len(),
+        f.join("\n")
+    );
     n
 }
 
@@ -343,7 +351,7 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     };
     let put = |f: &'static str, body: &'static [u8]| move |d: &Path| std::fs::write(d.join(f), body).unwrap();
     let rm = |f: &'static str| move |d: &Path| std::fs::remove_file(d.join(f)).unwrap();
-    let dirs: Vec<(&str, Box<dyn Fn(&Path)>)> = vec![
+    let dirs: Vec<(&str, Damage)> = vec![
         ("a truncated particles.h5", Box::new(cut("particles.h5", 0.1))),
         ("particles.h5 cut to 3/4", Box::new(cut("particles.h5", 0.75))),
         ("particles.h5 not HDF5", Box::new(put("particles.h5", b"hello"))),
@@ -359,7 +367,7 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         let dir = damaged(&format!("damaged{k}"), f.as_ref());
         c.push(bad(&format!("report: {what}"), &["report", &dir]));
     }
-    let rdirs: Vec<(&str, Box<dyn Fn(&Path)>)> = vec![
+    let rdirs: Vec<(&str, Damage)> = vec![
         ("no checkpoint.bin", Box::new(rm("checkpoint.bin"))),
         ("a truncated checkpoint.bin", Box::new(cut("checkpoint.bin", 0.5))),
         ("checkpoint.bin not a checkpoint", Box::new(put("checkpoint.bin", b"BLASTSPH-CHECKPOINT\nxx"))),
@@ -380,16 +388,22 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     c.push(bad("resume a missing folder", &["resume", &p("nosuch")]));
     c.push(bad("resume a file", &["resume", &p("afile")]));
     c.push(bad("report a missing folder", &["report", &p("nosuch")]));
-    c.push(bad("report an empty folder", &["report", &{
-        std::fs::create_dir(t.join("empty")).unwrap();
-        p("empty")
-    }]));
+    c.push(bad(
+        "report an empty folder",
+        &["report", &{
+            std::fs::create_dir(t.join("empty")).unwrap();
+            p("empty")
+        }],
+    ));
     c.push(bad("run into a finished run of another case", &["run", &tube, "--set", "time.end_s=0.1", "--out", &g]));
     // arguments that are not UTF-8
     {
         use std::os::unix::ffi::OsStringExt;
         let raw = OsString::from_vec(vec![b'x', 0xff, b'=', b'1']);
-        c.push(Bad { what: "an override that is not UTF-8".into(), args: vec!["check".into(), tube.clone().into(), "--set".into(), raw] });
+        c.push(Bad {
+            what: "an override that is not UTF-8".into(),
+            args: vec!["check".into(), tube.clone().into(), "--set".into(), raw],
+        });
     }
     let n = check_all(t, c);
     assert!(n > 60, "{n} inputs");
@@ -419,10 +433,12 @@ fn a_case_name_cannot_move_the_run_directory() {
         assert_eq!(o.status.code(), Some(0), "name {name:?}: {}", text(&o.stderr));
     }
     // everything under a/b/runs, one folder per run
-    let top: Vec<String> = std::fs::read_dir(d.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let top: Vec<String> =
+        std::fs::read_dir(d.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(top.iter().all(|n| n == "a" || n.starts_with("named")), "written outside: {top:?}");
     assert!(!Path::new("/tmp/blastsph_x").exists(), "a name wrote to /tmp");
-    let inside: Vec<String> = std::fs::read_dir(&work).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let inside: Vec<String> =
+        std::fs::read_dir(&work).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(inside, ["runs"]);
     let runs: Vec<PathBuf> = std::fs::read_dir(work.join("runs")).unwrap().map(|e| e.unwrap().path()).collect();
     assert_eq!(runs.len(), 4, "{runs:?}");
@@ -439,12 +455,20 @@ fn a_run_never_silently_overwrites_another() {
     let dir = d.path().join("run");
     let s = dir.display().to_string();
     let tube = case("shock_tube.toml");
-    let go = |args: &[&str]| blastsph_in(d.path(), &args.iter().map(OsString::from).collect::<Vec<_>>(), Duration::from_secs(120)).expect("ended");
+    let go = |args: &[&str]| {
+        blastsph_in(d.path(), &args.iter().map(OsString::from).collect::<Vec<_>>(), Duration::from_secs(120))
+            .expect("ended")
+    };
     let o = go(&["run", &tube, "--quiet", "--out", &s]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let o = go(&["report", &s]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let pngs = |dir: &Path| std::fs::read_dir(dir).unwrap().filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".png")).count();
+    let pngs = |dir: &Path| {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".png"))
+            .count()
+    };
     assert!(pngs(&dir) > 0, "the report drew pictures");
     let before = std::fs::read(dir.join("summary.json")).unwrap();
     // the same case again, another case: both refused

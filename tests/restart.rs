@@ -277,7 +277,9 @@ fn sigkill_then_resume(root: &Path, reference: &Path, backend: &str, threads: us
     assert_same_run(
         reference,
         &dir,
-        &format!("SIGKILL after the checkpoint at t = {t:e} s, {backend}, run with {threads} thread(s), resumed with {other}"),
+        &format!(
+            "SIGKILL after the checkpoint at t = {t:e} s, {backend}, run with {threads} thread(s), resumed with {other}"
+        ),
     );
 }
 

@@ -102,9 +102,12 @@ mod tests {
     /// TOML does not allow there; a value of a table gets its `# set by --set` mark.
     #[test]
     fn a_value_inside_an_inline_table_is_replaced_and_the_text_still_parses() {
-        let t = "[[material]]\nname = \"s\"\neos = { kind = \"soil\", c_ms = 1440.0, s = [1, 2] }\n[time]\nend_s = 1.0\n";
-        let sets: Vec<String> =
-            ["material.s.eos.c_ms=1500.0", "material.s.eos.s.1=3", "time.end_s=2.0"].iter().map(|s| s.to_string()).collect();
+        let t =
+            "[[material]]\nname = \"s\"\neos = { kind = \"soil\", c_ms = 1440.0, s = [1, 2] }\n[time]\nend_s = 1.0\n";
+        let sets: Vec<String> = ["material.s.eos.c_ms=1500.0", "material.s.eos.s.1=3", "time.end_s=2.0"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
         let out = apply_sets(t, &sets).unwrap();
         let v: toml::Table = out.parse().unwrap_or_else(|e| panic!("{out}\n{e}"));
         assert_eq!(v["material"][0]["eos"]["c_ms"].as_float(), Some(1500.0));
