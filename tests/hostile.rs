@@ -49,19 +49,30 @@ fn blastsph_in(cwd: &Path, args: &[OsString], limit: Duration) -> Option<Output>
 /// A damage done to a copy of a run directory.
 type Damage = Box<dyn Fn(&Path)>;
 
-/// One bad input: what it is, and the command line.
+/// One bad input: what it is, the command line, and a word its error must name.
 struct Bad {
     what: String,
     args: Vec<OsString>,
+    needle: Option<String>,
 }
 
 fn bad(what: &str, args: &[&str]) -> Bad {
-    Bad { what: what.to_string(), args: args.iter().map(OsString::from).collect() }
+    Bad { what: what.to_string(), args: args.iter().map(OsString::from).collect(), needle: None }
 }
 
-/// `check CASE --set s` for each override `s`.
+/// `check CASE --set s`: the error must name the key's last part (`c0_ms` of
+/// `material.water.eos.c0_ms=nan`), so the input is refused for the reason it was made for.
 fn set(what: &str, case_name: &str, s: &str) -> Bad {
-    bad(what, &["check", &case(case_name), "--set", s])
+    let key = s.split_once('=').map_or(s, |(k, _)| k);
+    let last = key.rsplit('.').next().unwrap_or(key);
+    set_n(what, case_name, s, last)
+}
+
+/// `check CASE --set s`, whose error must name `needle`.
+fn set_n(what: &str, case_name: &str, s: &str, needle: &str) -> Bad {
+    let mut b = bad(what, &["check", &case(case_name), "--set", s]);
+    b.needle = Some(needle.to_string());
+    b
 }
 
 /// Why `o` is not a proper refusal (None: it is one).
@@ -93,7 +104,12 @@ fn check_all(cwd: &Path, corpus: Vec<Bad>) -> usize {
                 loop {
                     let Some(b) = queue.lock().unwrap().next() else { break };
                     let o = blastsph_in(cwd, &b.args, Duration::from_secs(60));
-                    if let Some(why) = not_refused(&o) {
+                    let why = not_refused(&o).or_else(|| {
+                        let err = text(&o.as_ref()?.stderr);
+                        let n = b.needle.as_deref()?;
+                        (!err.contains(n)).then(|| format!("the error does not name `{n}`: {err:?}"))
+                    });
+                    if let Some(why) = why {
                         failures.lock().unwrap().push(format!("{} ({:?}): {why}", b.what, b.args));
                     }
                 }
@@ -122,7 +138,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
     let mut c = vec![
         // sizes: nothing allocated before the estimate
         set("capacity overflow (a region 1e200 m long)", s1, "region.soil.lo_m=[0.0,-1e200]"),
-        set("a lattice of 1e14 particles", s1, "region.soil.hi_m=[1e5,1e5]"),
+        set_n("a lattice of 1e14 particles", s1, "region.soil.hi_m=[1e5,1e5]", "particles"),
         set("a spacing of 1e-300", s1, "region.soil.spacing_m=1e-300"),
         set("a subnormal spacing", s1, "region.soil.spacing_m=5e-324"),
         set("a spacing of 0", s1, "region.soil.spacing_m=0"),
@@ -147,8 +163,9 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("inf cohesion", s1, "material.loose_sand.strength.cohesion_pa=inf"),
         set("NaN friction", s1, "material.loose_sand.strength.alpha_phi=nan"),
         set("NaN initial energy", s1, "material.loose_sand.e0_jkg=nan"),
-        set("NaN water constant", water, "material.0.eos.c_ms=nan"),
-        set("inf water constant", water, "material.0.eos.rho0_kgm3=inf"),
+        set("NaN water constant", water, "material.water.eos.c0_ms=nan"),
+        set("inf water constant", water, "material.water.eos.a1_pa=inf"),
+        set("NaN water constant b0", water, "material.water.eos.b0=nan"),
         set("inf end time", s1, "time.end_s=inf"),
         set("a negative end time", s1, "time.end_s=-1e-3"),
         set("an end time of 0", s1, "time.end_s=0"),
@@ -174,7 +191,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a domain of zero width", s1, "domain.hi_m=[-1.0,4.0]"),
         set("a domain with NaN", s1, "domain.lo_m=[nan,0.0]"),
         set("a region with lo > hi", s1, "region.soil.lo_m=[1.0,1.0]"),
-        set("a region across a wall", s1, "region.soil.hi_m=[1.5,1.0]"),
+        set_n("a region across a wall", s1, "region.soil.hi_m=[1.5,1.0]", "behind wall"),
         set("a region outside the domain", s1, "region.charge.lo_m=[5.0,5.0]"),
         set("a detonation point outside any charge", s1, "detonation.point_m=[0.1,0.1]"),
         set("a detonation point of NaN", s1, "detonation.point_m=[nan,0.97]"),
@@ -403,6 +420,7 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         c.push(Bad {
             what: "an override that is not UTF-8".into(),
             args: vec!["check".into(), tube.clone().into(), "--set".into(), raw],
+            needle: None,
         });
     }
     let n = check_all(t, c);
