@@ -5,10 +5,13 @@
 //! checks everything that serde cannot (positive densities, known material names, regions
 //! that hold particles and do not overlap, …) and returns one-line errors naming the key.
 
-use crate::error::{Result, input};
 use serde::Deserialize;
-use std::collections::BTreeMap;
-use std::path::Path;
+
+mod geom;
+mod sets;
+mod validate;
+
+pub use sets::{apply_sets, load, parse};
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -18,8 +21,11 @@ pub struct Case {
     /// Free text.
     #[serde(default)]
     pub description: String,
-    /// Space dimension: 1, 2 (plane strain) or 3.
+    /// Space dimension: 1, 2 (plane strain, or axisymmetric) or 3.
     pub dim: usize,
+    /// "plane" (default) or "axisymmetric" (dim = 2: x is the radius r ≥ 0, y the axis).
+    #[serde(default)]
+    pub geometry: Geometry,
     pub time: TimeCfg,
     #[serde(default)]
     pub sph: SphCfg,
@@ -44,6 +50,32 @@ pub struct Case {
     #[serde(default)]
     pub backend: BackendCfg,
     pub domain: Option<DomainCfg>,
+}
+
+/// The geometry of a 2D case (docs/theory.md §16).
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Geometry {
+    /// Cartesian: plane strain in 2D (masses per metre of depth).
+    #[default]
+    Plane,
+    /// Axisymmetric (RZ), dim = 2: x = r ≥ 0, y = z along the axis; a particle is a ring (kg).
+    Axisymmetric,
+}
+
+impl Case {
+    pub fn name(&self) -> &str {
+        self.name.as_deref().unwrap_or("case")
+    }
+
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+
+    /// True for `geometry = "axisymmetric"`.
+    pub fn axisymmetric(&self) -> bool {
+        self.geometry == Geometry::Axisymmetric
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -432,6 +464,11 @@ pub enum Shape {
     Polygon,
     /// `count` particles per axis at `origin_m + k × spacing_m` (Liu's shock tube).
     Lattice,
+    /// A cylinder (3D) with its axis along z: `center_m` the centre of its base, `radius_m`,
+    /// `height_m`; cell-centred lattice (from `lo_m` when given, which with `hi_m` also clips it).
+    Cylinder,
+    /// A sphere (a disc in 2D): `center_m`, `radius_m`; lattice and clipping as for a cylinder.
+    Sphere,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -445,6 +482,12 @@ pub struct RegionCfg {
     pub vertices_m: Option<Vec<Vec<f64>>>,
     pub origin_m: Option<Vec<f64>>,
     pub count: Option<Vec<usize>>,
+    /// Cylinder: centre of the base (m); sphere: the centre.
+    pub center_m: Option<Vec<f64>>,
+    /// Cylinder, sphere: radius (m).
+    pub radius_m: Option<f64>,
+    /// Cylinder: height (m), along z.
+    pub height_m: Option<f64>,
     /// Initial particle spacing Δx (m).
     pub spacing_m: f64,
     /// Initial density (kg/m³); default: the material's ρ0.
@@ -478,8 +521,11 @@ pub enum WallKind {
 pub struct WallCfg {
     /// Start point (m).
     pub from_m: Vec<f64>,
-    /// End point (m); equal to from_m in 1D.
+    /// End point (m); equal to from_m in 1D; in 3D the corner opposite `from_m`.
     pub to_m: Vec<f64>,
+    /// 3D: the corner next to `from_m` along the wall's first edge (a parallelogram from_m,
+    /// edge_m, to_m, from_m + to_m − edge_m); absent = an axis-aligned rectangle.
+    pub edge_m: Option<Vec<f64>>,
     #[serde(default = "default_wall_kind")]
     pub kind: WallKind,
 }
@@ -595,461 +641,4 @@ pub struct DomainCfg {
     /// Stop the run when a particle leaves (default: count it and go on).
     #[serde(default)]
     pub stop_on_exit: bool,
-}
-
-/// Reads a case file, applies `key=value` overrides, and parses it.
-pub fn load(path: &Path, sets: &[String]) -> Result<Case> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| input(format!("{}: cannot read the case file: {e}", path.display())))?;
-    parse(&text, &path.display().to_string(), sets, path.file_stem().and_then(|s| s.to_str()))
-}
-
-/// Parses case text; `origin` names it in error messages. The `--set` overrides are applied to
-/// the text ([`apply_sets`]); an error they cause names the override, not a line of the edited
-/// text.
-pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> Result<Case> {
-    text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
-    let attempt = |k: usize| -> Result<Case> {
-        let edited = apply_sets(text, &sets[..k])?;
-        let mut case: Case = toml::from_str(&edited).map_err(|e| toml_error(origin, &edited, &e))?;
-        if case.name.is_none() {
-            case.name = Some(stem.unwrap_or("case").to_string());
-        }
-        case.validate()?;
-        Ok(case)
-    };
-    match attempt(sets.len()) {
-        Ok(c) => Ok(c),
-        Err(e) if sets.is_empty() => Err(e),
-        Err(e) => Err(blame(&e, sets, &attempt)),
-    }
-}
-
-/// The error of a case with overrides, attributed: to the file when the file alone gives the same
-/// error, else to the first override after which it appears.
-fn blame(
-    e: &crate::error::SphError,
-    sets: &[String],
-    attempt: &dyn Fn(usize) -> Result<Case>,
-) -> crate::error::SphError {
-    let msg = |e: &crate::error::SphError| -> String {
-        // the message without a leading `origin:line: `
-        let s = e.to_string();
-        match s.split_once(": ") {
-            Some((head, rest)) if head.rsplit(':').next().is_some_and(|l| l.parse::<usize>().is_ok()) => {
-                rest.to_string()
-            }
-            _ => s,
-        }
-    };
-    let want = msg(e);
-    if let Err(e0) = attempt(0)
-        && msg(&e0) == want
-    {
-        return e0;
-    }
-    for k in 1..=sets.len() {
-        if let Err(ek) = attempt(k)
-            && msg(&ek) == want
-        {
-            if want.starts_with("--set ") {
-                return input(want);
-            }
-            return input(format!("--set {}: {want}", sets[k - 1]));
-        }
-    }
-    input(format!("--set {}: {want}", sets.join(" --set ")))
-}
-
-fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> crate::error::SphError {
-    let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-    let msg = e.message().replace('\n', " ");
-    match line {
-        Some(l) => input(format!("{origin}:{l}: {msg}")),
-        None => input(format!("{origin}: {msg}")),
-    }
-}
-
-/// The case text with `--set a.b.c=value` overrides applied (value parsed as TOML, else taken as
-/// a string), keeping the file's layout and comments; a changed value is marked with a comment
-/// `# set by --set (was …)`. Arrays of tables are indexed by number or by their `name`:
-/// `material.loose_sand.pmin_pa=0`.
-pub fn apply_sets(text: &str, sets: &[String]) -> Result<String> {
-    if sets.is_empty() {
-        return Ok(text.to_string());
-    }
-    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| input(format!("{e}")))?;
-    for s in sets {
-        apply_set(&mut doc, s)?;
-    }
-    Ok(doc.to_string())
-}
-
-fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
-    use toml_edit::Item;
-    let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {s}: expected key=value")))?;
-    let key = key.trim();
-    let mut parsed: toml_edit::Value = match format!("v = {val}").parse::<toml_edit::DocumentMut>() {
-        Ok(d) => match d.get("v").and_then(|v| v.as_value()) {
-            Some(v) => v.clone(),
-            None => toml_edit::Value::from(val),
-        },
-        Err(_) => toml_edit::Value::from(val),
-    };
-    if key.is_empty() || key.split('.').any(|p| p.is_empty()) {
-        return Err(input(format!("--set {s}: an empty key")));
-    }
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut cur: &mut Item = doc.as_item_mut();
-    for part in parts {
-        let array_len = match &*cur {
-            Item::ArrayOfTables(a) => Some(a.len()),
-            Item::Value(toml_edit::Value::Array(a)) => Some(a.len()),
-            _ => None,
-        };
-        cur = if let Some(len) = array_len {
-            let idx = match part.parse::<usize>() {
-                Ok(i) => i,
-                Err(_) => {
-                    let named = |t: Option<&str>| t == Some(part);
-                    let pos = match &*cur {
-                        Item::ArrayOfTables(a) => a.iter().position(|t| named(t.get("name").and_then(|n| n.as_str()))),
-                        Item::Value(toml_edit::Value::Array(a)) => a.iter().position(|v| {
-                            named(v.as_inline_table().and_then(|t| t.get("name")).and_then(|n| n.as_str()))
-                        }),
-                        _ => None,
-                    };
-                    pos.ok_or_else(|| input(format!("--set {key}: no entry named `{part}`")))?
-                }
-            };
-            if idx >= len {
-                return Err(input(format!("--set {key}: index {idx} out of range ({len} entries)")));
-            }
-            cur.get_mut(idx).ok_or_else(|| input(format!("--set {key}: index {idx} out of range")))?
-        } else if cur.is_table_like() || cur.is_none() {
-            cur.get_mut(part).ok_or_else(|| input(format!("--set {key}: `{part}` is not inside a table")))?
-        } else {
-            return Err(input(format!("--set {key}: `{part}` is not inside a table")));
-        };
-    }
-    if let Some(old) = cur.as_value() {
-        let mut was = old.clone();
-        was.decor_mut().clear();
-        let prefix = old.decor().prefix().and_then(|p| p.as_str()).unwrap_or(" ").to_string();
-        parsed.decor_mut().set_prefix(prefix);
-        parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", was.to_string().trim()));
-    } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
-        return Err(input(format!("--set {key}: replaces a table with a value")));
-    }
-    *cur = Item::Value(parsed);
-    Ok(())
-}
-
-impl Case {
-    pub fn name(&self) -> &str {
-        self.name.as_deref().unwrap_or("case")
-    }
-
-    pub fn material_index(&self, name: &str) -> Option<usize> {
-        self.materials.iter().position(|m| m.name == name)
-    }
-
-    /// Checks what serde cannot; errors are one line naming the key.
-    pub fn validate(&self) -> Result<()> {
-        let d = self.dim;
-        if !(1..=3).contains(&d) {
-            return Err(input(format!("dim = {d}: must be 1, 2 or 3")));
-        }
-        let t = &self.time;
-        pos("time.end_s", t.end_s)?;
-        if t.output_interval_s < 0.0 || !t.output_interval_s.is_finite() {
-            return Err(input("time.output_interval_s: must be zero or positive"));
-        }
-        match t.step {
-            StepRule::Fixed => {
-                pos("time.dt_s", t.dt_s.ok_or_else(|| input("time.dt_s: required when time.step = \"fixed\""))?)?
-            }
-            StepRule::Cfl => {
-                pos("time.cfl", t.cfl)?;
-                if t.cfl > 1.0 {
-                    return Err(input(format!("time.cfl = {}: must not exceed 1", t.cfl)));
-                }
-            }
-        }
-        if let Some(m) = t.dt_max_s {
-            pos("time.dt_max_s", m)?;
-        }
-        pos("sph.h_over_dx", self.sph.h_over_dx)?;
-        pos("sph.theta", self.sph.theta)?;
-        if self.sph.xsph_eps < 0.0 {
-            return Err(input("sph.xsph_eps: must not be negative"));
-        }
-        nonneg("viscosity.alpha", self.viscosity.alpha)?;
-        nonneg("viscosity.beta", self.viscosity.beta)?;
-        pos("viscosity.phi_over_h", self.viscosity.phi_over_h)?;
-        if let Some(p) = &self.penalty {
-            pos("penalty.pbar", p.pbar)?;
-            if p.n1 <= p.n2 || p.n2 < 1 {
-                return Err(input(format!("penalty: need n1 > n2 >= 1 (got n1 = {}, n2 = {})", p.n1, p.n2)));
-            }
-        }
-        let b = &self.boundary;
-        if let Some(s) = b.wall_spacing_m {
-            pos("boundary.wall_spacing_m", s)?;
-        }
-        if let Some(s) = b.r0_m {
-            pos("boundary.r0_m", s)?;
-        }
-        nonneg("boundary.d_m2s2", b.d_m2s2)?;
-        if b.n1 <= b.n2 || b.n2 < 1 {
-            return Err(input(format!("boundary: need n1 > n2 >= 1 (got n1 = {}, n2 = {})", b.n1, b.n2)));
-        }
-        if let Some(g) = &self.physics.gravity_ms2 {
-            vecd("physics.gravity_ms2", g, d)?;
-        }
-
-        if self.materials.is_empty() {
-            return Err(input("no [[material]]: a case needs at least one material with an eos"));
-        }
-        let mut names = std::collections::BTreeSet::new();
-        for (k, m) in self.materials.iter().enumerate() {
-            let key = format!("material[{k}] ({})", m.name);
-            if !names.insert(m.name.as_str()) {
-                return Err(input(format!("{key}: the name is used twice")));
-            }
-            match &m.eos {
-                EosCfg::IdealGas { gamma, rho0_kgm3 } => {
-                    if *gamma <= 1.0 || !gamma.is_finite() {
-                        return Err(input(format!("{key}.eos.gamma = {gamma}: must exceed 1")));
-                    }
-                    if let Some(r) = rho0_kgm3 {
-                        pos(&format!("{key}.eos.rho0_kgm3"), *r)?;
-                    }
-                }
-                EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
-                    pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
-                    nonneg(&format!("{key}.eos.a_pa"), *a_pa)?;
-                    nonneg(&format!("{key}.eos.b_pa"), *b_pa)?;
-                    pos(&format!("{key}.eos.r1"), *r1)?;
-                    pos(&format!("{key}.eos.r2"), *r2)?;
-                    pos(&format!("{key}.eos.omega"), *omega)?;
-                    pos(&format!("{key}.eos.d_ms"), *d_ms)?;
-                }
-                EosCfg::Water { rho0_kgm3, a1_pa, c0_ms, .. } => {
-                    pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
-                    pos(&format!("{key}.eos.a1_pa"), *a1_pa)?;
-                    pos(&format!("{key}.eos.c0_ms"), *c0_ms)?;
-                }
-                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
-                    pos(&format!("{key}.eos.rho0_kgm3"), *rho0_kgm3)?;
-                    pos(&format!("{key}.eos.c_ms"), *c_ms)?;
-                    pos(&format!("{key}.eos.s"), *s)?;
-                    nonneg(&format!("{key}.eos.gamma"), *gamma)?;
-                }
-            }
-            if let Some(s) = &m.strength {
-                pos(&format!("{key}.strength.shear_modulus_pa"), s.shear_modulus_pa)?;
-                nonneg(&format!("{key}.strength.alpha_phi"), s.alpha_phi)?;
-                nonneg(&format!("{key}.strength.cohesion_pa"), s.cohesion_pa)?;
-            }
-            if let Some(e) = m.e0_jkg {
-                finite(&format!("{key}.e0_jkg"), e)?;
-            }
-        }
-
-        if self.regions.is_empty() {
-            return Err(input("no [[region]]: a case needs at least one region of particles"));
-        }
-        let mut rnames = std::collections::BTreeSet::new();
-        for (k, r) in self.regions.iter().enumerate() {
-            let key = format!("region[{k}] ({})", r.name);
-            if !rnames.insert(r.name.as_str()) {
-                return Err(input(format!("{key}: the name is used twice")));
-            }
-            let mi = self.material_index(&r.material).ok_or_else(|| {
-                input(format!(
-                    "{key}.material = \"{}\": no [[material]] of that name (a material needs an eos)",
-                    r.material
-                ))
-            })?;
-            pos(&format!("{key}.spacing_m"), r.spacing_m)?;
-            match r.shape {
-                Shape::Box => {
-                    let lo =
-                        r.lo_m.as_ref().ok_or_else(|| input(format!("{key}.lo_m: required for shape = \"box\"")))?;
-                    let hi =
-                        r.hi_m.as_ref().ok_or_else(|| input(format!("{key}.hi_m: required for shape = \"box\"")))?;
-                    vecd(&format!("{key}.lo_m"), lo, d)?;
-                    vecd(&format!("{key}.hi_m"), hi, d)?;
-                    for a in 0..d {
-                        if hi[a] <= lo[a] {
-                            return Err(input(format!(
-                                "{key}: hi_m[{a}] = {} must exceed lo_m[{a}] = {}",
-                                hi[a], lo[a]
-                            )));
-                        }
-                    }
-                }
-                Shape::Polygon => {
-                    if d != 2 {
-                        return Err(input(format!("{key}: shape = \"polygon\" needs dim = 2")));
-                    }
-                    let v = r
-                        .vertices_m
-                        .as_ref()
-                        .ok_or_else(|| input(format!("{key}.vertices_m: required for shape = \"polygon\"")))?;
-                    if v.len() < 3 {
-                        return Err(input(format!("{key}.vertices_m: a polygon needs at least 3 vertices")));
-                    }
-                    for (q, p) in v.iter().enumerate() {
-                        vecd(&format!("{key}.vertices_m[{q}]"), p, 2)?;
-                    }
-                }
-                Shape::Lattice => {
-                    let o = r
-                        .origin_m
-                        .as_ref()
-                        .ok_or_else(|| input(format!("{key}.origin_m: required for shape = \"lattice\"")))?;
-                    vecd(&format!("{key}.origin_m"), o, d)?;
-                    let c = r
-                        .count
-                        .as_ref()
-                        .ok_or_else(|| input(format!("{key}.count: required for shape = \"lattice\"")))?;
-                    if c.len() != d || c.contains(&0) {
-                        return Err(input(format!("{key}.count: need {d} positive counts")));
-                    }
-                }
-            }
-            if let Some(rho) = r.rho_kgm3 {
-                pos(&format!("{key}.rho_kgm3"), rho)?;
-            } else if self.materials[mi].eos.rho0().is_none() {
-                return Err(input(format!("{key}.rho_kgm3: required (material `{}` has no rho0_kgm3)", r.material)));
-            }
-            if let Some(e) = r.e_jkg {
-                finite(&format!("{key}.e_jkg"), e)?;
-            }
-            if let Some(v) = &r.velocity_ms {
-                vecd(&format!("{key}.velocity_ms"), v, d)?;
-            }
-            if let Some(m) = r.mass_kg {
-                pos(&format!("{key}.mass_kg"), m)?;
-            }
-            if let Some(h) = r.h_m {
-                pos(&format!("{key}.h_m"), h)?;
-            }
-            for s in &r.subtract {
-                if !self.regions.iter().any(|q| &q.name == s) || s == &r.name {
-                    return Err(input(format!("{key}.subtract: no other region named `{s}`")));
-                }
-            }
-        }
-
-        for (k, w) in self.walls.iter().enumerate() {
-            vecd(&format!("wall[{k}].from_m"), &w.from_m, d)?;
-            vecd(&format!("wall[{k}].to_m"), &w.to_m, d)?;
-            if d == 3 {
-                return Err(input(format!("wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet")));
-            }
-            if d == 2 && w.from_m == w.to_m {
-                return Err(input(format!("wall[{k}]: from_m and to_m coincide")));
-            }
-        }
-        if let Some(det) = &self.detonation {
-            if det.mode == BurnMode::Programmed {
-                let p = det
-                    .point_m
-                    .as_ref()
-                    .ok_or_else(|| input("detonation.point_m: required for mode = \"programmed\""))?;
-                vecd("detonation.point_m", p, d)?;
-            }
-            nonneg("detonation.width_h", det.width_h)?;
-            if !self.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. })) {
-                return Err(input("detonation: no material has eos kind = \"jwl\""));
-            }
-        }
-        let mut gnames = std::collections::BTreeSet::new();
-        for (k, g) in self.gauges.iter().enumerate() {
-            vecd(&format!("gauge[{k}].point_m"), &g.point_m, d)?;
-            if !gnames.insert(g.name.as_str()) {
-                return Err(input(format!("gauge[{k}] ({}): the name is used twice", g.name)));
-            }
-        }
-        if self.analysis.kind == AnalysisKind::Riemann {
-            if d != 1 {
-                return Err(input("analysis.kind = \"riemann\" needs dim = 1"));
-            }
-            if self.analysis.diaphragm_m.is_none() {
-                return Err(input("analysis.diaphragm_m: required for kind = \"riemann\""));
-            }
-            if let Some(w) = &self.analysis.window_m
-                && (w.len() != 2 || w[1] <= w[0])
-            {
-                return Err(input("analysis.window_m: need [lo, hi] with hi > lo"));
-            }
-        }
-        for (k, t) in self.analysis.thesis_gauge.iter().enumerate() {
-            if !self.gauges.iter().any(|g| g.name == t.gauge) {
-                return Err(input(format!(
-                    "analysis.thesis_gauge[{k}].gauge = \"{}\": no [[gauge]] of that name",
-                    t.gauge
-                )));
-            }
-        }
-        if let Some(h) = &self.analysis.thesis_crater_history
-            && h.iter().any(|r| r.len() != 3)
-        {
-            return Err(input("analysis.thesis_crater_history: rows must be [time_s, diameter_m, depth_m]"));
-        }
-        if let Some(sm) = &self.analysis.soil_materials {
-            for s in sm {
-                if self.material_index(s).is_none() {
-                    return Err(input(format!("analysis.soil_materials: no material named `{s}`")));
-                }
-            }
-        }
-        if let Some(dm) = &self.domain {
-            vecd("domain.lo_m", &dm.lo_m, d)?;
-            vecd("domain.hi_m", &dm.hi_m, d)?;
-        }
-        let mods: BTreeMap<&str, ()> = crate::modules::Module::ALL.iter().map(|m| (m.name(), ())).collect();
-        for (key, list) in [("backend.rust", &self.backend.rust), ("backend.fortran", &self.backend.fortran)] {
-            for m in list {
-                if !mods.contains_key(m.as_str()) {
-                    return Err(input(format!(
-                        "{key}: unknown module `{m}` (modules: {})",
-                        crate::modules::Module::names()
-                    )));
-                }
-            }
-        }
-        if let Some(dft) = &self.backend.default
-            && dft != "fortran"
-            && dft != "rust"
-        {
-            return Err(input(format!("backend.default = \"{dft}\": must be \"fortran\" or \"rust\"")));
-        }
-        Ok(())
-    }
-}
-
-fn finite(key: &str, v: f64) -> Result<()> {
-    if v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must be a finite number"))) }
-}
-
-fn pos(key: &str, v: f64) -> Result<()> {
-    if v > 0.0 && v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must be positive"))) }
-}
-
-fn nonneg(key: &str, v: f64) -> Result<()> {
-    if v >= 0.0 && v.is_finite() { Ok(()) } else { Err(input(format!("{key} = {v}: must not be negative"))) }
-}
-
-fn vecd(key: &str, v: &[f64], d: usize) -> Result<()> {
-    if v.len() != d {
-        return Err(input(format!("{key}: needs {d} components (dim = {d}), got {}", v.len())));
-    }
-    for x in v {
-        finite(key, *x)?;
-    }
-    Ok(())
 }
