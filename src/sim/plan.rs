@@ -16,6 +16,9 @@ pub struct Overrides {
     pub fortran: Vec<String>,
     pub nnps: Option<String>,
     pub end_time: Option<f64>,
+    /// The largest particle count allowed (`--max-particles`); default: what fits in 80 % of
+    /// the machine's memory ([`crate::case::size`]).
+    pub max_particles: Option<u64>,
 }
 
 /// One stage of the step, with the implementation that runs it and the time it took.

@@ -1,56 +1,58 @@
-//! Validation of what depends on the geometry: the axisymmetric (RZ) geometry, the round shapes
-//! (cylinder, sphere) and the 3D walls (planes). One-line errors naming the key.
+//! Validation of what depends on the dimension and the geometry: the axisymmetric (RZ) geometry,
+//! the round shapes (cylinder, sphere) and the 3D walls (planes). One-line errors naming the key.
 
-use super::validate::{pos, vecd};
-use super::*;
+use super::types::*;
+use super::validate::{At, Checker, Range, X_MAX};
 use crate::error::{Result, input};
 
 /// A `cylinder` or `sphere` region: its centre, radius (and height) and optional clip box.
-pub(super) fn round_shape(key: &str, r: &RegionCfg, d: usize) -> Result<()> {
+pub(super) fn round_shape(v: &mut Checker, at: &At, label: &str, r: &RegionCfg, d: usize) -> Result<()> {
     let what = if r.shape == Shape::Cylinder { "cylinder" } else { "sphere" };
     if r.shape == Shape::Cylinder && d != 3 {
         return Err(input(format!(
-            "{key}: shape = \"cylinder\" needs dim = 3 (in 2D a cylinder's section is a box, plane or axisymmetric)"
+            "{label}: shape = \"cylinder\" needs dim = 3 (in 2D a cylinder's section is a box, plane or axisymmetric)"
         )));
     }
     if d < 2 {
-        return Err(input(format!("{key}: shape = \"sphere\" needs dim = 2 or 3")));
+        return Err(input(format!("{label}: shape = \"sphere\" needs dim = 2 or 3")));
     }
-    let c = r.center_m.as_ref().ok_or_else(|| input(format!("{key}.center_m: required for shape = \"{what}\"")))?;
-    vecd(&format!("{key}.center_m"), c, d)?;
-    pos(&format!("{key}.radius_m"), r.radius_m.ok_or_else(|| input(format!("{key}.radius_m: required for shape = \"{what}\"")))?)?;
+    let c = r.center_m.as_ref().ok_or_else(|| input(format!("{label}.center_m: required for shape = \"{what}\"")))?;
+    v.vec(at, "center_m", c, d, Range::abs(X_MAX))?;
+    let rad = r.radius_m.ok_or_else(|| input(format!("{label}.radius_m: required for shape = \"{what}\"")))?;
+    v.num(at, "radius_m", rad, Range::above(0.0, X_MAX))?;
     if r.shape == Shape::Cylinder {
-        let h = r.height_m.ok_or_else(|| input(format!("{key}.height_m: required for shape = \"cylinder\"")))?;
-        pos(&format!("{key}.height_m"), h)?;
+        let h = r.height_m.ok_or_else(|| input(format!("{label}.height_m: required for shape = \"cylinder\"")))?;
+        v.num(at, "height_m", h, Range::above(0.0, X_MAX))?;
     } else if r.height_m.is_some() {
-        return Err(input(format!("{key}.height_m: only a cylinder has a height")));
+        return Err(input(format!("{label}.height_m: only a cylinder has a height")));
     }
     match (&r.lo_m, &r.hi_m) {
         (None, None) => Ok(()),
         (Some(lo), Some(hi)) => {
-            vecd(&format!("{key}.lo_m"), lo, d)?;
-            vecd(&format!("{key}.hi_m"), hi, d)?;
+            v.vec(at, "lo_m", lo, d, Range::abs(X_MAX))?;
+            v.vec(at, "hi_m", hi, d, Range::abs(X_MAX))?;
             match (0..d).find(|&a| hi[a] <= lo[a]) {
-                Some(a) => Err(input(format!("{key}: hi_m[{a}] = {} must exceed lo_m[{a}] = {}", hi[a], lo[a]))),
+                Some(a) => Err(input(format!("{label}: hi_m[{a}] = {} must exceed lo_m[{a}] = {}", hi[a], lo[a]))),
                 None => Ok(()),
             }
         }
-        _ => Err(input(format!("{key}: the clip box of a {what} needs both lo_m and hi_m"))),
+        _ => Err(input(format!("{label}: the clip box of a {what} needs both lo_m and hi_m"))),
     }
 }
 
 /// A 3D wall: an axis-aligned rectangle (`from_m`, `to_m` opposite corners in a plane x, y or z =
 /// const), or with `edge_m` a parallelogram.
-pub(super) fn plane_wall(k: usize, w: &WallCfg) -> Result<()> {
+pub(super) fn plane_wall(v: &mut Checker, k: usize, w: &WallCfg) -> Result<()> {
     let (a, b) = (&w.from_m, &w.to_m);
+    let at = At::top("wall");
     match &w.edge_m {
         Some(e) => {
-            vecd(&format!("wall[{k}].edge_m"), e, 3)?;
+            v.vec(&at, "edge_m", e, 3, Range::abs(X_MAX))?;
             let u: Vec<f64> = (0..3).map(|d| e[d] - a[d]).collect();
-            let v: Vec<f64> = (0..3).map(|d| b[d] - e[d]).collect();
-            let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+            let q: Vec<f64> = (0..3).map(|d| b[d] - e[d]).collect();
+            let n = [u[1] * q[2] - u[2] * q[1], u[2] * q[0] - u[0] * q[2], u[0] * q[1] - u[1] * q[0]];
             let len = |x: &[f64]| x.iter().map(|c| c * c).sum::<f64>().sqrt();
-            if len(&u) == 0.0 || len(&v) == 0.0 || len(&n) <= 1e-9 * len(&u) * len(&v) {
+            if len(&u) == 0.0 || len(&q) == 0.0 || len(&n) <= 1e-9 * len(&u) * len(&q) {
                 return Err(input(format!(
                     "wall[{k}]: from_m, edge_m and to_m must be three corners of a parallelogram (two edges that are not parallel)"
                 )));
@@ -70,12 +72,16 @@ pub(super) fn plane_wall(k: usize, w: &WallCfg) -> Result<()> {
 }
 
 /// The checks of `geometry = "axisymmetric"`.
-pub(super) fn geometry(c: &Case) -> Result<()> {
+pub(super) fn geometry(c: &Case, v: &mut Checker) -> Result<()> {
+    v.any(&At::top(""), "geometry");
     if !c.axisymmetric() {
         return Ok(());
     }
     if c.dim != 2 {
-        return Err(input(format!("geometry = \"axisymmetric\" needs dim = 2 (x = r, y = z), got dim = {}", c.dim)));
+        return Err(input(format!(
+            "geometry = \"axisymmetric\" needs dim = 2 (x = r, y = z), got dim = {}",
+            c.dim
+        )));
     }
     let neg = |key: String, x: f64| -> Result<()> {
         if x < 0.0 {

@@ -1,17 +1,8 @@
-//! Case files: TOML, SI units, every key with its unit in its name or its docs
-//! (`docs/cases.md` lists them all). Unknown keys are refused (`deny_unknown_fields`).
-//!
-//! Loading is two stages: [`load`] parses and applies `--set` overrides, [`Case::validate`]
-//! checks everything that serde cannot (positive densities, known material names, regions
-//! that hold particles and do not overlap, …) and returns one-line errors naming the key.
+//! The case's tables as Rust types: one struct per TOML table, `deny_unknown_fields` everywhere
+//! (`docs/cases.md` lists every key with its unit and default). What serde cannot check is
+//! checked in [`super::validate`]: one place per key.
 
 use serde::Deserialize;
-
-mod geom;
-mod sets;
-mod validate;
-
-pub use sets::{apply_sets, load, parse};
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -21,7 +12,7 @@ pub struct Case {
     /// Free text.
     #[serde(default)]
     pub description: String,
-    /// Space dimension: 1, 2 (plane strain, or axisymmetric) or 3.
+    /// Space dimension: 1, 2 (plane strain) or 3.
     pub dim: usize,
     /// "plane" (default) or "axisymmetric" (dim = 2: x is the radius r ≥ 0, y the axis).
     #[serde(default)]
@@ -52,7 +43,7 @@ pub struct Case {
     pub domain: Option<DomainCfg>,
 }
 
-/// The geometry of a 2D case (docs/theory.md §16).
+/// The geometry of a 2D case (docs/theory.md, axisymmetric SPH).
 #[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Geometry {
@@ -61,21 +52,6 @@ pub enum Geometry {
     Plane,
     /// Axisymmetric (RZ), dim = 2: x = r ≥ 0, y = z along the axis; a particle is a ring (kg).
     Axisymmetric,
-}
-
-impl Case {
-    pub fn name(&self) -> &str {
-        self.name.as_deref().unwrap_or("case")
-    }
-
-    pub fn material_index(&self, name: &str) -> Option<usize> {
-        self.materials.iter().position(|m| m.name == name)
-    }
-
-    /// True for `geometry = "axisymmetric"`.
-    pub fn axisymmetric(&self) -> bool {
-        self.geometry == Geometry::Axisymmetric
-    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -96,10 +72,17 @@ pub struct TimeCfg {
     pub cfl: f64,
     /// Largest step (s) under the CFL rule.
     pub dt_max_s: Option<f64>,
+    /// Smallest step (s) under the CFL rule: a run whose step falls below it stops as unstable
+    /// with a diagnostic (default: [`DT_MIN_FRACTION`] × the first step).
+    pub dt_min_s: Option<f64>,
     /// Stop after this many steps (a safety limit).
     #[serde(default = "default_max_steps")]
     pub max_steps: u64,
 }
+
+/// The default floor of the CFL step, as a fraction of the run's first step: a step that falls
+/// this far has collapsed (healthy runs stay within a factor of a few of their first step).
+pub const DT_MIN_FRACTION: f64 = 1e-3;
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
