@@ -349,7 +349,8 @@ pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segm
     }
     if case.axisymmetric() && keep(WallKind::Mirror) && n > 0 {
         // the axis: a segment along x = 0 far beyond anything the particles can reach
-        let (lo, hi) = (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| (a.min(x[1 + 2 * i]), b.max(x[1 + 2 * i])));
+        let (lo, hi) =
+            (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| (a.min(x[1 + 2 * i]), b.max(x[1 + 2 * i])));
         let reach = 1e3 * (hi - lo).max(1.0);
         segs.seg.extend_from_slice(&[0.0, lo - reach, 0.0, hi + reach, 1.0, 0.0]);
         segs.endnode.push(1);
@@ -406,9 +407,16 @@ fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segmen
         segs.seg.extend_from_slice(&u);
         segs.seg.extend_from_slice(&v);
         segs.seg.extend_from_slice(&n);
-        let at = |su: f64, sv: f64| [a[0] + su * u[0] + sv * v[0], a[1] + su * u[1] + sv * v[1], a[2] + su * u[2] + sv * v[2]];
+        let at = |su: f64, sv: f64| {
+            [a[0] + su * u[0] + sv * v[0], a[1] + su * u[1] + sv * v[1], a[2] + su * u[2] + sv * v[2]]
+        };
         // the four edges as (mask bit, its two ends): far along u, far along v, near u, near v
-        let edges = [(1, at(1.0, 0.0), at(1.0, 1.0)), (2, at(0.0, 1.0), at(1.0, 1.0)), (4, at(0.0, 0.0), at(0.0, 1.0)), (8, at(0.0, 0.0), at(1.0, 0.0))];
+        let edges = [
+            (1, at(1.0, 0.0), at(1.0, 1.0)),
+            (2, at(0.0, 1.0), at(1.0, 1.0)),
+            (4, at(0.0, 0.0), at(0.0, 1.0)),
+            (8, at(0.0, 0.0), at(1.0, 0.0)),
+        ];
         let mut mask = 0;
         for (bit, p, q) in edges {
             if !(0..s).any(|t| on(t, p) && on(t, q)) {

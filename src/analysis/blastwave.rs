@@ -89,7 +89,18 @@ mod tests {
     fn the_measures_find_a_synthetic_front() {
         let dr = 0.01;
         let r: Vec<f64> = (0..1000).map(|k| (k as f64 + 0.5) * 0.0005).collect();
-        let rho: Vec<f64> = r.iter().map(|&x| if x < 0.28 { 0.5 + 10.0 * x } else if x < 0.29 { 6.0 } else { 1.0 }).collect();
+        let rho: Vec<f64> = r
+            .iter()
+            .map(|&x| {
+                if x < 0.28 {
+                    0.5 + 10.0 * x
+                } else if x < 0.29 {
+                    6.0
+                } else {
+                    1.0
+                }
+            })
+            .collect();
         let s = shock(&profile(&r, &rho, dr), 1.0);
         assert!((s.r_peak_m - 0.285).abs() < 1e-9, "{s:?}");
         assert!(s.r_half_m > 0.285 && s.r_half_m < 0.305, "{s:?}");

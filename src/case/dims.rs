@@ -78,10 +78,7 @@ pub(super) fn geometry(c: &Case, v: &mut Checker) -> Result<()> {
         return Ok(());
     }
     if c.dim != 2 {
-        return Err(input(format!(
-            "geometry = \"axisymmetric\" needs dim = 2 (x = r, y = z), got dim = {}",
-            c.dim
-        )));
+        return Err(input(format!("geometry = \"axisymmetric\" needs dim = 2 (x = r, y = z), got dim = {}", c.dim)));
     }
     let neg = |key: String, x: f64| -> Result<()> {
         if x < 0.0 {
