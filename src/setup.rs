@@ -378,7 +378,7 @@ fn corners(w: &crate::case::WallCfg) -> [[f64; 3]; 3] {
 /// ±u×v towards the centroid `cen`; the edge mask of each wall: an edge that lies on an earlier
 /// wall is that wall's (its nodes are not counted twice).
 fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segments) {
-    let frames: Vec<([f64; 3], [f64; 3], [f64; 3], [f64; 3])> = walls
+    let frames: Vec<[[f64; 3]; 4]> = walls
         .iter()
         .map(|w| {
             let [a, e, b] = corners(w);
@@ -388,12 +388,12 @@ fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segmen
             let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
             let side = (0..3).map(|k| (cen[k] - a[k]) * c[k]).sum::<f64>();
             let sgn = if side >= 0.0 { 1.0 } else { -1.0 };
-            (a, u, v, [sgn * c[0] / l, sgn * c[1] / l, sgn * c[2] / l])
+            [a, u, v, [sgn * c[0] / l, sgn * c[1] / l, sgn * c[2] / l]]
         })
         .collect();
     // is point p on wall t (in its plane, within its extent)?
     let on = |t: usize, p: [f64; 3]| -> bool {
-        let (a, u, v, n) = frames[t];
+        let [a, u, v, n] = frames[t];
         let r = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
         let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
         let (uu, vv) = (dot(u, u), dot(v, v));
@@ -402,7 +402,7 @@ fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segmen
             && (-tol..=uu + tol * uu.sqrt()).contains(&dot(r, u))
             && (-tol..=vv + tol * vv.sqrt()).contains(&dot(r, v))
     };
-    for (s, &(a, u, v, n)) in frames.iter().enumerate() {
+    for (s, &[a, u, v, n]) in frames.iter().enumerate() {
         segs.seg.extend_from_slice(&a);
         segs.seg.extend_from_slice(&u);
         segs.seg.extend_from_slice(&v);

@@ -55,15 +55,16 @@ fn walled_cube(side: usize, angle: f64, seed: u64) -> (Cloud, Segments) {
         let p = [j(a, &mut g), j(b, &mut g), j(c, &mut g)];
         x.extend_from_slice(&rot(p));
     }
-    // (corner, u, v, normal, edge mask)
-    let walls: [([f64; 3], [f64; 3], [f64; 3], [f64; 3], i32); 4] = [
-        ([0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, 1.0], 15),
-        ([0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, 0.0, l], [0.0, 1.0, 0.0], 7),
-        ([0.0, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [1.0, 0.0, 0.0], 3),
-        ([l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [-1.0, 0.0, 0.0], 3),
+    // ([corner, u, v, normal], edge mask)
+    type Wall = ([[f64; 3]; 4], i32);
+    let walls: [Wall; 4] = [
+        ([[0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, 1.0]], 15),
+        ([[0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, 0.0, l], [0.0, 1.0, 0.0]], 7),
+        ([[0.0, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [1.0, 0.0, 0.0]], 3),
+        ([[l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [-1.0, 0.0, 0.0]], 3),
     ];
     let mut segs = Segments::default();
-    for (a, u, v, nrm, mask) in walls {
+    for ([a, u, v, nrm], mask) in walls {
         segs.seg.extend_from_slice(&rot(a));
         segs.seg.extend_from_slice(&rot(u));
         segs.seg.extend_from_slice(&rot(v));
