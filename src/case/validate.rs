@@ -253,7 +253,7 @@ impl Case {
                 }
             }
         }
-        Ok(())
+        super::dims::geometry(self, v)
     }
 
     fn validate_time(&self, v: &mut Checker) -> Result<()> {
@@ -479,6 +479,11 @@ impl Case {
                     }
                     coords(&far);
                 }
+                Shape::Cylinder | Shape::Sphere => {
+                    super::dims::round_shape(v, &at, &at.label, r, d)?;
+                    let (c, rad) = (r.center_m.as_deref().unwrap_or(&[]), r.radius_m.unwrap_or(0.0));
+                    coords(&c.iter().map(|x| x.abs() + rad + r.height_m.unwrap_or(0.0)).collect::<Vec<_>>());
+                }
             }
             if r.spacing_m < SPACING_REL * reach {
                 return Err(input(format!(
@@ -551,7 +556,9 @@ impl Case {
             v.vec(&at, "to_m", &w.to_m, d, Range::abs(X_MAX))?;
             v.any(&at, "kind");
             if d == 3 {
-                return Err(input(format!("wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet")));
+                super::dims::plane_wall(v, k, w)?;
+            } else if w.edge_m.is_some() {
+                return Err(input(format!("wall[{k}].edge_m: only 3D walls (planes) have one")));
             }
             if d == 2 && w.from_m == w.to_m {
                 return Err(input(format!("wall[{k}]: from_m and to_m coincide")));
