@@ -44,6 +44,9 @@ pub struct Case {
     #[serde(default)]
     pub backend: BackendCfg,
     pub domain: Option<DomainCfg>,
+    /// Compatibility items of the Rust twins (`--compat`; docs/migration.md A.6).
+    #[serde(default)]
+    pub compat: crate::migration::compat::CompatCfg,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -756,6 +759,7 @@ impl Case {
 
     /// Checks what serde cannot; errors are one line naming the key.
     pub fn validate(&self) -> Result<()> {
+        self.compat.flags()?;
         let d = self.dim;
         if !(1..=3).contains(&d) {
             return Err(input(format!("dim = {d}: must be 1, 2 or 3")));

@@ -40,6 +40,31 @@ pub struct CaseArgs {
     /// Stop at this time (s) instead of the case's end time
     #[arg(long = "end-time", value_name = "SECONDS")]
     pub end_time: Option<f64>,
+    #[command(flatten)]
+    pub legacy: LegacyArgs,
+}
+
+/// Your legacy code and the compatibility items (docs/migration.md A.6).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct LegacyArgs {
+    /// A `legacy build` folder: your routines in place of the modules they stand for
+    #[arg(long, value_name = "DIR")]
+    pub legacy: Option<PathBuf>,
+    /// Compatibility items of the Rust twins: a profile (liu-book), items to switch on
+    /// (sound_speed), off (-sound_speed); comma-separated (as --set compat.ITEM=true|false)
+    #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+    pub compat: Option<String>,
+}
+
+impl LegacyArgs {
+    /// The `--set` overrides of `--compat`, after `sets`.
+    pub fn sets(&self, sets: &[String]) -> Result<Vec<String>> {
+        let mut out = sets.to_vec();
+        if let Some(c) = &self.compat {
+            out.extend(crate::migration::compat::sets_of(c)?);
+        }
+        Ok(out)
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -94,6 +119,8 @@ pub enum Cmd {
         /// Folder to look a case name up in (default as for `run`)
         #[arg(long = "case-dir", value_name = "DIR")]
         case_dir: Option<PathBuf>,
+        #[command(flatten)]
+        legacy: LegacyArgs,
     },
     /// Validate a case, print the module plan and the particle count
     Check {
@@ -175,6 +202,8 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
         fortran: a.fortran.clone(),
         nnps: a.nnps.clone(),
         end_time: a.end_time,
+        legacy: a.legacy.legacy.clone(),
+        legacy_setup_only: false,
     })
 }
 
@@ -228,7 +257,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
             crate::progress::set_every(progress_every);
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
-            let opts = RunOptions { out, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
+            let sets = args.legacy.sets(&args.sets)?;
+            let opts = RunOptions { out, sets, ov: overrides(&args)?, quiet, threads: th };
             let r = on_pool(|| runner::run(&case, &opts))?;
             let s = &r.summary;
             println!(
@@ -245,7 +275,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         }
         Cmd::Check { case, args, case_dir } => {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
-            let c = case::load(&case, &args.sets)?;
+            let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
             let sim = Sim::new(c, &overrides(&args)?)?;
             print!("{}", check_text(&sim));
             Ok(0)
@@ -312,11 +342,14 @@ fn dispatch(cli: Cli) -> Result<i32> {
             crate::report::report_with(&dir, &times, animate)?;
             Ok(0)
         }
-        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir } => {
+        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, legacy } => {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
-            let c = case::load(&case, &sets)?;
-            let ov = Overrides { nnps, ..Default::default() };
+            let c = case::load(&case, &legacy.sets(&sets)?)?;
+            if free && legacy.legacy.is_some() {
+                return Err(input("dual --free --legacy: the free mode compares blastsph's two backends; drop --free"));
+            }
+            let ov = Overrides { nnps, legacy: legacy.legacy.clone(), ..Default::default() };
             let dir = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
             std::fs::create_dir_all(&dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
             if free {
@@ -370,21 +403,38 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     let cmp = sim.cmp.take().unwrap_or_default();
     print!("{}", cmp.table());
     let ok = cmp.ok();
+    let uncompared = cmp.uncompared();
     let rep = serde_json::json!({
         "case": sim.case.name(),
         "steps": done,
         "time": sim.t,
         "within_tolerance": ok,
         "diagnostic": diag,
+        "not_compared": uncompared,
+        "legacy": sim.plan.legacy,
         "rows": cmp.rows(),
     });
     let path = dir.join("dual_report.json");
     std::fs::write(&path, serde_json::to_string_pretty(&rep).unwrap_or_default())
         .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    let not = if uncompared.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} stages not compared ({}: compat variants have no Fortran twin, compare them with --legacy)",
+            uncompared.len(),
+            uncompared.join(", ")
+        )
+    };
     println!(
-        "{} steps compared; {}; report {}",
+        "{} steps compared; {}{}; report {}",
         done,
-        if ok { "every module within tolerance" } else { "MODULES OUT OF TOLERANCE" },
+        match (ok, not.is_empty()) {
+            (true, true) => "every module within tolerance",
+            (true, false) => "every compared stage within tolerance",
+            _ => "MODULES OUT OF TOLERANCE",
+        },
+        not,
         path.display()
     );
     Ok(if ok { 0 } else { 4 })

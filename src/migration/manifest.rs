@@ -40,6 +40,8 @@ struct RawManifest {
     param_names: Option<RawParamNames>,
     #[serde(default, rename = "routine")]
     routines: Vec<RawRoutine>,
+    #[serde(default)]
+    itype: std::collections::BTreeMap<String, i32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -142,6 +144,9 @@ pub struct Manifest {
     pub param_include: String,
     pub param_names: ParamNames,
     pub routines: Vec<Routine>,
+    /// The code's `itype` of each blastsph material, by material name or EOS kind
+    /// (`ideal_gas`, `jwl`, `water`, `soil`); default: the book's, ideal gas 1, water 2.
+    pub itype: std::collections::BTreeMap<String, i32>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -333,6 +338,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         param_include,
         param_names,
         routines,
+        itype: raw.itype.clone(),
     })
 }
 
