@@ -63,7 +63,9 @@ pub struct GaugeRecord {
 /// Reads gauges.csv (docs/cases.md `[[gauge]]` lists its columns); empty fields (a point
 /// gauge in a void) are left out.
 pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
-    let text = std::fs::read_to_string(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    let bytes = std::fs::read(path).map_err(|e| crate::error::input(format!("{}: {e}", path.display())))?;
+    // a line cut by a kill (or bytes that are not text) is skipped below, not an error
+    let text = String::from_utf8_lossy(&bytes);
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
     let names: Vec<String> = head.iter().filter_map(|h| h.strip_suffix("_p_pa")).map(String::from).collect::<Vec<_>>();

@@ -40,6 +40,10 @@ pub struct CaseArgs {
     /// Stop at this time (s) instead of the case's end time
     #[arg(long = "end-time", value_name = "SECONDS")]
     pub end_time: Option<f64>,
+    /// Refuse a case with more particles than this (default: what fits in 80 % of the
+    /// machine's memory, estimated before anything is generated)
+    #[arg(long = "max-particles", value_name = "N")]
+    pub max_particles: Option<u64>,
     #[command(flatten)]
     pub legacy: LegacyArgs,
 }
@@ -64,6 +68,37 @@ impl LegacyArgs {
             out.extend(crate::migration::compat::sets_of(c)?);
         }
         Ok(out)
+    }
+}
+
+/// When a run writes its checkpoint (checkpoint.bin: the full state, for `blastsph resume`).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct CheckpointArgs {
+    /// Write a checkpoint every N steps (besides every --checkpoint-wall seconds, at the end, and
+    /// at a clean stop on SIGINT or SIGTERM)
+    #[arg(long = "checkpoint-every", value_name = "N")]
+    pub every: Option<u64>,
+    /// Write a checkpoint every this many seconds of wall time (default 900)
+    #[arg(long = "checkpoint-wall", value_name = "SECONDS")]
+    pub wall: Option<f64>,
+}
+
+impl CheckpointArgs {
+    fn policy(&self) -> Result<runner::Checkpoints> {
+        let mut c = runner::Checkpoints::CLI;
+        if let Some(n) = self.every {
+            if n == 0 {
+                return Err(input("--checkpoint-every 0: need at least 1 step"));
+            }
+            c.every_steps = Some(n);
+        }
+        if let Some(w) = self.wall {
+            if !(w.is_finite() && w > 0.0) {
+                return Err(input(format!("--checkpoint-wall {w}: must be a positive number of seconds")));
+            }
+            c.every_wall_s = Some(w);
+        }
+        Ok(c)
     }
 }
 
@@ -93,6 +128,39 @@ pub enum Cmd {
         /// current directory, else of the source tree this binary was built from)
         #[arg(long = "case-dir", value_name = "DIR")]
         case_dir: Option<PathBuf>,
+        /// Replace a run directory that is not empty (its blastsph files are removed first;
+        /// a folder holding other files is refused even then)
+        #[arg(long)]
+        force: bool,
+        #[command(flatten)]
+        checkpoints: CheckpointArgs,
+    },
+    /// Continue a run from its last checkpoint (after a kill, a clean stop, or past its end with
+    /// --end-time), appending to its particles.h5, gauges.csv and summary.json
+    Resume {
+        /// The run directory (holds checkpoint.bin, case.toml, particles.h5)
+        dir: PathBuf,
+        /// Run to this time (s) instead of the case's end time (case.toml is changed to it)
+        #[arg(long = "end-time", value_name = "SECONDS")]
+        end_time: Option<f64>,
+        /// Continue although case.toml or the blastsph binary changed since the checkpoint
+        #[arg(long = "allow-changed")]
+        allow_changed: bool,
+        /// Worker threads of the Rust modules (default: one per core; the results do not
+        /// depend on it)
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
+        /// No progress bar and no progress lines
+        #[arg(long)]
+        quiet: bool,
+        /// Seconds between progress lines on stderr when it is not a terminal
+        #[arg(long = "progress-every", value_name = "SECONDS", default_value = "5")]
+        progress_every: f64,
+        /// Refuse a case with more particles than this (default: from the machine's memory)
+        #[arg(long = "max-particles", value_name = "N")]
+        max_particles: Option<u64>,
+        #[command(flatten)]
+        checkpoints: CheckpointArgs,
     },
     /// Run both implementations of every module at every step and compare them
     Dual {
@@ -119,6 +187,9 @@ pub enum Cmd {
         /// Folder to look a case name up in (default as for `run`)
         #[arg(long = "case-dir", value_name = "DIR")]
         case_dir: Option<PathBuf>,
+        /// Refuse a case with more particles than this (default: from the machine's memory)
+        #[arg(long = "max-particles", value_name = "N")]
+        max_particles: Option<u64>,
         #[command(flatten)]
         legacy: LegacyArgs,
     },
@@ -202,6 +273,7 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
         fortran: a.fortran.clone(),
         nnps: a.nnps.clone(),
         end_time: a.end_time,
+        max_particles: a.max_particles,
         legacy: a.legacy.legacy.clone(),
         legacy_setup_only: false,
     })
@@ -209,8 +281,10 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
 
 /// Builds the global pool of the Rust modules: `n` threads, or rayon's default.
 fn threads(n: Option<usize>) -> Result<()> {
-    if n == Some(0) {
-        return Err(input("--threads 0: need at least one thread"));
+    if let Some(k) = n
+        && !(1..=MAX_THREADS).contains(&k)
+    {
+        return Err(input(format!("--threads {k}: need 1 to {MAX_THREADS} threads")));
     }
     // the whole run executes on a worker (see `on_pool`): give it the main thread's stack room
     let built = rayon::ThreadPoolBuilder::new().num_threads(n.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
@@ -221,6 +295,8 @@ fn threads(n: Option<usize>) -> Result<()> {
 }
 
 const STACK_BYTES: usize = 16 << 20;
+/// The most worker threads a run may ask for.
+const MAX_THREADS: usize = 1024;
 
 /// Runs `f` on a worker thread of the global pool. The Rust modules make a few dozen parallel
 /// calls per step; started from a worker, each runs inline with one thread, and with more it
@@ -229,36 +305,116 @@ fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     rayon::scope(|_| f())
 }
 
-/// Entry point; returns the exit status.
+/// A clap error as one line: its first line and the usage of the command, exit status 2.
+fn clap_line(e: &clap::Error) -> String {
+    let text = e.to_string();
+    let mut first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("error: bad arguments").trim().to_string();
+    if !first.starts_with("error:") {
+        first = format!("error: {first}");
+    }
+    let usage = text.lines().find_map(|l| l.trim().strip_prefix("Usage:")).map(|u| u.trim().to_string());
+    match usage {
+        Some(u) => {
+            let cmd: Vec<&str> = u.split_whitespace().take_while(|w| !w.starts_with(['[', '<', '-'])).collect();
+            format!("{first} (usage: {u}; `{} --help` explains every argument)", cmd.join(" "))
+        }
+        None => format!("{first} (`blastsph --help` lists the commands)"),
+    }
+}
+
+/// One line on stderr: a message never spans lines, whatever it quotes.
+fn one_line(s: &str) -> String {
+    s.chars().map(|c| if c == '\n' || c == '\r' { ' ' } else { c }).collect()
+}
+
+/// Entry point; returns the exit status: 0 done, 1 an I/O failure during a run, 2 refused input,
+/// 3 unstable, 4 a dual run out of tolerance, 5 stopped cleanly by a signal (README).
 pub fn main() -> i32 {
+    // a panic is a bug: one line saying so (never a backtrace on a user's terminal)
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
+        eprintln!("{}", one_line(&format!("internal error (a bug in blastsph, please report it): {msg}{at}")));
+    }));
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
-            let code = if e.use_stderr() { 2 } else { 0 };
-            let _ = e.print();
-            return code;
+            use clap::error::ErrorKind;
+            return match e.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    let _ = e.print();
+                    0
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    eprintln!("error: a command is needed (usage: blastsph <COMMAND>; `blastsph --help` lists them)");
+                    2
+                }
+                _ => {
+                    eprintln!("{}", one_line(&clap_line(&e)));
+                    2
+                }
+            };
         }
     };
     match dispatch(cli) {
         Ok(code) => code,
+        Err(SphError::Stopped(m)) => {
+            eprintln!("{}", one_line(&format!("stopped {m}")));
+            5
+        }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", one_line(&format!("error: {e}")));
             e.exit_code()
         }
     }
 }
 
+/// SIGINT and SIGTERM set the run's stop flag: it finishes its step, writes a checkpoint and
+/// stops with status 5. A second signal of the same kind ends the program at once (status 130
+/// for SIGINT, 143 for SIGTERM).
+fn stop_on_signals() -> Result<()> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let flag = runner::stop_flag();
+    for (sig, code) in [(SIGINT, 130), (SIGTERM, 143)] {
+        // the second signal: the flag is already set
+        signal_hook::flag::register_conditional_shutdown(sig, code, flag.clone())
+            .and_then(|_| signal_hook::flag::register(sig, flag.clone()))
+            .map_err(|e| SphError::Io(format!("cannot install the signal handlers: {e}")))?;
+    }
+    Ok(())
+}
+
+/// Checks the --progress-every value and sets it.
+fn progress_every(s: f64) -> Result<()> {
+    if !(s.is_finite() && (0.0..=1e9).contains(&s)) {
+        return Err(input(format!("--progress-every {s}: must be 0 to 1e9 seconds")));
+    }
+    crate::progress::set_every(s);
+    Ok(())
+}
+
 fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
-        Cmd::Run { case, out, args, threads: th, quiet, progress_every, case_dir } => {
-            if !(progress_every.is_finite() && progress_every >= 0.0) {
-                return Err(input(format!("--progress-every {progress_every}: must be zero or more seconds")));
-            }
-            crate::progress::set_every(progress_every);
+        Cmd::Run { case, out, args, threads: th, quiet, progress_every: pe, case_dir, force, checkpoints } => {
+            progress_every(pe)?;
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
-            let sets = args.legacy.sets(&args.sets)?;
-            let opts = RunOptions { out, sets, ov: overrides(&args)?, quiet, threads: th };
+            let opts = RunOptions {
+                out,
+                sets: args.legacy.sets(&args.sets)?,
+                ov: overrides(&args)?,
+                quiet,
+                threads: th,
+                force,
+                checkpoints: checkpoints.policy()?,
+                stop_after_step: None,
+            };
+            stop_on_signals()?;
             let r = on_pool(|| runner::run(&case, &opts))?;
             let s = &r.summary;
             println!(
@@ -273,11 +429,58 @@ fn dispatch(cli: Cli) -> Result<i32> {
             );
             Ok(0)
         }
+        Cmd::Resume {
+            dir,
+            end_time,
+            allow_changed,
+            threads: th,
+            quiet,
+            progress_every: pe,
+            max_particles,
+            checkpoints,
+        } => {
+            progress_every(pe)?;
+            threads(th)?;
+            let o = crate::restart::ResumeOptions {
+                end_time,
+                allow_changed,
+                quiet,
+                checkpoints: checkpoints.policy()?,
+                max_particles,
+                stop_after_step: None,
+            };
+            stop_on_signals()?;
+            let r = on_pool(|| crate::restart::resume(&dir, &o))?;
+            let s = &r.summary;
+            println!(
+                "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s wall in all ({} backend), output in {}",
+                s["case"].as_str().unwrap_or("?"),
+                s["particles"],
+                s["steps"],
+                s["time"].as_f64().unwrap_or(0.0),
+                s["wall_seconds"].as_f64().unwrap_or(0.0),
+                s["backend"].as_str().unwrap_or("?"),
+                r.dir.display()
+            );
+            Ok(0)
+        }
         Cmd::Check { case, args, case_dir } => {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
+            let est = case::size::check(&c, args.max_particles)?;
             let sim = Sim::new(c, &overrides(&args)?)?;
             print!("{}", check_text(&sim));
+            let (limit, from) = case::size::memory_limit();
+            println!(
+                "size (estimated before generating): at most {:.0} particles, {:.3e} neighbour pairs, {} of memory ({})",
+                est.particles,
+                est.pairs,
+                case::size::bytes_text(est.bytes),
+                match args.max_particles {
+                    Some(m) => format!("limit: --max-particles {m}"),
+                    None => format!("limit: {} of memory, {from}", case::size::bytes_text(limit)),
+                }
+            );
             Ok(0)
         }
         Cmd::Validate { out, cases, only, args, threads: th, quiet } => {
@@ -291,7 +494,16 @@ fn dispatch(cli: Cli) -> Result<i32> {
                     )));
                 }
             }
-            let opts = RunOptions { out: None, sets: args.sets.clone(), ov: overrides(&args)?, quiet, threads: th };
+            // the scenes' folders are the validation's own: each run replaces its last
+            let opts = RunOptions {
+                out: None,
+                sets: args.sets.clone(),
+                ov: overrides(&args)?,
+                quiet,
+                threads: th,
+                force: true,
+                ..Default::default()
+            };
             let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
             println!("{md}");
             println!("written: {}", out.join("validation.md").display());
@@ -336,22 +548,36 @@ fn dispatch(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Cmd::Report { dir, times, animate } => {
-            if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0) {
-                return Err(input(format!("--times {t}: times must be finite and not negative")));
+            if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0 || **t > 1e6) {
+                return Err(input(format!("--times {t}: times must be finite, from 0 to 1e6 s")));
             }
+            if times.len() > 1000 {
+                return Err(input(format!("--times: {} times (at most 1000 snapshots)", times.len())));
+            }
+            crate::rundir::check_existing(&dir, "report")?;
             crate::report::report_with(&dir, &times, animate)?;
             Ok(0)
         }
-        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, legacy } => {
+        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, max_particles, legacy } => {
+            if steps == Some(0) {
+                return Err(input("--steps 0: a dual run compares at least one step"));
+            }
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
             let c = case::load(&case, &legacy.sets(&sets)?)?;
             if free && legacy.legacy.is_some() {
                 return Err(input("dual --free --legacy: the free mode compares blastsph's two backends; drop --free"));
             }
-            let ov = Overrides { nnps, legacy: legacy.legacy.clone(), ..Default::default() };
-            let dir = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", c.name())));
-            std::fs::create_dir_all(&dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
+            let ov = Overrides { nnps, max_particles, legacy: legacy.legacy.clone(), ..Default::default() };
+            let dir = out
+                .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", crate::rundir::sanitize(c.name()))));
+            if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
+                return Err(input(format!(
+                    "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
+                    dir.display()
+                )));
+            }
+            crate::rundir::prepare(&dir, false)?;
             if free {
                 let rep = on_pool(|| free_run(c, &ov, steps.unwrap_or(100), &dir))?;
                 println!("{rep}");
@@ -415,8 +641,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         "rows": cmp.rows(),
     });
     let path = dir.join("dual_report.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&rep).unwrap_or_default())
-        .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
     let not = if uncompared.is_empty() {
         String::new()
     } else {
@@ -470,8 +695,7 @@ pub fn free_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     let rep =
         serde_json::json!({"case": a.case.name(), "steps": a.nstep, "first_difference_step": first_diff, "rows": rows});
     let path = dir.join("dual_free.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&rep).unwrap_or_default())
-        .map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
     Ok(match first_diff {
         None => format!(
             "free run: {} steps, Fortran and Rust states bitwise identical at every step; {}",

@@ -1,5 +1,13 @@
-//! Errors. `Input` errors (bad case files, bad flags) end the program with status 2 and one line;
-//! `Unstable` ends a run with status 3 after the output written so far is flushed.
+//! Errors and exit statuses (README "Exit statuses"):
+//!
+//! | status | error | what |
+//! |---|---|---|
+//! | 0 | — | done |
+//! | 1 | `Io` | an I/O failure while a run writes (a full disk) |
+//! | 2 | `Input` | refused input: a bad case file, flag, run directory or checkpoint; one line |
+//! | 3 | `Unstable` | the run went unstable (or its step collapsed, or its end is out of reach); the output so far is kept |
+//! | 4 | `Divergence` | a dual run found a module out of tolerance |
+//! | 5 | `Stopped` | stopped cleanly by SIGINT or SIGTERM: checkpoint written, `blastsph resume DIR` continues |
 
 use thiserror::Error;
 
@@ -16,6 +24,9 @@ pub enum SphError {
     Divergence(String),
     #[error("{0}")]
     Io(String),
+    /// Stopped cleanly by a signal after a checkpoint.
+    #[error("stopped {0}")]
+    Stopped(String),
 }
 
 impl SphError {
@@ -25,6 +36,7 @@ impl SphError {
             SphError::Unstable(_) => 3,
             SphError::Divergence(_) => 4,
             SphError::Io(_) => 1,
+            SphError::Stopped(_) => 5,
         }
     }
 }

@@ -21,6 +21,7 @@ use crate::case::{GaugeCfg, GaugeKind, KernelKind};
 use crate::error::{Result, SphError};
 use crate::modules::param::NSTR;
 use crate::sim::Sim;
+use crate::sim::checkpoint::{Blob, Item};
 use serde_json::{Value, json};
 use std::io::Write;
 use std::path::Path;
@@ -104,13 +105,81 @@ impl Gauges {
         if let Some(p) = path
             && !g.names.is_empty()
         {
-            let mut f = std::io::BufWriter::new(
-                std::fs::File::create(p).map_err(|e| SphError::Io(format!("{}: {e}", p.display())))?,
-            );
+            let mut f = std::io::BufWriter::new(crate::rundir::create_new(p)?);
             writeln!(f, "{}", g.columns().join(",")).map_err(|e| SphError::Io(e.to_string()))?;
             g.file = Some(f);
         }
         Ok(g)
+    }
+
+    /// What a checkpoint keeps of the gauges: the particles they follow and every reading so far
+    /// (summary.json's measures are taken over the whole record).
+    pub fn save(&self, b: &mut Blob) {
+        b.put("gauges.particle", Item::I64(self.particle.iter().map(|p| p.map_or(-1, |i| i as i64)).collect()));
+        b.put("gauges.tied", Item::U64(self.tied.iter().map(|&t| t as u64).collect()));
+        b.put_f64("gauges.start_m", &self.start_m.concat());
+        for (k, rec) in self.record.iter().enumerate() {
+            b.put_f64(&format!("gauges.{k}.t"), &rec.iter().map(|r| r.0).collect::<Vec<_>>());
+            b.put(&format!("gauges.{k}.some"), Item::U32(rec.iter().map(|r| u32::from(r.1.is_some())).collect()));
+            b.put_f64(&format!("gauges.{k}.q"), &rec.iter().filter_map(|r| r.1.clone()).collect::<Vec<_>>().concat());
+        }
+    }
+
+    /// The gauges of a run resumed from checkpoint `b`, appending to `path` (gauges.csv, already
+    /// cut back to its length at the checkpoint).
+    pub fn resume(sim: &Sim, path: Option<&Path>, b: &Blob) -> Result<Gauges> {
+        let bad = |w: &str| crate::error::input(format!("checkpoint: gauges: {w}"));
+        let ng = sim.case.gauges.len();
+        let dim = sim.cfg.dim;
+        let stress = !sim.p.tau.is_empty();
+        let particle = b.i64("gauges.particle")?;
+        let tied = b.u64("gauges.tied")?;
+        let start = b.f64("gauges.start_m")?;
+        if particle.len() != ng || tied.len() != ng || start.len() != ng * dim {
+            return Err(bad(&format!("{} gauges in the checkpoint, {ng} in the case", particle.len())));
+        }
+        let width = 1 + dim + if stress { stress_components(dim).len() } else { 0 };
+        let mut record = Vec::with_capacity(ng);
+        for k in 0..ng {
+            let t = b.f64(&format!("gauges.{k}.t"))?;
+            let some = b.u32(&format!("gauges.{k}.some"))?;
+            let q = b.f64(&format!("gauges.{k}.q"))?;
+            let nsome = some.iter().filter(|&&s| s != 0).count();
+            if some.len() != t.len() || q.len() != nsome * width {
+                return Err(bad(&format!("the record of gauge {k} is inconsistent")));
+            }
+            let mut vals = q.chunks_exact(width);
+            record.push(
+                t.iter()
+                    .zip(&some)
+                    .map(|(&t, &s)| (t, if s != 0 { vals.next().map(|v| v.to_vec()) } else { None }))
+                    .collect(),
+            );
+        }
+        let n = sim.p.nreal;
+        let mut particles = Vec::with_capacity(ng);
+        for &p in &particle {
+            particles.push(match p {
+                -1 => None,
+                p if p >= 0 && (p as usize) < n => Some(p as usize),
+                _ => return Err(bad("a followed particle out of range")),
+            });
+        }
+        let file = match path {
+            Some(p) if ng > 0 => Some(std::io::BufWriter::new(crate::rundir::open_append(p)?)),
+            _ => None,
+        };
+        Ok(Gauges {
+            names: sim.case.gauges.iter().map(|g| g.name.clone()).collect(),
+            cfg: sim.case.gauges.clone(),
+            particle: particles,
+            tied: tied.iter().map(|&t| t as usize).collect(),
+            start_m: start.chunks_exact(dim.max(1)).map(|c| c.to_vec()).collect(),
+            dim,
+            stress,
+            file,
+            record,
+        })
     }
 
     /// The header of gauges.csv: time_s, every gauge's pressure (as before this file recorded
@@ -220,6 +289,15 @@ impl Gauges {
         if let Some(f) = self.file.as_mut() {
             let _ = f.flush();
         }
+    }
+
+    /// Flushes gauges.csv to the disk (before a checkpoint records its length).
+    pub fn sync(&mut self) -> Result<()> {
+        if let Some(f) = self.file.as_mut() {
+            f.flush().map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+            f.get_ref().sync_all().map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+        }
+        Ok(())
     }
 
     /// The measures of gauge `k` (see [`GaugeStats`]).

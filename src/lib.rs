@@ -33,6 +33,9 @@ pub mod progress;
 #[cfg(feature = "plot")]
 pub mod report;
 #[cfg(feature = "io")]
+pub mod restart;
+pub mod rundir;
+#[cfg(feature = "io")]
 pub mod runner;
 pub mod setup;
 pub mod sim;

@@ -54,6 +54,9 @@ pub struct Progress {
     end: f64,
     particles: usize,
     label: String,
+    /// Time (s) and step the run (or its resume) started from.
+    t0: f64,
+    step0: u64,
 }
 
 fn hms(s: f64) -> String {
@@ -84,7 +87,14 @@ impl Progress {
             indicatif::ProgressBar::hidden()
         };
         let now = Instant::now();
-        Progress { mode, bar, start: now, last_line: now, end, particles, label: label.to_string() }
+        Progress { mode, bar, start: now, last_line: now, end, particles, label: label.to_string(), t0: 0.0, step0: 0 }
+    }
+
+    /// A run resumed at time `t0` (s) and step `step0`: rates and the ETA count from there.
+    pub fn starting_at(mut self, t0: f64, step0: u64) -> Progress {
+        self.t0 = t0;
+        self.step0 = step0;
+        self
     }
 
     /// Reports step `nstep` at time `t` (s) after a step `dt` (s); cheap when nothing is due.
@@ -97,23 +107,25 @@ impl Progress {
                     self.bar.set_position(((t / self.end) * 1000.0).clamp(0.0, 1000.0) as u64);
                     self.bar.set_message(format!(
                         "step {nstep} t = {t:.3e} s dt = {dt:.2e} s {:.2e} particle-steps/s",
-                        (self.particles as f64 * nstep as f64) / el
+                        (self.particles as f64 * nstep.saturating_sub(self.step0) as f64) / el
                     ));
                 }
             }
             Mode::Lines(every) => {
-                if self.last_line.elapsed() >= Duration::from_secs_f64(every) {
+                if self.last_line.elapsed() >= Duration::try_from_secs_f64(every).unwrap_or(Duration::MAX) {
                     self.last_line = Instant::now();
                     let el = self.start.elapsed().as_secs_f64().max(1e-9);
                     let frac = (t / self.end).clamp(0.0, 1.0);
-                    let eta = if frac > 0.0 { el * (1.0 - frac) / frac } else { f64::INFINITY };
+                    // the pace of this process: the part of the run it has done
+                    let done = ((t - self.t0) / (self.end - self.t0)).clamp(0.0, 1.0);
+                    let eta = if done > 0.0 { el * (1.0 - done) / done } else { f64::INFINITY };
                     let mut e = std::io::stderr().lock();
                     let _ = writeln!(
                         e,
                         "progress: {}step {nstep}  t = {t:.4e} s ({:.1} %)  dt = {dt:.3e} s  {:.3e} particle-steps/s  elapsed {}  ETA {}",
                         self.label,
                         100.0 * frac,
-                        (self.particles as f64 * nstep as f64) / el,
+                        (self.particles as f64 * nstep.saturating_sub(self.step0) as f64) / el,
                         hms(el),
                         hms(eta)
                     );

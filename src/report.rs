@@ -2,8 +2,8 @@
 
 use crate::analysis::riemann::{Riemann, Side};
 use crate::case::{self, AnalysisKind, Case, EosCfg};
-use crate::error::{Result, SphError, input};
-use crate::output::{Frame, read_frames};
+use crate::error::{Result, input};
+use crate::output::Frame;
 use crate::plot;
 use serde_json::{Value, json};
 use std::path::Path;
@@ -19,14 +19,22 @@ pub struct L1 {
     pub n: usize,
 }
 
-/// Loads the case of a run directory (case.toml with the run's --set overrides).
+/// Loads the case of a run directory (case.toml with the run's --set overrides) and its
+/// summary. A run killed before it wrote summary.json gets a summary that says so
+/// (`"status": "killed"`, `"partial": true`).
 pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     let sp = dir.join("summary.json");
-    let summary: Value = serde_json::from_str(
-        &std::fs::read_to_string(&sp)
-            .map_err(|e| input(format!("{}: {e} (is this a run directory?)", sp.display())))?,
-    )
-    .map_err(|e| input(format!("{}: {e}", sp.display())))?;
+    let summary: Value = match std::fs::read(&sp) {
+        Ok(bytes) => serde_json::from_slice(&bytes)
+            .map_err(|e| input(format!("{}: damaged, not JSON ({e}): not a run directory?", sp.display())))?,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && dir.join("case.toml").is_file() => {
+            json!({ "status": "killed", "partial": true, "case_toml": "the case as run" })
+        }
+        Err(e) => return Err(input(format!("{}: {e} (is this a run directory?)", sp.display()))),
+    };
+    if !summary.is_object() {
+        return Err(input(format!("{}: not a run's summary (a JSON object)", sp.display())));
+    }
     // since case.toml holds the case as run, the overrides are in it; older run directories
     // kept the case file as given and the overrides in summary.json `sets`
     let sets: Vec<String> = if summary.get("case_toml").is_some() {
@@ -38,8 +46,8 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
             .unwrap_or_default()
     };
     let cp = dir.join("case.toml");
-    let text = std::fs::read_to_string(&cp).map_err(|e| input(format!("{}: {e}", cp.display())))?;
-    let name = summary["case"].as_str().map(String::from);
+    let text = crate::case::read_text(&cp)?;
+    let name = summary["case"].as_str().map(String::from).or_else(|| dir.file_name().map(|n| n.to_string_lossy().into_owned()));
     let case = case::parse(&text, &cp.display().to_string(), &sets, name.as_deref())?;
     Ok((case, summary))
 }
@@ -97,7 +105,7 @@ pub fn l1_errors(f: &Frame, rs: &Riemann, x0: f64, window: (f64, f64)) -> L1 {
 
 fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
     let (rs, x0) = riemann_of(case)?;
-    let last = frames.last().ok_or_else(|| SphError::Io("particles.h5 holds no step".into()))?;
+    let last = frames.last().ok_or_else(|| input("particles.h5 holds no step"))?;
     let w = case.analysis.window_m.clone().unwrap_or(vec![f64::NEG_INFINITY, f64::INFINITY]);
     let l1 = l1_errors(last, &rs, x0, (w[0], w[1]));
     let (xa, xb) = (
@@ -164,8 +172,27 @@ pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
 
 /// The report, with snapshots at `times` and, when `animate`, animation.gif.
 pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
-    let (case, summary) = load_case(dir)?;
-    let frames = read_frames(&dir.join("particles.h5"))?;
+    let (case, mut summary) = load_case(dir)?;
+    let (frames, skipped) = crate::output::read_complete_frames(&dir.join("particles.h5"))?;
+    let last = frames.last().ok_or_else(|| input(format!("{}: particles.h5 holds no step", dir.display())))?;
+    // a run that did not finish: reported up to its last complete output
+    let partial = summary["partial"].as_bool().unwrap_or(false)
+        || !matches!(summary["status"].as_str(), Some("ok" | "unstable"))
+        || skipped.is_some();
+    if partial {
+        println!(
+            "PARTIAL: the run did not finish (status {}): reported up to its last complete output, Step#{} at t = {:.6e} s{}",
+            summary["status"].as_str().unwrap_or("?"),
+            frames.len() - 1,
+            last.time,
+            skipped.as_deref().map(|s| format!(" ({s})")).unwrap_or_default()
+        );
+        if summary.get("particles").is_none() {
+            summary["case"] = json!(case.name());
+            summary["particles"] = json!(last.x.len());
+            summary["time"] = json!(last.time);
+        }
+    }
     println!(
         "{}: {} particles, {} steps to t = {:.4e} s in {:.2} s ({}, status {})",
         summary["case"].as_str().unwrap_or("?"),
@@ -201,7 +228,16 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         }
         AnalysisKind::None => json!({}),
     };
+    let mut out = out;
+    if partial && out.is_object() {
+        out["partial"] = json!(true);
+        out["partial_note"] = json!(format!(
+            "the run did not finish (status {}): reported up to its last complete output, t = {:e} s",
+            summary["status"].as_str().unwrap_or("?"),
+            last.time
+        ));
+    }
     let text = serde_json::to_string_pretty(&out).unwrap_or_default();
-    std::fs::write(dir.join("report.json"), text).map_err(|e| SphError::Io(format!("report.json: {e}")))?;
+    crate::rundir::write_atomic(&dir.join("report.json"), text.as_bytes())?;
     Ok(out)
 }

@@ -1,15 +1,19 @@
-//! `blastsph run`: the time loop with outputs, progress and the summary.
+//! `blastsph run`: the time loop with outputs, progress, checkpoints and the summary
+//! ([`crate::restart`] writes and reads the checkpoints and resumes a run).
 
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
-use crate::error::{Result, SphError};
+use crate::error::{Result, SphError, input};
 use crate::gauges::Gauges;
 use crate::output::{H5Part, Peaks};
 use crate::progress::{self, Progress};
+use crate::rundir::{self, Found};
 use crate::sim::{Overrides, Sim};
 use serde::Serialize;
 use serde_json::json;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 #[derive(Debug, Clone, Default)]
@@ -19,6 +23,29 @@ pub struct RunOptions {
     pub ov: Overrides,
     pub quiet: bool,
     pub threads: Option<usize>,
+    /// Replace a non-empty run directory: its blastsph files are removed first (`--force`).
+    pub force: bool,
+    /// When checkpoints are written (default: never).
+    pub checkpoints: Checkpoints,
+    /// Stop cleanly after this step, as a SIGTERM would (a checkpoint, exit status 5).
+    pub stop_after_step: Option<u64>,
+}
+
+/// When a run writes its checkpoint (`checkpoint.bin` in the run directory, replaced each time).
+/// A clean stop (SIGINT, SIGTERM) always writes one.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Checkpoints {
+    /// Every this many steps (`--checkpoint-every`).
+    pub every_steps: Option<u64>,
+    /// Every this many seconds of wall time (`--checkpoint-wall`).
+    pub every_wall_s: Option<f64>,
+    /// At the end of the run, so that `blastsph resume DIR --end-time S` can extend it.
+    pub at_end: bool,
+}
+
+impl Checkpoints {
+    /// `blastsph run`'s default: every 15 minutes of wall time, and at the end.
+    pub const CLI: Checkpoints = Checkpoints { every_steps: None, every_wall_s: Some(900.0), at_end: true };
 }
 
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -31,7 +58,7 @@ pub struct Energy {
     pub total: f64,
 }
 
-fn energy(sim: &Sim) -> Energy {
+pub(crate) fn energy(sim: &Sim) -> Energy {
     let (k, i, e) = sim.energies();
     Energy { kinetic: k, internal: i, elastic: e, total: k + i }
 }
@@ -49,19 +76,44 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
     d.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// The flag a SIGINT or SIGTERM sets (the command line installs the handlers): the run finishes
+/// its step, writes a checkpoint and stops with exit status 5.
+pub fn stop_flag() -> Arc<AtomicBool> {
+    static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone()
+}
+
 pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
-    let text = std::fs::read_to_string(case_path)
-        .map_err(|e| crate::error::input(format!("{}: cannot read the case file: {e}", case_path.display())))?;
-    let case = case::parse(
-        &text,
-        &case_path.display().to_string(),
-        &opts.sets,
-        case_path.file_stem().and_then(|s| s.to_str()),
-    )?;
+    let text = case::read_text(case_path)?;
+    let origin = case_path.display().to_string();
+    let case = case::parse(&text, &origin, &opts.sets, case_path.file_stem().and_then(|s| s.to_str()))?;
+    let dir = opts.out.clone().unwrap_or_else(|| rundir::default_dir(case.name()));
+    let as_run = case_as_run(&text, &origin, opts)?;
+    let found = rundir::inspect(&dir, "--out")?;
+    let shown = dir.display();
+    let clear = match found {
+        Found::Missing | Found::Empty => false,
+        Found::Run { case_toml: Some(t), checkpoint: true } if t == as_run && !opts.force => {
+            // its own restart: the same case, stopped or killed after a checkpoint
+            eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
+            let ro = crate::restart::ResumeOptions::of_run(opts);
+            return crate::restart::resume(&dir, &ro);
+        }
+        _ if opts.force => true,
+        Found::Run { .. } => {
+            return Err(input(format!(
+                "--out {shown}: holds another run (its case.toml differs, or it has no checkpoint): `blastsph resume {shown}` continues it, --force replaces it"
+            )));
+        }
+        Found::Other(name) => {
+            return Err(input(format!(
+                "--out {shown}: not empty (it holds `{name}`, not written by blastsph): give an empty or new folder"
+            )));
+        }
+    };
     let sim = Sim::new(case, &opts.ov)?;
-    let dir = opts.out.clone().unwrap_or_else(|| PathBuf::from("runs").join(sim.case.name()));
-    let as_run = case_as_run(&text, &case_path.display().to_string(), opts)?;
-    run_sim_as(sim, &dir, &text, &as_run, opts)
+    rundir::prepare(&dir, clear)?;
+    Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
 
 /// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
@@ -119,137 +171,272 @@ pub fn run_sim(sim: Sim, dir: &Path, case_text: &str, opts: &RunOptions) -> Resu
     run_sim_as(sim, dir, case_text, case_text, opts)
 }
 
-/// Runs a prepared simulation into `dir`, writing `as_run` as case.toml.
-pub fn run_sim_as(mut sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts: &RunOptions) -> Result<RunResult> {
-    std::fs::create_dir_all(dir).map_err(|e| SphError::Io(format!("{}: {e}", dir.display())))?;
-    std::fs::write(dir.join("case.toml"), as_run).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
-    let mut h5 = H5Part::create(&dir.join("particles.h5"))?;
-    let gpath = dir.join("gauges.csv");
-    let mut gauges = Gauges::new(&sim, Some(&gpath))?;
-    let e0 = energy(&sim);
-    let m0 = sim.total_mass();
-    let n = sim.p.nreal;
-    let start = Instant::now();
-
-    let fixed_steps = match sim.cfg.step {
-        StepRule::Fixed => Some((sim.cfg.end / sim.cfg.dt_fixed).round().max(1.0) as u64),
-        StepRule::Cfl => None,
+/// Runs a prepared simulation into `dir` (new or empty; with `opts.force`, a run directory
+/// cleared first), writing `as_run` as case.toml.
+pub fn run_sim_as(sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts: &RunOptions) -> Result<RunResult> {
+    let clear = match rundir::inspect(dir, "--out")? {
+        Found::Missing | Found::Empty => false,
+        _ if opts.force => true,
+        _ => return Err(input(format!("--out {}: not empty (--force replaces a run directory)", dir.display()))),
     };
-    let interval = sim.cfg.out_interval;
-    let mut next_out = if interval > 0.0 { interval } else { f64::INFINITY };
-    sim.rates();
-    sim.interface_stats();
-    let mut peaks = Peaks::new(&sim);
-    h5.write(&sim, Some(&peaks))?;
-    gauges.sample(&sim)?;
+    rundir::prepare(dir, clear)?;
+    Loop::fresh(sim, dir, case_text, as_run, opts)?.go(opts)
+}
 
-    let mut pb = Progress::new(
-        progress::Mode::choose(opts.quiet, progress::every()),
-        sim.cfg.end,
-        n,
-        &format!("{}: ", sim.case.name()),
-    );
-    let mut diag: Option<SphError> = None;
-    let mut last_written = 0u64;
-    loop {
-        let done = match fixed_steps {
-            Some(ns) => sim.nstep >= ns,
-            None => sim.t >= sim.cfg.end * (1.0 - 1e-12),
-        };
-        if done {
-            break;
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Status {
+    /// In progress (a summary written at a checkpoint: a run killed later keeps it).
+    Running,
+    /// Stopped cleanly (a signal): a checkpoint was written, `blastsph resume` continues it.
+    Stopped,
+    Ok,
+    Unstable,
+}
+
+impl Status {
+    fn name(self) -> &'static str {
+        match self {
+            Status::Running => "running",
+            Status::Stopped => "stopped",
+            Status::Ok => "ok",
+            Status::Unstable => "unstable",
         }
-        match sim.step() {
-            Ok(dt) => {
-                gauges.sample(&sim)?;
-                peaks.update(&sim);
-                if sim.t >= next_out * (1.0 - 1e-9) {
-                    sim.interface_stats();
-                    h5.write(&sim, Some(&peaks))?;
-                    gauges.flush();
-                    last_written = sim.nstep;
-                    while next_out <= sim.t * (1.0 + 1e-9) {
-                        next_out += interval;
-                    }
-                }
-                pb.update(sim.nstep, sim.t, dt);
-            }
-            Err(e) => {
-                diag = Some(e);
+    }
+}
+
+/// The run loop's state beside the solver's: what a checkpoint keeps of it
+/// ([`crate::restart`]).
+pub(crate) struct Loop {
+    pub sim: Sim,
+    pub dir: PathBuf,
+    pub h5: H5Part,
+    pub gauges: Gauges,
+    pub peaks: Peaks,
+    /// Energy and mass at t = 0.
+    pub e0: Energy,
+    pub m0: f64,
+    /// Time of the next output (s).
+    pub next_out: f64,
+    /// The step last written to particles.h5.
+    pub last_written: u64,
+    /// Wall seconds of the run before this process (a resumed run).
+    pub wall_before: f64,
+    /// SHA-256 of the case file as given, and of case.toml (the case as run).
+    pub case_sha: String,
+    pub case_toml_sha: String,
+    /// The `--set` overrides of the run.
+    pub sets: Vec<String>,
+    /// (step, time) of each resume.
+    pub resumes: Vec<(u64, f64)>,
+    pub start: Instant,
+}
+
+impl Loop {
+    /// A new run in the prepared folder `dir`: case.toml, particles.h5 with Step#0, gauges.csv.
+    fn fresh(mut sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts: &RunOptions) -> Result<Loop> {
+        use std::io::Write;
+        let mut f = rundir::create_new(&dir.join("case.toml"))?;
+        f.write_all(as_run.as_bytes()).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
+        let mut h5 = H5Part::create(&dir.join("particles.h5"))?;
+        let mut gauges = Gauges::new(&sim, Some(&dir.join("gauges.csv")))?;
+        let e0 = energy(&sim);
+        let m0 = sim.total_mass();
+        sim.rates();
+        sim.interface_stats();
+        let peaks = Peaks::new(&sim);
+        h5.write(&sim, Some(&peaks))?;
+        gauges.sample(&sim)?;
+        let interval = sim.cfg.out_interval;
+        let lp = Loop {
+            sim,
+            dir: dir.to_path_buf(),
+            h5,
+            gauges,
+            peaks,
+            e0,
+            m0,
+            next_out: if interval > 0.0 { interval } else { f64::INFINITY },
+            last_written: 0,
+            wall_before: 0.0,
+            case_sha: sha256_hex(case_text.as_bytes()),
+            case_toml_sha: sha256_hex(as_run.as_bytes()),
+            sets: opts.sets.clone(),
+            resumes: Vec::new(),
+            start: Instant::now(),
+        };
+        // a summary from the start: a run killed before its first checkpoint is still reported
+        lp.write_summary(Status::Running, None)?;
+        Ok(lp)
+    }
+
+    /// Wall seconds of the whole run so far.
+    pub fn wall(&self) -> f64 {
+        self.wall_before + self.start.elapsed().as_secs_f64()
+    }
+
+    /// Steps to the end until done; writes the outputs, the checkpoints and the summary.
+    pub fn go(mut self, opts: &RunOptions) -> Result<RunResult> {
+        let n = self.sim.p.nreal;
+        let fixed_steps = match self.sim.cfg.step {
+            StepRule::Fixed => Some((self.sim.cfg.end / self.sim.cfg.dt_fixed).round().max(1.0) as u64),
+            StepRule::Cfl => None,
+        };
+        let interval = self.sim.cfg.out_interval;
+        let mut pb = Progress::new(
+            progress::Mode::choose(opts.quiet, progress::every()),
+            self.sim.cfg.end,
+            n,
+            &format!("{}: ", self.sim.case.name()),
+        )
+        .starting_at(self.sim.t, self.sim.nstep);
+        let stop = stop_flag();
+        let cp = opts.checkpoints;
+        let (mut cp_step, mut cp_wall) = (self.sim.nstep, Instant::now());
+        let mut diag: Option<SphError> = None;
+        let mut stopped = false;
+        loop {
+            let done = match fixed_steps {
+                Some(ns) => self.sim.nstep >= ns,
+                None => self.sim.t >= self.sim.cfg.end * (1.0 - 1e-12),
+            };
+            if done {
                 break;
             }
-        }
-    }
-    pb.finish();
-    if last_written != sim.nstep {
-        sim.interface_stats();
-        h5.write(&sim, Some(&peaks))?;
-    }
-    gauges.flush();
-    let wall = start.elapsed().as_secs_f64();
-    let e1 = energy(&sim);
-    let m1 = sim.total_mass();
-
-    let modules: serde_json::Map<String, serde_json::Value> = sim
-        .plan
-        .modules
-        .iter()
-        .filter(|(_, p)| p.active)
-        .map(|(m, p)| (m.name().to_string(), json!(p.backend.name())))
-        .collect();
-    let skipped: serde_json::Map<String, serde_json::Value> =
-        sim.plan.modules.iter().filter(|(_, p)| !p.active).map(|(m, p)| (m.name().to_string(), json!(p.why))).collect();
-    let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
-    let residual = e1.total - e0.total - work;
-    let mut summary = json!({
-        "case": sim.case.name(),
-        "backend": sim.plan.label(),
-        "modules": modules,
-        "skipped": skipped,
-        "dim": sim.cfg.dim,
-        "particles": n,
-        "steps": sim.nstep,
-        "time": sim.t,
-        "wall_seconds": wall,
-        "particle_steps_per_second": (n as f64 * sim.nstep as f64) / wall.max(1e-9),
-        "threads": rayon::current_num_threads(),
-        "nnps": if sim.cfg.cell { "cell" } else { "direct" },
-        "mass": { "initial": m0, "final": m1 },
-        "energy": {
-            "initial": e0, "final": e1,
-            "work_wall": sim.book.work_wall,
-            "work_penalty": sim.book.work_penalty,
-            "work_gravity": sim.book.work_gravity,
-            "balance_residual": residual,
-            "balance_residual_relative": residual / e0.total.abs().max(1e-300),
-        },
-        "stability": sim.stab,
-        "module_seconds": sim.seconds(),
-        "outputs": h5.steps,
-        "version": env!("CARGO_PKG_VERSION"),
-        "case_sha256": sha256_hex(case_text.as_bytes()),
-        "sets": opts.sets,
-        "case_toml": "the case as run: every --set (and --end-time, --nnps) already applied",
-        "status": if diag.is_some() { "unstable" } else { "ok" },
-        "diagnostic": diag.as_ref().map(|d| d.to_string()),
-    });
-    if !gauges.names.is_empty() {
-        summary["gauges"] = json!(gauges.summary());
-    }
-    if sim.case.analysis.kind == AnalysisKind::Crater {
-        match analysis::crater::measure(&sim) {
-            Ok(c) => {
-                summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
-                summary["crater"]["measured"] = json!(true);
-                summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+            match self.sim.step() {
+                Ok(dt) => {
+                    self.gauges.sample(&self.sim)?;
+                    self.peaks.update(&self.sim);
+                    if self.sim.t >= self.next_out * (1.0 - 1e-9) {
+                        self.sim.interface_stats();
+                        self.h5.write(&self.sim, Some(&self.peaks))?;
+                        self.gauges.flush();
+                        self.last_written = self.sim.nstep;
+                        while self.next_out <= self.sim.t * (1.0 + 1e-9) {
+                            self.next_out += interval;
+                        }
+                    }
+                    pb.update(self.sim.nstep, self.sim.t, dt);
+                }
+                Err(e) => {
+                    diag = Some(e);
+                    break;
+                }
             }
-            Err(why) => summary["crater"] = json!({ "measured": false, "reason": why }),
+            // a clean stop, after the step and its outputs
+            if stop.load(Ordering::Relaxed) || opts.stop_after_step.is_some_and(|s| self.sim.nstep >= s) {
+                stopped = true;
+                break;
+            }
+            let due = cp.every_steps.is_some_and(|k| self.sim.nstep - cp_step >= k)
+                || cp.every_wall_s.is_some_and(|s| cp_wall.elapsed().as_secs_f64() >= s);
+            if due {
+                crate::restart::write(&mut self)?;
+                self.write_summary(Status::Running, None)?;
+                (cp_step, cp_wall) = (self.sim.nstep, Instant::now());
+            }
         }
+        pb.finish();
+        if stopped {
+            crate::restart::write(&mut self)?;
+            self.write_summary(Status::Stopped, None)?;
+            return Err(SphError::Stopped(format!(
+                "at step {} (t = {:.6e} s of {:e} s): checkpoint written; `blastsph resume {}` continues the run",
+                self.sim.nstep,
+                self.sim.t,
+                self.sim.cfg.end,
+                self.dir.display()
+            )));
+        }
+        if self.last_written != self.sim.nstep {
+            self.sim.interface_stats();
+            self.h5.write(&self.sim, Some(&self.peaks))?;
+            self.last_written = self.sim.nstep;
+        }
+        self.gauges.flush();
+        if diag.is_none() && cp.at_end {
+            crate::restart::write(&mut self)?;
+        }
+        let status = if diag.is_some() { Status::Unstable } else { Status::Ok };
+        let summary = self.write_summary(status, diag.as_ref())?;
+        if let Some(d) = diag {
+            return Err(d);
+        }
+        Ok(RunResult { dir: self.dir, summary, sim: self.sim })
     }
-    let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
-    std::fs::write(dir.join("summary.json"), text).map_err(|e| SphError::Io(format!("summary.json: {e}")))?;
-    if let Some(d) = diag {
-        return Err(d);
+
+    /// summary.json for the run as it stands, written (through a temporary file) and returned.
+    pub(crate) fn write_summary(&self, status: Status, diag: Option<&SphError>) -> Result<serde_json::Value> {
+        let sim = &self.sim;
+        let n = sim.p.nreal;
+        let wall = self.wall();
+        let (e0, e1, m1) = (self.e0, energy(sim), sim.total_mass());
+        let modules: serde_json::Map<String, serde_json::Value> = sim
+            .plan
+            .modules
+            .iter()
+            .filter(|(_, p)| p.active)
+            .map(|(m, p)| (m.name().to_string(), json!(p.backend.name())))
+            .collect();
+        let skipped: serde_json::Map<String, serde_json::Value> = sim
+            .plan
+            .modules
+            .iter()
+            .filter(|(_, p)| !p.active)
+            .map(|(m, p)| (m.name().to_string(), json!(p.why)))
+            .collect();
+        let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
+        let residual = e1.total - e0.total - work;
+        let mut summary = json!({
+            "case": sim.case.name(),
+            "backend": sim.plan.label(),
+            "modules": modules,
+            "skipped": skipped,
+            "dim": sim.cfg.dim,
+            "particles": n,
+            "steps": sim.nstep,
+            "time": sim.t,
+            "end_time": sim.cfg.end,
+            "wall_seconds": wall,
+            "particle_steps_per_second": (n as f64 * sim.nstep as f64) / wall.max(1e-9),
+            "threads": rayon::current_num_threads(),
+            "nnps": if sim.cfg.cell { "cell" } else { "direct" },
+            "mass": { "initial": self.m0, "final": m1 },
+            "energy": {
+                "initial": e0, "final": e1,
+                "work_wall": sim.book.work_wall,
+                "work_penalty": sim.book.work_penalty,
+                "work_gravity": sim.book.work_gravity,
+                "balance_residual": residual,
+                "balance_residual_relative": residual / e0.total.abs().max(1e-300),
+            },
+            "stability": sim.stab,
+            "module_seconds": sim.seconds(),
+            "outputs": self.h5.steps,
+            "version": env!("CARGO_PKG_VERSION"),
+            "case_sha256": self.case_sha,
+            "sets": self.sets,
+            "case_toml": "the case as run: every --set (and --end-time, --nnps) already applied",
+            "status": status.name(),
+            "partial": matches!(status, Status::Running | Status::Stopped),
+            "diagnostic": diag.map(|d| d.to_string()),
+            "resumed": self.resumes.iter().map(|(s, t)| json!({ "step": s, "time": t })).collect::<Vec<_>>(),
+        });
+        if !self.gauges.names.is_empty() {
+            summary["gauges"] = json!(self.gauges.summary());
+        }
+        if sim.case.analysis.kind == AnalysisKind::Crater {
+            match analysis::crater::measure(sim) {
+                Ok(c) => {
+                    summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
+                    summary["crater"]["measured"] = json!(true);
+                    summary["ejecta_height_m"] = json!(c.ejecta_height_m);
+                }
+                Err(why) => summary["crater"] = json!({ "measured": false, "reason": why }),
+            }
+        }
+        let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
+        rundir::write_atomic(&self.dir.join("summary.json"), text.as_bytes())?;
+        Ok(summary)
     }
-    Ok(RunResult { dir: dir.to_path_buf(), summary, sim })
 }

@@ -88,7 +88,7 @@ fn point_in_polygon(p: &[f64], poly: &[Vec<f64>]) -> bool {
 }
 
 /// Is point `p` inside the shape of region `r`?
-fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
+pub(crate) fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
     let rc = &case.regions[r];
     let d = case.dim;
     match rc.shape {
@@ -104,7 +104,7 @@ fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
     }
 }
 
-fn lattice_points(case: &Case, r: usize) -> Vec<[f64; 3]> {
+fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
     let rc = &case.regions[r];
     let d = case.dim;
     let dx = rc.spacing_m;
@@ -146,7 +146,12 @@ fn lattice_points(case: &Case, r: usize) -> Vec<[f64; 3]> {
             (o, c)
         }
     };
-    let mut pts = Vec::with_capacity(cnt[0] * cnt[1] * cnt[2]);
+    // bounded by the size check; the product is checked all the same
+    let cap = cnt[0].checked_mul(cnt[1]).and_then(|c| c.checked_mul(cnt[2])).unwrap_or(0);
+    let mut pts = Vec::new();
+    if rc.shape != Shape::Polygon {
+        pts.try_reserve_exact(cap).map_err(|e| input(format!("region[{r}] ({}): {cap} particles: {e}", rc.name)))?;
+    }
     for k in 0..cnt[2] {
         for j in 0..cnt[1] {
             for i in 0..cnt[0] {
@@ -162,11 +167,25 @@ fn lattice_points(case: &Case, r: usize) -> Vec<[f64; 3]> {
             }
         }
     }
-    pts
+    Ok(pts)
 }
 
-/// Generates the particles of every region; refuses overlapping or empty regions.
+/// Generates the particles of every region; refuses overlapping or empty regions. The size is
+/// checked first ([`crate::case::size::check`], the default limit from the machine's memory) and
+/// the geometry after ([`crate::case::geometry::check`]).
 pub fn particles(case: &Case) -> Result<Initial> {
+    particles_limited(case, None)
+}
+
+/// [`particles`], with `max_particles` (`--max-particles`) as the limit instead of the memory.
+pub fn particles_limited(case: &Case, max_particles: Option<u64>) -> Result<Initial> {
+    crate::case::size::check(case, max_particles)?;
+    let init = generate(case)?;
+    crate::case::geometry::check(case, &init)?;
+    Ok(init)
+}
+
+fn generate(case: &Case) -> Result<Initial> {
     let d = case.dim;
     let nr = case.regions.len();
     let mut init = Initial { dx_min: f64::INFINITY, ..Default::default() };
@@ -176,7 +195,7 @@ pub fn particles(case: &Case) -> Result<Initial> {
         let cut: Vec<usize> =
             rc.subtract.iter().filter_map(|s| case.regions.iter().position(|q| &q.name == s)).collect();
         let pts: Vec<[f64; 3]> =
-            lattice_points(case, r).into_iter().filter(|p| !cut.iter().any(|&c| inside(case, c, p))).collect();
+            lattice_points(case, r)?.into_iter().filter(|p| !cut.iter().any(|&c| inside(case, c, p))).collect();
         if pts.is_empty() {
             return Err(input(format!(
                 "region[{r}] ({}): holds no particles (is spacing_m = {} larger than the region, or is it all cut out?)",

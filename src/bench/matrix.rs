@@ -59,8 +59,7 @@ pub(super) fn family_label(backend: &str, nnps: &str, kernel: &str) -> String {
 pub(super) fn read_cases(o: &BenchOptions) -> Result<Vec<CaseFile>> {
     let mut out: Vec<CaseFile> = Vec::new();
     for path in &o.cases {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| input(format!("{}: cannot read the case file: {e}", path.display())))?;
+        let text = case::read_text(path)?;
         let origin = path.display().to_string();
         let stem = path.file_stem().and_then(|s| s.to_str());
         let base = case::parse(&text, &origin, &o.sets, stem)?;

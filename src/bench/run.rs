@@ -215,6 +215,9 @@ pub(super) fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Ro
         },
         quiet: true,
         threads: o.threads,
+        // the bench's folders are its own: each run replaces its last
+        force: true,
+        ..Default::default()
     };
     row.load_avg = load_avg();
     let cpu0 = cpu_seconds();

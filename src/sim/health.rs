@@ -4,8 +4,15 @@
 //! so the particle named is the lowest-numbered one whatever the thread count.
 
 use super::{CHUNK, Frame, Sim};
+use crate::case::{DT_MIN_FRACTION, StepRule};
 use crate::error::{Result, SphError};
+
+/// Steps of a window of the progress check.
+pub const PACE_WINDOW: u64 = 1000;
+/// How far beyond `time.max_steps` a projection may reach before the run is stopped.
+pub const PACE_FACTOR: f64 = 10.0;
 use crate::modules::param::NSTR;
+use crate::state::Particles;
 
 /// What is wrong with a particle's state.
 #[derive(Debug, Clone, Copy)]
@@ -24,7 +31,7 @@ enum Bad {
 #[derive(Debug, Clone, Copy)]
 struct Part {
     /// The first particle with a bad value.
-    bad: Option<(usize, Bad)>,
+    bad: Option<usize>,
     /// The first particle deeper than the limit behind a wall: (particle, wall, depth).
     crossed: Option<(usize, usize, f64)>,
     /// The first particle outside the domain.
@@ -70,7 +77,7 @@ impl Part {
 /// normal at `2 dim`) whose frame is `fr`, if it is behind it and within the segment's extent
 /// along it.
 #[inline]
-fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
+pub fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
     let (ut, el, nrm) = fr;
     let (mut dn, mut tp) = (0.0, 0.0);
     for d in 0..dim {
@@ -79,6 +86,32 @@ fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
         tp += r * ut[d];
     }
     (tp >= 0.0 && tp <= *el && dn < 0.0).then_some(-dn)
+}
+
+/// What is wrong with particle `i`: the first bad quantity in the order x, v (by component), ρ,
+/// e, p, τ, h.
+fn what_is_bad(p: &Particles, dim: usize, i: usize, h0: f64) -> Bad {
+    for d in 0..dim {
+        if !p.x[d + dim * i].is_finite() {
+            return Bad::X(d);
+        }
+        if !p.v[d + dim * i].is_finite() {
+            return Bad::V(d);
+        }
+    }
+    let r = p.h[i] / h0;
+    if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
+        Bad::Rho
+    } else if !p.e[i].is_finite() {
+        Bad::E
+    } else if !p.p[i].is_finite() {
+        Bad::P
+    } else if let Some(k) = (!p.tau.is_empty()).then(|| (0..NSTR).find(|&k| !p.tau[k + NSTR * i].is_finite())).flatten()
+    {
+        Bad::Tau(k)
+    } else {
+        Bad::H(r)
+    }
 }
 
 impl Sim {
@@ -163,6 +196,57 @@ impl Sim {
         ))
     }
 
+    /// The floor of the CFL step (s): `time.dt_min_s`, else [`DT_MIN_FRACTION`] × the first step.
+    pub fn dt_floor(&self) -> f64 {
+        self.case.time.dt_min_s.unwrap_or(DT_MIN_FRACTION * self.dt_first)
+    }
+
+    /// The diagnostic of a step that fell below the floor: the particle that limits it.
+    pub(super) fn collapsed(&self, dt: f64) -> SphError {
+        let why = match self.case.time.dt_min_s {
+            Some(m) => format!("time.dt_min_s = {m:e} s"),
+            None => format!("time.dt_min_s, by default {DT_MIN_FRACTION:e} × the first step {:e} s", self.dt_first),
+        };
+        let detail = self.bad_step(dt).to_string();
+        let detail = detail.split_once("; ").map_or(detail.as_str(), |(_, d)| d).to_string();
+        SphError::Unstable(format!(
+            "step {} (t = {:.6e} s): the time step collapsed: dt = {dt:e} s is below the floor {:e} s ({why}); {detail}",
+            self.nstep,
+            self.t,
+            self.dt_floor()
+        ))
+    }
+
+    /// Stops a CFL run whose pace makes its end unreachable: every [`PACE_WINDOW`] steps, the
+    /// steps still needed at the mean step of the window are projected; beyond [`PACE_FACTOR`] ×
+    /// `time.max_steps` in all, the run stops with a diagnostic (it would end at `max_steps`
+    /// anyway, after hours).
+    pub(super) fn check_pace(&mut self) -> Result<()> {
+        if self.cfg.step != StepRule::Cfl {
+            return Ok(());
+        }
+        let (n0, t0) = self.pace;
+        let steps = self.nstep.saturating_sub(n0);
+        if steps < PACE_WINDOW {
+            return Ok(());
+        }
+        self.pace = (self.nstep, self.t);
+        let mean = (self.t - t0) / steps as f64;
+        let left = self.cfg.end - self.t;
+        if left <= 0.0 {
+            return Ok(());
+        }
+        let need = if mean > 0.0 { left / mean } else { f64::INFINITY };
+        let limit = PACE_FACTOR * self.cfg.max_steps as f64;
+        if self.nstep as f64 + need > limit {
+            return Err(SphError::Unstable(format!(
+                "step {} (t = {:.6e} s): at the pace of the last {steps} steps (mean dt = {mean:e} s) the run needs about {need:.3e} more steps to reach {:e} s, more than {PACE_FACTOR} × time.max_steps = {:e} in all: the end is out of reach",
+                self.nstep, self.t, self.cfg.end, limit
+            )));
+        }
+        Ok(())
+    }
+
     /// The health of the state after a step, in one pass: stops a run that went unstable, naming
     /// the step, the particle and the quantity; else updates the statistics.
     pub(super) fn check(&mut self) -> Result<()> {
@@ -178,37 +262,21 @@ impl Sim {
         let chunk = |c: usize| {
             let mut q = Part::new();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                // branch-free: whether anything is wrong (which, is found below for one particle)
                 let mut v2 = 0.0;
-                let mut bad = None;
+                let mut bad = false;
                 for d in 0..dim {
+                    bad |= !p.x[d + dim * i].is_finite() || !p.v[d + dim * i].is_finite();
                     v2 += p.v[d + dim * i] * p.v[d + dim * i];
-                    if bad.is_none() && !p.x[d + dim * i].is_finite() {
-                        bad = Some(Bad::X(d));
-                    }
-                    if bad.is_none() && !p.v[d + dim * i].is_finite() {
-                        bad = Some(Bad::V(d));
-                    }
+                }
+                bad |= !p.rho[i].is_finite() || p.rho[i] <= 0.0 || !p.e[i].is_finite() || !p.p[i].is_finite();
+                if !p.tau.is_empty() {
+                    bad |= !p.tau[NSTR * i..NSTR * i + NSTR].iter().all(|t| t.is_finite());
                 }
                 let r = p.h[i] / h_init[i];
-                if bad.is_none() {
-                    bad = if !p.rho[i].is_finite() || p.rho[i] <= 0.0 {
-                        Some(Bad::Rho)
-                    } else if !p.e[i].is_finite() {
-                        Some(Bad::E)
-                    } else if !p.p[i].is_finite() {
-                        Some(Bad::P)
-                    } else if let Some(k) =
-                        (!p.tau.is_empty()).then(|| (0..NSTR).find(|&k| !p.tau[k + NSTR * i].is_finite())).flatten()
-                    {
-                        Some(Bad::Tau(k))
-                    } else if !r.is_finite() || r < 1e-3 {
-                        Some(Bad::H(r))
-                    } else {
-                        None
-                    };
-                }
-                if let (None, Some(b)) = (q.bad, bad) {
-                    q.bad = Some((i, b));
+                bad |= !r.is_finite() || r < 1e-3;
+                if bad && q.bad.is_none() {
+                    q.bad = Some(i);
                 }
                 q.hr = (q.hr.0.min(r), q.hr.1.max(r));
                 let ke = 0.5 * p.mass[i] * v2;
@@ -238,7 +306,8 @@ impl Sim {
         let all = parts.iter().fold(Part::new(), |a, q| a.then(q));
         let step = self.nstep;
         let at = format!("step {step} (t = {:.6e} s)", self.t);
-        if let Some((i, b)) = all.bad {
+        if let Some(i) = all.bad {
+            let b = what_is_bad(p, dim, i, h_init[i]);
             self.stab.nan |= !matches!(b, Bad::Rho | Bad::H(_)) || !p.rho[i].is_finite();
             let (what, v) = match b {
                 Bad::X(d) => (format!("x[{d}]"), p.x[d + dim * i]),

@@ -4,12 +4,15 @@
 //! ([`crate::dual`]) every stage runs both implementations on identical inputs, their outputs are
 //! compared, and the run continues with the Fortran result.
 
+pub mod checkpoint;
 mod config;
 mod health;
 pub mod plan;
 mod step;
 
+pub use checkpoint::Blob;
 pub use config::{Config, Frame};
+pub use health::behind_wall;
 pub use plan::{Overrides, Plan};
 
 use crate::case::{Case, NnpsKind};
@@ -80,16 +83,24 @@ pub struct Sim {
     pub cmp: Option<Comparator>,
     /// Wall time of the solver's own work outside the stages (s), by name ("incidence", "reorder").
     pub timers: BTreeMap<&'static str, f64>,
+    /// The first step the CFL rule proposed (s; 0 before it): the default floor of the step is a
+    /// fraction of it ([`crate::case::DT_MIN_FRACTION`]).
+    pub dt_first: f64,
+    /// Where the current window of the progress check began: (step, time s).
+    pub pace: (u64, f64),
 }
 
 impl Sim {
     pub fn new(case: Case, ov: &Overrides) -> Result<Sim> {
         let mut case = case;
         if let Some(t) = ov.end_time {
-            if t.is_nan() || t <= 0.0 {
-                return Err(input(format!("--end-time {t}: must be positive")));
+            let max = crate::case::validate::T_MAX;
+            if !(t.is_finite() && t > 0.0 && t <= max) {
+                return Err(input(format!("--end-time {t}: must be a positive time in seconds, at most {max:e}")));
             }
             case.time.end_s = t;
+            // what depends on the end (fixed steps against max_steps, the number of outputs)
+            case.validate().map_err(|e| input(format!("--end-time {t}: {e}")))?;
         }
         if let Some(n) = &ov.nnps {
             case.sph.nnps = match n.as_str() {
@@ -105,7 +116,7 @@ impl Sim {
             Some(d) => Some(crate::migration::legacy::Legacy::open(d, &case, ov.legacy_setup_only)?),
             None => None,
         };
-        let mut init = setup::particles(&case)?;
+        let mut init = setup::particles_limited(&case, ov.max_particles)?;
         if let Some(l) = &legacy {
             init = l.setup(&case, init)?;
             l.check_capacity(init.mass.len())?;
@@ -156,6 +167,8 @@ impl Sim {
             region: init.region,
             cmp: None,
             timers: BTreeMap::new(),
+            dt_first: 0.0,
+            pace: (0, 0.0),
         };
         sim.run_phase(Phase::Init, 0.0);
         let (ke, ie, _) = sim.energies();

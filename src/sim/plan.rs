@@ -21,6 +21,9 @@ pub struct Overrides {
     pub legacy: Option<std::path::PathBuf>,
     /// With `legacy`: only its set-up routine (the initial particles), no routine in the step.
     pub legacy_setup_only: bool,
+    /// The largest particle count allowed (`--max-particles`); default: what fits in 80 % of
+    /// the machine's memory ([`crate::case::size`]).
+    pub max_particles: Option<u64>,
 }
 
 /// One stage of the step, with the implementation that runs it and the time it took.

@@ -126,6 +126,8 @@ impl Sim {
             self.run_phase(Phase::Predict, 0.0);
         }
         self.rates();
+        // the step the rule proposes, before it is cut to the end of the run
+        let mut proposed = f64::INFINITY;
         let dt = match self.cfg.step {
             StepRule::Fixed => self.cfg.dt_fixed,
             StepRule::Cfl => {
@@ -133,6 +135,10 @@ impl Sim {
                 // (a NaN stays NaN, for the diagnostic below)
                 let dt = self.w.dt_cfl[0];
                 let dt = if dt > self.cfg.dt_max { self.cfg.dt_max } else { dt };
+                proposed = dt;
+                if self.nstep == 0 {
+                    self.dt_first = dt;
+                }
                 let left = self.cfg.end - self.t;
                 if dt > left { left } else { dt }
             }
@@ -141,6 +147,9 @@ impl Sim {
         if dt.is_nan() || dt <= 0.0 || !dt.is_finite() {
             return Err(self.bad_step(dt));
         }
+        if proposed < self.dt_floor() {
+            return Err(self.collapsed(proposed));
+        }
         self.account(dt);
         self.run_phase(Phase::Advance, dt);
         self.run_phase(Phase::Correct, dt);
@@ -148,6 +157,7 @@ impl Sim {
         self.dt_prev = dt;
         self.nstep += 1;
         self.check()?;
+        self.check_pace()?;
         Ok(dt)
     }
 

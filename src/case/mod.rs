@@ -1,0 +1,136 @@
+//! Case files: TOML, SI units, every key with its unit in its name or its docs
+//! (`docs/cases.md` lists them all). Unknown keys are refused (`deny_unknown_fields`).
+//!
+//! What is where:
+//! - [`types`]: the tables as Rust types (serde);
+//! - [`sets`]: `--set KEY=VALUE` overrides, applied to the text;
+//! - [`validate`]: every value checked, one place per key (finite, in its physical range, the
+//!   references between tables), with one-line errors naming the key;
+//! - [`size`]: the particle count and the memory a case needs, estimated before anything is
+//!   generated, and the limit it must stay under;
+//! - [`geometry`]: the checks that need the generated particles (regions behind a wall or outside
+//!   the domain, a detonation point outside every charge, a gauge outside the material).
+//!
+//! Loading is [`load`] (the file, read with a size limit) then [`parse`] (overrides, serde,
+//! validation).
+
+pub mod geometry;
+mod sets;
+pub mod size;
+mod types;
+pub mod validate;
+
+pub use sets::apply_sets;
+pub use types::*;
+
+use crate::error::{Result, SphError, input};
+use std::io::Read;
+use std::path::Path;
+
+/// The largest case file read (bytes): a case is a few kilobytes; anything near this is not one.
+pub const MAX_CASE_BYTES: u64 = 4 << 20;
+
+/// Reads a case file: a regular file (not a folder, a device or a pipe) of at most
+/// [`MAX_CASE_BYTES`], in UTF-8. Errors are one line naming the file.
+pub fn read_text(path: &Path) -> Result<String> {
+    let shown = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| input(format!("{shown}: cannot read the case file: {e}")))?;
+    if !meta.is_file() {
+        return Err(input(format!("{shown}: not a case file (a folder, a device or a pipe)")));
+    }
+    if meta.len() > MAX_CASE_BYTES {
+        return Err(input(format!(
+            "{shown}: {} bytes is too large for a case file (at most {MAX_CASE_BYTES})",
+            meta.len()
+        )));
+    }
+    let f = std::fs::File::open(path).map_err(|e| input(format!("{shown}: cannot read the case file: {e}")))?;
+    let mut bytes = Vec::new();
+    f.take(MAX_CASE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| input(format!("{shown}: cannot read the case file: {e}")))?;
+    if bytes.len() as u64 > MAX_CASE_BYTES {
+        return Err(input(format!("{shown}: too large for a case file (at most {MAX_CASE_BYTES} bytes)")));
+    }
+    String::from_utf8(bytes).map_err(|e| input(format!("{shown}: not UTF-8 text: {e}")))
+}
+
+/// Reads a case file, applies `key=value` overrides, and parses it.
+pub fn load(path: &Path, sets: &[String]) -> Result<Case> {
+    let text = read_text(path)?;
+    parse(&text, &path.display().to_string(), sets, path.file_stem().and_then(|s| s.to_str()))
+}
+
+/// Parses case text; `origin` names it in error messages. The `--set` overrides are applied to
+/// the text ([`apply_sets`]); an error they cause names the override, not a line of the edited
+/// text.
+pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> Result<Case> {
+    text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
+    let attempt = |k: usize| -> Result<Case> {
+        let edited = apply_sets(text, &sets[..k])?;
+        let mut case: Case = toml::from_str(&edited).map_err(|e| toml_error(origin, &edited, &e))?;
+        if case.name.is_none() {
+            case.name = Some(stem.unwrap_or("case").to_string());
+        }
+        case.validate()?;
+        Ok(case)
+    };
+    match attempt(sets.len()) {
+        Ok(c) => Ok(c),
+        Err(e) if sets.is_empty() => Err(e),
+        Err(e) => Err(blame(&e, sets, &attempt)),
+    }
+}
+
+/// The error of a case with overrides, attributed: to the file when the file alone gives the same
+/// error, else to the first override after which it appears.
+fn blame(e: &SphError, sets: &[String], attempt: &dyn Fn(usize) -> Result<Case>) -> SphError {
+    let msg = |e: &SphError| -> String {
+        // the message without a leading `origin:line: `
+        let s = e.to_string();
+        match s.split_once(": ") {
+            Some((head, rest)) if head.rsplit(':').next().is_some_and(|l| l.parse::<usize>().is_ok()) => {
+                rest.to_string()
+            }
+            _ => s,
+        }
+    };
+    let want = msg(e);
+    if let Err(e0) = attempt(0)
+        && msg(&e0) == want
+    {
+        return e0;
+    }
+    for k in 1..=sets.len() {
+        if let Err(ek) = attempt(k)
+            && msg(&ek) == want
+        {
+            if want.starts_with("--set ") {
+                return input(want);
+            }
+            return input(format!("--set {}: {want}", sets::shown(&sets[k - 1])));
+        }
+    }
+    let all: Vec<String> = sets.iter().map(|s| sets::shown(s)).collect();
+    input(format!("--set {}: {want}", all.join(" --set ")))
+}
+
+fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> SphError {
+    // the line of the span's start (counted in bytes: a span need not fall on a char boundary)
+    let line = e.span().map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
+    let msg = e.message().replace(['\n', '\r'], " ");
+    match line {
+        Some(l) => input(format!("{origin}:{l}: {msg}")),
+        None => input(format!("{origin}: {msg}")),
+    }
+}
+
+impl Case {
+    pub fn name(&self) -> &str {
+        self.name.as_deref().unwrap_or("case")
+    }
+
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.materials.iter().position(|m| m.name == name)
+    }
+}

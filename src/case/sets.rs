@@ -1,0 +1,86 @@
+//! `--set KEY=VALUE` overrides, applied to the case's text (its layout and comments kept), so an
+//! override is validated exactly like the file (`docs/cases.md`).
+
+use crate::error::{Result, input};
+
+/// The case text with `--set a.b.c=value` overrides applied (value parsed as TOML, else taken as
+/// a string), keeping the file's layout and comments; a changed value is marked with a comment
+/// `# set by --set (was …)`. Arrays of tables are indexed by number or by their `name`:
+/// `material.loose_sand.pmin_pa=0`.
+pub fn apply_sets(text: &str, sets: &[String]) -> Result<String> {
+    if sets.is_empty() {
+        return Ok(text.to_string());
+    }
+    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| input(format!("{e}")))?;
+    for s in sets {
+        apply_set(&mut doc, s)?;
+    }
+    Ok(doc.to_string())
+}
+
+fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
+    use toml_edit::Item;
+    let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {}: expected key=value", shown(s))))?;
+    let key = key.trim();
+    let ks = shown(key);
+    let mut parsed: toml_edit::Value = match format!("v = {val}").parse::<toml_edit::DocumentMut>() {
+        Ok(d) => match d.get("v").and_then(|v| v.as_value()) {
+            Some(v) => v.clone(),
+            None => toml_edit::Value::from(val),
+        },
+        Err(_) => toml_edit::Value::from(val),
+    };
+    if key.is_empty() || key.split('.').any(|p| p.is_empty()) {
+        return Err(input(format!("--set {}: an empty key", shown(s))));
+    }
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur: &mut Item = doc.as_item_mut();
+    for part in parts {
+        let array_len = match &*cur {
+            Item::ArrayOfTables(a) => Some(a.len()),
+            Item::Value(toml_edit::Value::Array(a)) => Some(a.len()),
+            _ => None,
+        };
+        cur = if let Some(len) = array_len {
+            let idx = match part.parse::<usize>() {
+                Ok(i) => i,
+                Err(_) => {
+                    let named = |t: Option<&str>| t == Some(part);
+                    let pos = match &*cur {
+                        Item::ArrayOfTables(a) => a.iter().position(|t| named(t.get("name").and_then(|n| n.as_str()))),
+                        Item::Value(toml_edit::Value::Array(a)) => a.iter().position(|v| {
+                            named(v.as_inline_table().and_then(|t| t.get("name")).and_then(|n| n.as_str()))
+                        }),
+                        _ => None,
+                    };
+                    pos.ok_or_else(|| input(format!("--set {ks}: no entry named `{}`", shown(part))))?
+                }
+            };
+            if idx >= len {
+                return Err(input(format!("--set {ks}: index {idx} out of range ({len} entries)")));
+            }
+            cur.get_mut(idx).ok_or_else(|| input(format!("--set {ks}: index {idx} out of range")))?
+        } else if cur.is_table_like() || cur.is_none() {
+            cur.get_mut(part).ok_or_else(|| input(format!("--set {ks}: `{}` is not inside a table", shown(part))))?
+        } else {
+            return Err(input(format!("--set {ks}: `{}` is not inside a table", shown(part))));
+        };
+    }
+    if let Some(old) = cur.as_value() {
+        let mut was = old.clone();
+        was.decor_mut().clear();
+        let prefix = old.decor().prefix().and_then(|p| p.as_str()).unwrap_or(" ").to_string();
+        parsed.decor_mut().set_prefix(prefix);
+        parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", shown(was.to_string().trim())));
+    } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
+        return Err(input(format!("--set {ks}: replaces a table with a value")));
+    }
+    *cur = Item::Value(parsed);
+    Ok(())
+}
+
+/// An override as error messages show it: on one line, cut to 120 characters.
+pub(super) fn shown(s: &str) -> String {
+    let one: String = s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    if one.chars().count() > 120 { format!("{}…", one.chars().take(120).collect::<String>()) } else { one }
+}

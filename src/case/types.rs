@@ -1,0 +1,602 @@
+//! The case's tables as Rust types: one struct per TOML table, `deny_unknown_fields` everywhere
+//! (`docs/cases.md` lists every key with its unit and default). What serde cannot check is
+//! checked in [`super::validate`]: one place per key.
+
+use serde::Deserialize;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// Name of the case (default: the file stem).
+    pub name: Option<String>,
+    /// Free text.
+    #[serde(default)]
+    pub description: String,
+    /// Space dimension: 1, 2 (plane strain) or 3.
+    pub dim: usize,
+    pub time: TimeCfg,
+    #[serde(default)]
+    pub sph: SphCfg,
+    #[serde(default)]
+    pub viscosity: ViscCfg,
+    pub penalty: Option<PenaltyCfg>,
+    #[serde(default)]
+    pub boundary: BoundaryCfg,
+    #[serde(default)]
+    pub physics: PhysicsCfg,
+    #[serde(rename = "material", default)]
+    pub materials: Vec<MaterialCfg>,
+    #[serde(rename = "region", default)]
+    pub regions: Vec<RegionCfg>,
+    #[serde(rename = "wall", default)]
+    pub walls: Vec<WallCfg>,
+    pub detonation: Option<DetonationCfg>,
+    #[serde(rename = "gauge", default)]
+    pub gauges: Vec<GaugeCfg>,
+    #[serde(default)]
+    pub analysis: AnalysisCfg,
+    #[serde(default)]
+    pub backend: BackendCfg,
+    pub domain: Option<DomainCfg>,
+    /// Compatibility items of the Rust twins (`--compat`; docs/migration.md A.6).
+    #[serde(default)]
+    pub compat: crate::migration::compat::CompatCfg,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeCfg {
+    /// End time (s).
+    pub end_s: f64,
+    /// Interval between outputs to particles.h5 (s); 0 = first and last step only.
+    #[serde(default)]
+    pub output_interval_s: f64,
+    /// Step rule: "cfl" (default) or "fixed".
+    #[serde(default = "default_step")]
+    pub step: StepRule,
+    /// Fixed step (s), for `step = "fixed"`.
+    pub dt_s: Option<f64>,
+    /// Courant number C_cfl for `step = "cfl"`.
+    #[serde(default = "default_cfl")]
+    pub cfl: f64,
+    /// Largest step (s) under the CFL rule.
+    pub dt_max_s: Option<f64>,
+    /// Smallest step (s) under the CFL rule: a run whose step falls below it stops as unstable
+    /// with a diagnostic (default: [`DT_MIN_FRACTION`] × the first step).
+    pub dt_min_s: Option<f64>,
+    /// Stop after this many steps (a safety limit).
+    #[serde(default = "default_max_steps")]
+    pub max_steps: u64,
+}
+
+/// The default floor of the CFL step, as a fraction of the run's first step: a step that falls
+/// this far has collapsed (healthy runs stay within a factor of a few of their first step).
+pub const DT_MIN_FRACTION: f64 = 1e-3;
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum StepRule {
+    Cfl,
+    Fixed,
+}
+
+fn default_step() -> StepRule {
+    StepRule::Cfl
+}
+fn default_cfl() -> f64 {
+    0.25
+}
+fn default_max_steps() -> u64 {
+    10_000_000
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum KernelKind {
+    Cubic,
+    Gauss,
+    Quintic,
+    Wendland,
+}
+
+impl KernelKind {
+    /// The Fortran code (skf) of the kernel.
+    pub fn skf(self) -> i32 {
+        match self {
+            KernelKind::Cubic => 1,
+            KernelKind::Gauss => 2,
+            KernelKind::Quintic => 3,
+            KernelKind::Wendland => 4,
+        }
+    }
+    /// Support radius in units of h.
+    pub fn support(self) -> f64 {
+        match self {
+            KernelKind::Cubic | KernelKind::Wendland => 2.0,
+            KernelKind::Gauss | KernelKind::Quintic => 3.0,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            KernelKind::Cubic => "cubic",
+            KernelKind::Gauss => "gauss",
+            KernelKind::Quintic => "quintic",
+            KernelKind::Wendland => "wendland",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum NnpsKind {
+    Direct,
+    Cell,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum DensityKind {
+    Summation,
+    Continuity,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ContinuityForm {
+    Mass,
+    Volume,
+}
+
+fn default_cform() -> ContinuityForm {
+    ContinuityForm::Mass
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum SmoothingKind {
+    /// h fixed at its initial value.
+    Constant,
+    /// h = h0 (rho0/rho)^(1/d).
+    Density,
+    /// dh/dt of the thesis (2-15, 2-16).
+    Rate,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphCfg {
+    #[serde(default = "default_kernel")]
+    pub kernel: KernelKind,
+    /// h0 = h_over_dx × the region's spacing (thesis: 1.0–1.2).
+    #[serde(default = "one")]
+    pub h_over_dx: f64,
+    #[serde(default = "default_nnps")]
+    pub nnps: NnpsKind,
+    #[serde(default = "default_density")]
+    pub density: DensityKind,
+    /// Form of the continuity equation: "mass" (Σ m_j v_ij·∇W, thesis Table 4-1) or "volume"
+    /// (ρ_i Σ (m_j/ρ_j) v_ij·∇W, for large density ratios).
+    #[serde(default = "default_cform")]
+    pub continuity_form: ContinuityForm,
+    #[serde(default = "default_smoothing")]
+    pub smoothing: SmoothingKind,
+    /// θ of the h update (2-16).
+    #[serde(default = "one")]
+    pub theta: f64,
+    /// XSPH averaging coefficient ε (0 = off).
+    #[serde(default)]
+    pub xsph_eps: f64,
+    /// Sort the particles by cell every this many steps, for memory locality (0 = never). It
+    /// changes the order of the neighbour sums, so results differ at round-off from an unsorted
+    /// run (they stay independent of the backend and of the thread count).
+    #[serde(default)]
+    pub reorder_every: u64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn default_kernel() -> KernelKind {
+    KernelKind::Cubic
+}
+fn default_nnps() -> NnpsKind {
+    NnpsKind::Cell
+}
+fn default_density() -> DensityKind {
+    DensityKind::Continuity
+}
+fn default_smoothing() -> SmoothingKind {
+    SmoothingKind::Rate
+}
+
+impl Default for SphCfg {
+    fn default() -> Self {
+        SphCfg {
+            kernel: default_kernel(),
+            h_over_dx: 1.0,
+            nnps: default_nnps(),
+            density: default_density(),
+            continuity_form: default_cform(),
+            smoothing: default_smoothing(),
+            theta: 1.0,
+            xsph_eps: 0.0,
+            reorder_every: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViscCfg {
+    /// Monaghan α (thesis: 1).
+    #[serde(default = "one")]
+    pub alpha: f64,
+    /// Monaghan β (thesis: 10).
+    #[serde(default = "default_beta")]
+    pub beta: f64,
+    /// φ = phi_over_h × h_ij (4-48; 0.1).
+    #[serde(default = "default_phi")]
+    pub phi_over_h: f64,
+}
+
+fn default_beta() -> f64 {
+    10.0
+}
+fn default_phi() -> f64 {
+    0.1
+}
+
+impl Default for ViscCfg {
+    fn default() -> Self {
+        ViscCfg { alpha: 1.0, beta: 10.0, phi_over_h: 0.1 }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PenaltyCfg {
+    /// P̄ (N·m in 2D plane, per metre of depth): the penalty constant (4-53; 1e5).
+    #[serde(default = "default_pbar")]
+    pub pbar: f64,
+    #[serde(default = "default_n1")]
+    pub n1: i32,
+    #[serde(default = "default_n2")]
+    pub n2: i32,
+}
+
+fn default_pbar() -> f64 {
+    1e5
+}
+fn default_n1() -> i32 {
+    12
+}
+fn default_n2() -> i32 {
+    6
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryCfg {
+    /// Spacing of type I wall particles along a wall (m); default: a quarter of the finest
+    /// region spacing.
+    pub wall_spacing_m: Option<f64>,
+    /// Range r0 of the wall force (m); default: half the finest region spacing.
+    pub r0_m: Option<f64>,
+    /// D of the wall force (m²/s²).
+    #[serde(default = "default_dwall")]
+    pub d_m2s2: f64,
+    #[serde(default = "default_n1")]
+    pub n1: i32,
+    #[serde(default = "default_wall_n2")]
+    pub n2: i32,
+    /// Mirror velocities: false = free slip (normal component reversed), true = no slip.
+    #[serde(default)]
+    pub noslip: bool,
+}
+
+fn default_dwall() -> f64 {
+    1e4
+}
+fn default_wall_n2() -> i32 {
+    4
+}
+
+impl Default for BoundaryCfg {
+    fn default() -> Self {
+        BoundaryCfg { wall_spacing_m: None, r0_m: None, d_m2s2: 1e4, n1: 12, n2: 4, noslip: false }
+    }
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicsCfg {
+    /// Gravity (m/s²), one component per dimension; absent = none.
+    pub gravity_ms2: Option<Vec<f64>>,
+}
+
+/// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
+/// the table does not give ([`crate::presets`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(try_from = "toml::Table")]
+pub struct MaterialCfg {
+    pub name: String,
+    /// The preset the material was built from, if any.
+    pub preset: Option<String>,
+    pub eos: EosCfg,
+    pub strength: Option<StrengthCfg>,
+    /// Pressure floor (Pa): tension cut-off of soils, cavitation of water. Absent = none.
+    pub pmin_pa: Option<f64>,
+    /// Specific internal energy at the start (J/kg) for regions of this material that give none.
+    pub e0_jkg: Option<f64>,
+    /// Materials with the same penalty group feel no penalty force between them
+    /// (default: each material its own group).
+    pub penalty_group: Option<String>,
+}
+
+/// The keys of a `[[material]]` table once its preset is merged in.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFields {
+    name: String,
+    preset: Option<String>,
+    eos: EosCfg,
+    strength: Option<StrengthCfg>,
+    pmin_pa: Option<f64>,
+    e0_jkg: Option<f64>,
+    penalty_group: Option<String>,
+}
+
+impl TryFrom<toml::Table> for MaterialCfg {
+    type Error = String;
+    fn try_from(mut t: toml::Table) -> std::result::Result<MaterialCfg, String> {
+        let name = t.get("name").and_then(|n| n.as_str()).unwrap_or("?").to_string();
+        let preset = match t.get("preset") {
+            None => None,
+            Some(toml::Value::String(p)) => Some(p.clone()),
+            Some(v) => {
+                return Err(format!(
+                    "material `{name}`: preset = {v}: must be a preset name ({})",
+                    crate::presets::names()
+                ));
+            }
+        };
+        if let Some(p) = &preset {
+            let mut base = crate::presets::get(p).ok_or_else(|| {
+                format!("material `{name}`: preset = \"{p}\": no such preset (presets: {})", crate::presets::names())
+            })?;
+            t.remove("preset");
+            crate::presets::merge(&mut base, t);
+            t = base;
+            t.insert("preset".into(), toml::Value::String(p.clone()));
+        }
+        let f = MaterialFields::deserialize(toml::Value::Table(t))
+            .map_err(|e| format!("material `{name}`: {}", e.message().replace('\n', " ")))?;
+        Ok(MaterialCfg {
+            name: f.name,
+            preset: f.preset,
+            eos: f.eos,
+            strength: f.strength,
+            pmin_pa: f.pmin_pa,
+            e0_jkg: f.e0_jkg,
+            penalty_group: f.penalty_group,
+        })
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum EosCfg {
+    /// Ideal gas p = (γ−1)ρe.
+    IdealGas { gamma: f64, rho0_kgm3: Option<f64> },
+    /// JWL (4-39).
+    Jwl { rho0_kgm3: f64, a_pa: f64, b_pa: f64, r1: f64, r2: f64, omega: f64, d_ms: f64 },
+    /// Water polynomial (4-40, 4-41).
+    Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
+    /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
+    Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
+}
+
+impl EosCfg {
+    pub fn rho0(&self) -> Option<f64> {
+        match self {
+            EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
+            EosCfg::Jwl { rho0_kgm3, .. } | EosCfg::Water { rho0_kgm3, .. } | EosCfg::Soil { rho0_kgm3, .. } => {
+                Some(*rho0_kgm3)
+            }
+        }
+    }
+    pub fn kind(&self) -> &'static str {
+        match self {
+            EosCfg::IdealGas { .. } => "ideal_gas",
+            EosCfg::Jwl { .. } => "jwl",
+            EosCfg::Water { .. } => "water",
+            EosCfg::Soil { .. } => "soil",
+        }
+    }
+}
+
+/// Drucker–Prager strength (4-29…4-32).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrengthCfg {
+    /// Shear modulus G (Pa).
+    pub shear_modulus_pa: f64,
+    /// α_φ of the yield surface √J2 = 3 α_φ p + k.
+    pub alpha_phi: f64,
+    /// k of the yield surface (Pa).
+    pub cohesion_pa: f64,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Shape {
+    /// An axis-aligned box `lo_m`..`hi_m`, particles at the centres of its lattice cells.
+    Box,
+    /// A polygon (2D) `vertices_m`, cell-centred lattice from its lower-left corner.
+    Polygon,
+    /// `count` particles per axis at `origin_m + k × spacing_m` (Liu's shock tube).
+    Lattice,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionCfg {
+    pub name: String,
+    pub material: String,
+    pub shape: Shape,
+    pub lo_m: Option<Vec<f64>>,
+    pub hi_m: Option<Vec<f64>>,
+    pub vertices_m: Option<Vec<Vec<f64>>>,
+    pub origin_m: Option<Vec<f64>>,
+    pub count: Option<Vec<usize>>,
+    /// Initial particle spacing Δx (m).
+    pub spacing_m: f64,
+    /// Initial density (kg/m³); default: the material's ρ0.
+    pub rho_kgm3: Option<f64>,
+    /// Initial specific internal energy (J/kg); default: the material's e0_jkg, else 0.
+    pub e_jkg: Option<f64>,
+    /// Initial velocity (m/s).
+    pub velocity_ms: Option<Vec<f64>>,
+    /// Particle mass (kg, per metre of depth in 2D); default ρ Δx^d.
+    pub mass_kg: Option<f64>,
+    /// Initial smoothing length (m); default h_over_dx × Δx.
+    pub h_m: Option<f64>,
+    /// Regions whose shape is cut out of this one.
+    #[serde(default)]
+    pub subtract: Vec<String>,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum WallKind {
+    /// Type I: wall particles with a repulsive force.
+    Repulsive,
+    /// Type II: mirror particles.
+    Mirror,
+    /// Both kinds (the thesis's blast runs).
+    Both,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallCfg {
+    /// Start point (m).
+    pub from_m: Vec<f64>,
+    /// End point (m); equal to from_m in 1D.
+    pub to_m: Vec<f64>,
+    #[serde(default = "default_wall_kind")]
+    pub kind: WallKind,
+}
+
+fn default_wall_kind() -> WallKind {
+    WallKind::Both
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum BurnMode {
+    /// Constant-volume burn: all products at ρ0, e0 at t = 0.
+    Instant,
+    /// Programmed burn from `point_m` at the detonation speed D.
+    Programmed,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DetonationCfg {
+    pub mode: BurnMode,
+    /// Lighting point (m), for the programmed burn.
+    pub point_m: Option<Vec<f64>>,
+    /// Width of the burn ramp in units of h (0 = a particle burns at once when lit).
+    #[serde(default)]
+    pub width_h: f64,
+}
+
+/// What a gauge follows (docs/cases.md `[[gauge]]`).
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum GaugeKind {
+    /// Lagrangian: the real particle nearest `point_m` at t = 0 (ties within 1e-6 of the finest
+    /// spacing go to the particle generated first, i.e. the lowest id), followed as it moves.
+    #[default]
+    Particle,
+    /// Eulerian: the fixed point `point_m`, values by the Shepard-normalised SPH interpolation
+    /// Σ_j (m_j/ρ_j) f_j W(|x − x_j|, h_j) / Σ_j (m_j/ρ_j) W(|x − x_j|, h_j) over the real particles.
+    Point,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GaugeCfg {
+    pub name: String,
+    /// Where the gauge is (m).
+    pub point_m: Vec<f64>,
+    /// "particle" (default: the particle nearest the point at t = 0) or "point" (the fixed point).
+    #[serde(default)]
+    pub kind: GaugeKind,
+}
+
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum AnalysisKind {
+    #[default]
+    None,
+    /// A 1D Riemann problem: L1 errors against the exact solution.
+    Riemann,
+    /// A blast in soil: crater, ejecta, gauges.
+    Crater,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisCfg {
+    #[serde(default)]
+    pub kind: AnalysisKind,
+    /// Riemann: position of the diaphragm (m).
+    pub diaphragm_m: Option<f64>,
+    /// Riemann: the interval over which L1 errors are taken (m).
+    pub window_m: Option<Vec<f64>>,
+    /// Crater: the materials that count as soil (default: every material with strength).
+    pub soil_materials: Option<Vec<String>>,
+    /// Thesis values to report beside ours: final crater diameter and depth (m).
+    pub thesis_crater_m: Option<Vec<f64>>,
+    /// Thesis crater growth: [time (s), diameter (m), depth (m)] rows.
+    pub thesis_crater_history: Option<Vec<Vec<f64>>>,
+    /// Thesis gauge readings to report beside ours.
+    #[serde(default)]
+    pub thesis_gauge: Vec<ThesisGauge>,
+}
+
+/// One gauge reading reported by the thesis (THESIS.md §9).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisGauge {
+    /// Gauge name (as in [[gauge]]).
+    pub gauge: String,
+    /// Time of the peak (s).
+    pub peak_time_s: Option<f64>,
+    /// Peak pressure (Pa).
+    pub peak_pa: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BackendCfg {
+    /// "fortran" or "rust" for every module not named below.
+    pub default: Option<String>,
+    #[serde(default)]
+    pub rust: Vec<String>,
+    #[serde(default)]
+    pub fortran: Vec<String>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DomainCfg {
+    /// A particle outside lo_m..hi_m is counted as having left the domain.
+    pub lo_m: Vec<f64>,
+    pub hi_m: Vec<f64>,
+    /// Stop the run when a particle leaves (default: count it and go on).
+    #[serde(default)]
+    pub stop_on_exit: bool,
+}

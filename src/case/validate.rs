@@ -1,0 +1,697 @@
+//! Every value of a case checked, one place per key: finite, in its physical range, with the
+//! references between tables resolved. Errors are one line naming the key (`docs/cases.md` gives
+//! each key's range).
+//!
+//! A new key gets one line here: `v.num(&at, "key", value, Range::…)` (or `vec`, `int`, `name`).
+//! Each check records the key's path (`material.eos.rho0_kgm3`), and a test walks every case in
+//! `cases/` and every example of `docs/cases.md`: a numeric key without a check fails it.
+//!
+//! The ranges are wide — they refuse what no explosion in soil or water can mean (a density of
+//! 1e300, a spacing below a nanometre, a NaN floor) and what would make the run meaningless or
+//! endless (a smoothing length a thousand spacings wide, a fixed step that needs more than
+//! `max_steps` steps), never a value a careful user might choose.
+
+use super::types::*;
+use crate::error::{Result, input};
+use std::collections::BTreeSet;
+
+/// Coordinates (m): |x| at most this (a thousand kilometres).
+pub const X_MAX: f64 = 1e6;
+/// Densities (kg/m³).
+pub const RHO_MIN: f64 = 1e-9;
+pub const RHO_MAX: f64 = 1e6;
+/// Speeds (m/s): sound, detonation, initial velocities.
+pub const C_MAX: f64 = 1e6;
+/// Pressures and moduli (Pa).
+pub const P_MAX: f64 = 1e15;
+/// Specific energies (J/kg).
+pub const E_MAX: f64 = 1e10;
+/// Times (s).
+pub const T_MAX: f64 = 1e6;
+/// Accelerations (m/s²).
+pub const G_MAX: f64 = 1e8;
+/// Exponents of the penalty and wall forces.
+pub const N_MAX: i32 = 32;
+/// Outputs to particles.h5 a run may write.
+pub const MAX_OUTPUTS: f64 = 1e6;
+/// Gauges a case may have (each is read every step).
+pub const MAX_GAUGES: usize = 1000;
+/// Vertices of one polygon.
+pub const MAX_VERTICES: usize = 4096;
+/// h / Δx of a region (or `sph.h_over_dx`).
+pub const H_OVER_DX: (f64, f64) = (0.1, 10.0);
+/// The spacing relative to the largest coordinate of its region: below this, neighbouring
+/// lattice points are not distinct in double precision.
+pub const SPACING_REL: f64 = 1e-9;
+/// Names (materials, regions, gauges, the case) at most this many characters.
+pub const NAME_MAX: usize = 100;
+
+/// A closed or half-open interval a number must lie in.
+#[derive(Debug, Clone, Copy)]
+pub struct Range {
+    pub lo: f64,
+    /// True: lo < v; false: lo ≤ v.
+    pub lo_open: bool,
+    pub hi: f64,
+}
+
+impl Range {
+    /// lo < v ≤ hi.
+    pub const fn above(lo: f64, hi: f64) -> Range {
+        Range { lo, lo_open: true, hi }
+    }
+    /// lo ≤ v ≤ hi.
+    pub const fn within(lo: f64, hi: f64) -> Range {
+        Range { lo, lo_open: false, hi }
+    }
+    /// |v| ≤ max.
+    pub const fn abs(max: f64) -> Range {
+        Range { lo: -max, lo_open: false, hi: max }
+    }
+    /// Any finite number.
+    pub const FINITE: Range = Range { lo: f64::MIN, lo_open: false, hi: f64::MAX };
+
+    fn holds(&self, v: f64) -> bool {
+        v.is_finite() && (if self.lo_open { v > self.lo } else { v >= self.lo }) && v <= self.hi
+    }
+
+    fn text(&self) -> String {
+        if self.lo == f64::MIN && self.hi == f64::MAX {
+            return "must be a finite number".into();
+        }
+        if self.lo == -self.hi && !self.lo_open {
+            return format!("must be finite, at most {} in magnitude", num_text(self.hi));
+        }
+        let lo = if self.lo == f64::MIN {
+            "finite".to_string()
+        } else if self.lo_open {
+            format!("above {}", num_text(self.lo))
+        } else {
+            format!("at least {}", num_text(self.lo))
+        };
+        if self.hi == f64::MAX {
+            format!("must be {lo} (and finite)")
+        } else {
+            format!("must be {lo} and at most {}", num_text(self.hi))
+        }
+    }
+}
+
+/// Where in the case a check is: the table's path without indices (`material`), for the record
+/// of keys checked, and its label in messages (`material[0] (loose_sand)`).
+#[derive(Debug, Clone)]
+pub struct At {
+    path: String,
+    label: String,
+}
+
+impl At {
+    pub fn top(table: &str) -> At {
+        At { path: table.to_string(), label: table.to_string() }
+    }
+    /// Entry `k` of an array of tables, labelled with its name.
+    pub fn entry(table: &str, k: usize, name: &str) -> At {
+        At { path: table.to_string(), label: format!("{table}[{k}] ({})", shown(name)) }
+    }
+    fn key(&self, key: &str) -> String {
+        if self.label.is_empty() { key.to_string() } else { format!("{}.{key}", self.label) }
+    }
+    fn path(&self, key: &str) -> String {
+        if self.path.is_empty() { key.to_string() } else { format!("{}.{key}", self.path) }
+    }
+}
+
+/// A bound as messages write it: 0.25, 1000, 1e15.
+fn num_text(x: f64) -> String {
+    if x != 0.0 && (x.abs() >= 1e5 || x.abs() < 1e-3) { format!("{x:e}") } else { format!("{x}") }
+}
+
+/// A name on one line, cut to a length that keeps a message readable.
+fn shown(s: &str) -> String {
+    let one: String = s.chars().map(|c| if c.is_control() { '?' } else { c }).collect();
+    if one.chars().count() > 60 { format!("{}…", one.chars().take(60).collect::<String>()) } else { one }
+}
+
+/// The checks, and the record of the keys they looked at.
+#[derive(Debug, Default)]
+pub struct Checker {
+    /// Paths of the keys checked (`time.end_s`, `material.eos.rho0_kgm3`).
+    pub seen: BTreeSet<String>,
+}
+
+impl Checker {
+    /// A number in a range.
+    pub fn num(&mut self, at: &At, key: &str, v: f64, r: Range) -> Result<()> {
+        self.seen.insert(at.path(key));
+        if r.holds(v) { Ok(()) } else { Err(input(format!("{} = {v}: {}", at.key(key), r.text()))) }
+    }
+
+    /// An optional number in a range.
+    pub fn opt(&mut self, at: &At, key: &str, v: Option<f64>, r: Range) -> Result<()> {
+        self.seen.insert(at.path(key));
+        match v {
+            Some(v) => self.num(at, key, v, r),
+            None => Ok(()),
+        }
+    }
+
+    /// A vector of `n` components, each in a range.
+    pub fn vec(&mut self, at: &At, key: &str, v: &[f64], n: usize, r: Range) -> Result<()> {
+        self.seen.insert(at.path(key));
+        if v.len() != n {
+            return Err(input(format!("{}: needs {n} components, got {}", at.key(key), v.len())));
+        }
+        for (a, x) in v.iter().enumerate() {
+            if !r.holds(*x) {
+                return Err(input(format!("{}[{a}] = {x}: {}", at.key(key), r.text())));
+            }
+        }
+        Ok(())
+    }
+
+    /// A whole number in lo..=hi.
+    pub fn int(&mut self, at: &At, key: &str, v: i64, lo: i64, hi: i64) -> Result<()> {
+        self.seen.insert(at.path(key));
+        if (lo..=hi).contains(&v) {
+            Ok(())
+        } else {
+            Err(input(format!("{} = {v}: must be a whole number from {lo} to {hi}", at.key(key))))
+        }
+    }
+
+    /// A name: not empty, at most [`NAME_MAX`] characters, no control characters, commas or
+    /// quotes (names become columns of gauges.csv and words of one-line messages).
+    pub fn name(&mut self, at: &At, key: &str, v: &str) -> Result<()> {
+        self.seen.insert(at.path(key));
+        let bad = v.chars().find(|c| c.is_control() || matches!(c, ',' | '"'));
+        if v.trim().is_empty() {
+            Err(input(format!("{}: an empty name", at.key(key))))
+        } else if v.chars().count() > NAME_MAX {
+            Err(input(format!("{}: a name of at most {NAME_MAX} characters", at.key(key))))
+        } else if let Some(c) = bad {
+            Err(input(format!("{}: the name holds {c:?} (no control characters, commas or quotes)", at.key(key))))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Records a key that needs no range (a count of steps, a flag), so the coverage test knows
+    /// it was considered.
+    pub fn any(&mut self, at: &At, key: &str) {
+        self.seen.insert(at.path(key));
+    }
+}
+
+impl Case {
+    /// Checks what serde cannot; errors are one line naming the key.
+    pub fn validate(&self) -> Result<()> {
+        self.compat.flags()?;
+        self.validate_with(&mut Checker::default())
+    }
+
+    /// [`Case::validate`], recording the keys checked in `v`.
+    pub fn validate_with(&self, v: &mut Checker) -> Result<()> {
+        let top = At::top("");
+        v.int(&top, "dim", i64::try_from(self.dim).unwrap_or(i64::MAX), 1, 3)?;
+        let d = self.dim;
+        if let Some(n) = &self.name {
+            v.name(&top, "name", if n.is_empty() { "case" } else { n })?;
+        }
+        v.any(&top, "description");
+        self.validate_time(v)?;
+        self.validate_numerics(v)?;
+        if let Some(g) = &self.physics.gravity_ms2 {
+            v.vec(&At::top("physics"), "gravity_ms2", g, d, Range::abs(G_MAX))?;
+        }
+        self.validate_materials(v)?;
+        self.validate_regions(v)?;
+        self.validate_walls(v)?;
+        self.validate_detonation(v)?;
+        self.validate_gauges(v)?;
+        self.validate_analysis(v)?;
+        self.validate_backend(v)?;
+        if let Some(dm) = &self.domain {
+            let at = At::top("domain");
+            v.vec(&at, "lo_m", &dm.lo_m, d, Range::abs(X_MAX))?;
+            v.vec(&at, "hi_m", &dm.hi_m, d, Range::abs(X_MAX))?;
+            v.any(&at, "stop_on_exit");
+            for a in 0..d {
+                if dm.hi_m[a] <= dm.lo_m[a] {
+                    return Err(input(format!(
+                        "domain: hi_m[{a}] = {} must exceed lo_m[{a}] = {}",
+                        dm.hi_m[a], dm.lo_m[a]
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_time(&self, v: &mut Checker) -> Result<()> {
+        let t = &self.time;
+        let at = At::top("time");
+        v.num(&at, "end_s", t.end_s, Range::above(0.0, T_MAX))?;
+        v.num(&at, "output_interval_s", t.output_interval_s, Range::within(0.0, T_MAX))?;
+        if t.output_interval_s > 0.0 && t.end_s / t.output_interval_s > MAX_OUTPUTS {
+            return Err(input(format!(
+                "time.output_interval_s = {:e}: the run would write {:.3e} outputs (end_s / output_interval_s; at most {MAX_OUTPUTS:e})",
+                t.output_interval_s,
+                t.end_s / t.output_interval_s
+            )));
+        }
+        v.int(&at, "max_steps", i64::try_from(t.max_steps).unwrap_or(i64::MAX), 1, i64::MAX)?;
+        v.any(&at, "step");
+        v.num(&at, "cfl", t.cfl, Range::above(0.0, 1.0))?;
+        v.opt(&at, "dt_max_s", t.dt_max_s, Range::above(0.0, T_MAX))?;
+        v.opt(&at, "dt_min_s", t.dt_min_s, Range::above(0.0, T_MAX))?;
+        if let (Some(lo), Some(hi)) = (t.dt_min_s, t.dt_max_s)
+            && lo >= hi
+        {
+            return Err(input(format!("time.dt_min_s = {lo:e} must be below time.dt_max_s = {hi:e}")));
+        }
+        v.opt(&at, "dt_s", t.dt_s, Range::above(0.0, T_MAX))?;
+        if t.step == StepRule::Fixed {
+            let dt = t.dt_s.ok_or_else(|| input("time.dt_s: required when time.step = \"fixed\""))?;
+            if dt > t.end_s {
+                return Err(input(format!("time.dt_s = {dt:e}: longer than the run (time.end_s = {:e})", t.end_s)));
+            }
+            let steps = (t.end_s / dt).round();
+            if steps > t.max_steps as f64 {
+                return Err(input(format!(
+                    "time.dt_s = {dt:e}: the run needs {steps:.0} fixed steps to reach time.end_s = {:e} s, more than time.max_steps = {}",
+                    t.end_s, t.max_steps
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_numerics(&self, v: &mut Checker) -> Result<()> {
+        let s = &self.sph;
+        let at = At::top("sph");
+        for k in ["kernel", "nnps", "density", "continuity_form", "smoothing", "reorder_every"] {
+            v.any(&at, k);
+        }
+        v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
+        v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
+        v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
+        let at = At::top("viscosity");
+        v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
+        v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;
+        v.num(&at, "phi_over_h", self.viscosity.phi_over_h, Range::above(0.0, 1.0))?;
+        if let Some(p) = &self.penalty {
+            let at = At::top("penalty");
+            v.num(&at, "pbar", p.pbar, Range::above(0.0, P_MAX))?;
+            exponents(v, &at, p.n1, p.n2)?;
+        }
+        let b = &self.boundary;
+        let at = At::top("boundary");
+        v.opt(&at, "wall_spacing_m", b.wall_spacing_m, Range::above(0.0, X_MAX))?;
+        v.opt(&at, "r0_m", b.r0_m, Range::above(0.0, X_MAX))?;
+        v.num(&at, "d_m2s2", b.d_m2s2, Range::within(0.0, C_MAX * C_MAX))?;
+        v.any(&at, "noslip");
+        exponents(v, &at, b.n1, b.n2)
+    }
+
+    fn validate_materials(&self, v: &mut Checker) -> Result<()> {
+        if self.materials.is_empty() {
+            return Err(input("no [[material]]: a case needs at least one material with an eos"));
+        }
+        let mut names = BTreeSet::new();
+        for (k, m) in self.materials.iter().enumerate() {
+            let at = At::entry("material", k, &m.name);
+            v.name(&at, "name", &m.name)?;
+            if !names.insert(m.name.as_str()) {
+                return Err(input(format!("{}: the name is used twice", at.label)));
+            }
+            v.any(&at, "preset");
+            let rho = Range::within(RHO_MIN, RHO_MAX);
+            let e = At { path: "material.eos".into(), label: at.key("eos") };
+            v.any(&e, "kind");
+            match &m.eos {
+                EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                    v.num(&e, "gamma", *gamma, Range::above(1.0, 10.0))?;
+                    v.opt(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                }
+                EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
+                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                    v.num(&e, "a_pa", *a_pa, Range::within(0.0, P_MAX))?;
+                    v.num(&e, "b_pa", *b_pa, Range::within(0.0, P_MAX))?;
+                    v.num(&e, "r1", *r1, Range::above(0.0, 100.0))?;
+                    v.num(&e, "r2", *r2, Range::above(0.0, 100.0))?;
+                    v.num(&e, "omega", *omega, Range::above(0.0, 10.0))?;
+                    v.num(&e, "d_ms", *d_ms, Range::above(0.0, C_MAX))?;
+                }
+                EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
+                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                    v.num(&e, "a1_pa", *a1_pa, Range::above(0.0, P_MAX))?;
+                    v.num(&e, "a2_pa", *a2_pa, Range::abs(P_MAX))?;
+                    v.num(&e, "a3_pa", *a3_pa, Range::abs(P_MAX))?;
+                    v.num(&e, "b0", *b0, Range::within(0.0, 100.0))?;
+                    v.num(&e, "b1", *b1, Range::within(0.0, 100.0))?;
+                    v.num(&e, "c0_ms", *c0_ms, Range::above(0.0, C_MAX))?;
+                }
+                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
+                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                    v.num(&e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
+                    v.num(&e, "s", *s, Range::above(0.0, 100.0))?;
+                    v.num(&e, "gamma", *gamma, Range::within(0.0, 100.0))?;
+                }
+            }
+            if let Some(s) = &m.strength {
+                let st = At { path: "material.strength".into(), label: at.key("strength") };
+                v.num(&st, "shear_modulus_pa", s.shear_modulus_pa, Range::above(0.0, P_MAX))?;
+                v.num(&st, "alpha_phi", s.alpha_phi, Range::within(0.0, 10.0))?;
+                v.num(&st, "cohesion_pa", s.cohesion_pa, Range::within(0.0, P_MAX))?;
+            }
+            // a floor: the tension cut-off of a soil (0), the cavitation of water (< 0); -1e30
+            // is "no floor"
+            v.opt(&at, "pmin_pa", m.pmin_pa, Range::within(f64::MIN, 0.0))?;
+            v.opt(&at, "e0_jkg", m.e0_jkg, Range::within(0.0, E_MAX))?;
+            if let Some(g) = &m.penalty_group {
+                v.name(&at, "penalty_group", g)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_regions(&self, v: &mut Checker) -> Result<()> {
+        if self.regions.is_empty() {
+            return Err(input("no [[region]]: a case needs at least one region of particles"));
+        }
+        let d = self.dim;
+        let xr = Range::abs(X_MAX);
+        let mut names = BTreeSet::new();
+        for (k, r) in self.regions.iter().enumerate() {
+            let at = At::entry("region", k, &r.name);
+            v.name(&at, "name", &r.name)?;
+            if !names.insert(r.name.as_str()) {
+                return Err(input(format!("{}: the name is used twice", at.label)));
+            }
+            let mi = self.material_index(&r.material).ok_or_else(|| {
+                input(format!(
+                    "{}.material = \"{}\": no [[material]] of that name (a material needs an eos)",
+                    at.label,
+                    shown(&r.material)
+                ))
+            })?;
+            v.any(&at, "material");
+            v.any(&at, "shape");
+            v.num(&at, "spacing_m", r.spacing_m, Range::above(0.0, X_MAX))?;
+            // the largest coordinate of the region, for the spacing's resolution
+            let mut reach = 0.0f64;
+            let mut coords = |c: &[f64]| reach = c.iter().fold(reach, |m, x| m.max(x.abs()));
+            match r.shape {
+                Shape::Box => {
+                    let lo = r
+                        .lo_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{}: required for shape = \"box\"", at.key("lo_m"))))?;
+                    let hi = r
+                        .hi_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{}: required for shape = \"box\"", at.key("hi_m"))))?;
+                    v.vec(&at, "lo_m", lo, d, xr)?;
+                    v.vec(&at, "hi_m", hi, d, xr)?;
+                    for a in 0..d {
+                        if hi[a] <= lo[a] {
+                            return Err(input(format!(
+                                "{}: hi_m[{a}] = {} must exceed lo_m[{a}] = {}",
+                                at.label, hi[a], lo[a]
+                            )));
+                        }
+                    }
+                    coords(lo);
+                    coords(hi);
+                }
+                Shape::Polygon => {
+                    if d != 2 {
+                        return Err(input(format!("{}: shape = \"polygon\" needs dim = 2", at.label)));
+                    }
+                    let vs = r
+                        .vertices_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{}: required for shape = \"polygon\"", at.key("vertices_m"))))?;
+                    if vs.len() < 3 || vs.len() > MAX_VERTICES {
+                        return Err(input(format!(
+                            "{}: a polygon needs 3 to {MAX_VERTICES} vertices (got {})",
+                            at.key("vertices_m"),
+                            vs.len()
+                        )));
+                    }
+                    for p in vs {
+                        v.vec(&at, "vertices_m", p, 2, xr)?;
+                        coords(p);
+                    }
+                }
+                Shape::Lattice => {
+                    let o = r
+                        .origin_m
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{}: required for shape = \"lattice\"", at.key("origin_m"))))?;
+                    v.vec(&at, "origin_m", o, d, xr)?;
+                    coords(o);
+                    let c = r
+                        .count
+                        .as_ref()
+                        .ok_or_else(|| input(format!("{}: required for shape = \"lattice\"", at.key("count"))))?;
+                    v.any(&at, "count");
+                    if c.len() != d || c.contains(&0) {
+                        return Err(input(format!("{}: need {d} positive counts", at.key("count"))));
+                    }
+                    // the far corner, in floating point (a count may be any size here; the
+                    // size check bounds it before anything is generated)
+                    let far: Vec<f64> = o.iter().zip(c).map(|(x, &n)| x + n as f64 * r.spacing_m).collect();
+                    if let Some(a) = far.iter().position(|x| !xr.holds(*x)) {
+                        return Err(input(format!(
+                            "{}: the lattice reaches {:e} m on axis {a} (origin + count × spacing_m), beyond {X_MAX:e} m",
+                            at.label, far[a]
+                        )));
+                    }
+                    coords(&far);
+                }
+            }
+            if r.spacing_m < SPACING_REL * reach {
+                return Err(input(format!(
+                    "{} = {:e}: too fine for coordinates of {reach:e} m (neighbouring particles would not be distinct in double precision; at least {:e})",
+                    at.key("spacing_m"),
+                    r.spacing_m,
+                    SPACING_REL * reach
+                )));
+            }
+            let mat = &self.materials[mi];
+            let rho = match (r.rho_kgm3, mat.eos.rho0()) {
+                (Some(x), _) => {
+                    v.num(&at, "rho_kgm3", x, Range::within(RHO_MIN, RHO_MAX))?;
+                    x
+                }
+                (None, Some(x)) => x,
+                (None, None) => {
+                    return Err(input(format!(
+                        "{}: required (material `{}` has no rho0_kgm3)",
+                        at.key("rho_kgm3"),
+                        shown(&r.material)
+                    )));
+                }
+            };
+            v.opt(&at, "e_jkg", r.e_jkg, Range::within(0.0, E_MAX))?;
+            if let Some(vel) = &r.velocity_ms {
+                v.vec(&at, "velocity_ms", vel, d, Range::abs(C_MAX))?;
+            }
+            if let Some(m) = r.mass_kg {
+                v.num(&at, "mass_kg", m, Range::above(0.0, f64::MAX))?;
+                // within a factor 1000 of ρ Δx^d (the lattice's own mass)
+                let own = rho * r.spacing_m.powi(d as i32);
+                let ratio = m / own;
+                if !(1e-3..=1e3).contains(&ratio) {
+                    return Err(input(format!(
+                        "{} = {m:e}: {ratio:.3e} times rho Δx^d = {own:e} kg (must be within a factor 1000 of it)",
+                        at.key("mass_kg")
+                    )));
+                }
+            }
+            if let Some(h) = r.h_m {
+                v.num(&at, "h_m", h, Range::above(0.0, X_MAX))?;
+                let ratio = h / r.spacing_m;
+                if !(H_OVER_DX.0..=H_OVER_DX.1).contains(&ratio) {
+                    return Err(input(format!(
+                        "{} = {h:e}: {ratio:.3e} spacings (h / spacing_m must be from {} to {})",
+                        at.key("h_m"),
+                        H_OVER_DX.0,
+                        H_OVER_DX.1
+                    )));
+                }
+            }
+            v.any(&at, "subtract");
+            for s in &r.subtract {
+                if !self.regions.iter().any(|q| &q.name == s) || s == &r.name {
+                    return Err(input(format!("{}: no other region named `{}`", at.key("subtract"), shown(s))));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_walls(&self, v: &mut Checker) -> Result<()> {
+        let d = self.dim;
+        let dx_min = self.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
+        let spacing = self.boundary.wall_spacing_m.unwrap_or(0.25 * dx_min);
+        for (k, w) in self.walls.iter().enumerate() {
+            let at = At { path: "wall".into(), label: format!("wall[{k}]") };
+            v.vec(&at, "from_m", &w.from_m, d, Range::abs(X_MAX))?;
+            v.vec(&at, "to_m", &w.to_m, d, Range::abs(X_MAX))?;
+            v.any(&at, "kind");
+            if d == 3 {
+                return Err(input(format!("wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet")));
+            }
+            if d == 2 && w.from_m == w.to_m {
+                return Err(input(format!("wall[{k}]: from_m and to_m coincide")));
+            }
+            // the type I force visits every wall node for every particle near the wall
+            let len: f64 = w.from_m.iter().zip(&w.to_m).map(|(a, b)| (b - a) * (b - a)).sum::<f64>().sqrt();
+            if w.kind != WallKind::Mirror && len / spacing > 1e6 {
+                return Err(input(format!(
+                    "wall[{k}]: {:.3e} wall particles (length {len:e} m / boundary.wall_spacing_m {spacing:e} m; at most 1e6)",
+                    len / spacing
+                )));
+            }
+        }
+        if !self.walls.is_empty() && dx_min.is_finite() {
+            let b = &self.boundary;
+            for (key, val) in [("wall_spacing_m", b.wall_spacing_m), ("r0_m", b.r0_m)] {
+                if let Some(x) = val
+                    && !(1e-3..=1e3).contains(&(x / dx_min))
+                {
+                    return Err(input(format!(
+                        "boundary.{key} = {x:e}: {:.3e} times the finest spacing {dx_min:e} m (must be within a factor 1000 of it)",
+                        x / dx_min
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_detonation(&self, v: &mut Checker) -> Result<()> {
+        let Some(det) = &self.detonation else { return Ok(()) };
+        let at = At::top("detonation");
+        v.any(&at, "mode");
+        v.num(&at, "width_h", det.width_h, Range::within(0.0, 100.0))?;
+        if let Some(p) = &det.point_m {
+            v.vec(&at, "point_m", p, self.dim, Range::abs(X_MAX))?;
+        } else if det.mode == BurnMode::Programmed {
+            return Err(input("detonation.point_m: required for mode = \"programmed\""));
+        }
+        if !self.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. })) {
+            return Err(input("detonation: no material has eos kind = \"jwl\""));
+        }
+        Ok(())
+    }
+
+    fn validate_gauges(&self, v: &mut Checker) -> Result<()> {
+        if self.gauges.len() > MAX_GAUGES {
+            return Err(input(format!("{} gauges: at most {MAX_GAUGES}", self.gauges.len())));
+        }
+        let mut names = BTreeSet::new();
+        for (k, g) in self.gauges.iter().enumerate() {
+            let at = At::entry("gauge", k, &g.name);
+            v.name(&at, "name", &g.name)?;
+            v.vec(&at, "point_m", &g.point_m, self.dim, Range::abs(X_MAX))?;
+            v.any(&at, "kind");
+            if !names.insert(g.name.as_str()) {
+                return Err(input(format!("{}: the name is used twice", at.label)));
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_analysis(&self, v: &mut Checker) -> Result<()> {
+        let an = &self.analysis;
+        let at = At::top("analysis");
+        v.any(&at, "kind");
+        v.opt(&at, "diaphragm_m", an.diaphragm_m, Range::abs(X_MAX))?;
+        if let Some(w) = &an.window_m {
+            v.vec(&at, "window_m", w, 2, Range::abs(X_MAX))?;
+            if w[1] <= w[0] {
+                return Err(input("analysis.window_m: need [lo, hi] with hi > lo"));
+            }
+        }
+        if an.kind == AnalysisKind::Riemann {
+            if self.dim != 1 {
+                return Err(input("analysis.kind = \"riemann\" needs dim = 1"));
+            }
+            if an.diaphragm_m.is_none() {
+                return Err(input("analysis.diaphragm_m: required for kind = \"riemann\""));
+            }
+        }
+        if let Some(c) = &an.thesis_crater_m {
+            v.vec(&at, "thesis_crater_m", c, 2, Range::within(0.0, X_MAX))?;
+        }
+        if let Some(h) = &an.thesis_crater_history {
+            for row in h {
+                if row.len() != 3 {
+                    return Err(input("analysis.thesis_crater_history: rows must be [time_s, diameter_m, depth_m]"));
+                }
+                // nan: a value the thesis does not give
+                let given: Vec<f64> =
+                    row.iter().enumerate().map(|(k, x)| if k > 0 && x.is_nan() { 0.0 } else { *x }).collect();
+                v.vec(&at, "thesis_crater_history", &given, 3, Range::within(0.0, X_MAX))?;
+            }
+        }
+        for (k, t) in an.thesis_gauge.iter().enumerate() {
+            let tg = At { path: "analysis.thesis_gauge".into(), label: format!("analysis.thesis_gauge[{k}]") };
+            v.any(&tg, "gauge");
+            v.opt(&tg, "peak_time_s", t.peak_time_s, Range::within(0.0, T_MAX))?;
+            v.opt(&tg, "peak_pa", t.peak_pa, Range::abs(P_MAX))?;
+            if !self.gauges.iter().any(|g| g.name == t.gauge) {
+                return Err(input(format!(
+                    "analysis.thesis_gauge[{k}].gauge = \"{}\": no [[gauge]] of that name",
+                    shown(&t.gauge)
+                )));
+            }
+        }
+        if let Some(sm) = &an.soil_materials {
+            v.any(&at, "soil_materials");
+            for s in sm {
+                if self.material_index(s).is_none() {
+                    return Err(input(format!("analysis.soil_materials: no material named `{}`", shown(s))));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_backend(&self, v: &mut Checker) -> Result<()> {
+        let at = At::top("backend");
+        for (key, list) in [("rust", &self.backend.rust), ("fortran", &self.backend.fortran)] {
+            v.any(&at, key);
+            for m in list {
+                if crate::modules::Module::parse(m).is_none() {
+                    return Err(input(format!(
+                        "backend.{key}: unknown module `{}` (modules: {})",
+                        shown(m),
+                        crate::modules::Module::names()
+                    )));
+                }
+            }
+        }
+        v.any(&at, "default");
+        if let Some(dft) = &self.backend.default
+            && dft != "fortran"
+            && dft != "rust"
+        {
+            return Err(input(format!("backend.default = \"{}\": must be \"fortran\" or \"rust\"", shown(dft))));
+        }
+        Ok(())
+    }
+}
+
+/// The two exponents of a force: 1 ≤ n2 < n1 ≤ [`N_MAX`].
+fn exponents(v: &mut Checker, at: &At, n1: i32, n2: i32) -> Result<()> {
+    v.int(at, "n1", i64::from(n1), 2, i64::from(N_MAX))?;
+    v.int(at, "n2", i64::from(n2), 1, i64::from(N_MAX) - 1)?;
+    if n1 <= n2 {
+        return Err(input(format!("{}: need n1 > n2 >= 1 (got n1 = {n1}, n2 = {n2})", at.label)));
+    }
+    Ok(())
+}

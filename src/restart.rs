@@ -1,0 +1,275 @@
+//! Checkpoints and `blastsph resume` (docs/output.md "Checkpoints and resume").
+//!
+//! A checkpoint (`checkpoint.bin`, replaced atomically each time) holds the solver's state
+//! ([`Sim::save_state`]), the run loop's ([`Loop`]: output schedule, peaks, gauge records,
+//! energies at t = 0), what particles.h5 and gauges.csv held when it was written, and a header
+//! (JSON) naming the binary and the case that wrote it. Resuming rebuilds the simulation from the
+//! run directory's case.toml exactly as the run built it, puts the state back, cuts particles.h5
+//! and gauges.csv back to the checkpoint (a run killed later may have written more), and goes on:
+//! every output after the checkpoint is bitwise the uninterrupted run's.
+
+use crate::error::{Result, SphError, input};
+use crate::gauges::Gauges;
+use crate::modules::Backend;
+use crate::output::{H5Part, Peaks};
+use crate::runner::{Checkpoints, Energy, Loop, RunOptions, RunResult, sha256_hex};
+use crate::sim::checkpoint::{Blob, Item};
+use crate::sim::{Overrides, Sim};
+use serde_json::{Value, json};
+use std::path::Path;
+use std::time::Instant;
+
+/// The checkpoint's file name in a run directory.
+pub const FILE: &str = "checkpoint.bin";
+
+/// SHA-256 of this program's executable (what "the binary changed" compares), or "unknown".
+pub fn binary_sha256() -> String {
+    static SUM: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    SUM.get_or_init(|| {
+        use sha2::{Digest, Sha256};
+        use std::io::Read;
+        let Ok(exe) = std::env::current_exe() else { return "unknown".into() };
+        let Ok(mut f) = std::fs::File::open(exe) else { return "unknown".into() };
+        let mut h = Sha256::new();
+        let mut buf = vec![0u8; 1 << 20];
+        loop {
+            match f.read(&mut buf) {
+                Ok(0) => break,
+                Ok(k) => h.update(&buf[..k]),
+                Err(_) => return "unknown".into(),
+            }
+        }
+        h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    })
+    .clone()
+}
+
+/// Writes the checkpoint of `lp` (after syncing gauges.csv, whose length it records).
+pub(crate) fn write(lp: &mut Loop) -> Result<()> {
+    lp.gauges.sync()?;
+    let gpath = lp.dir.join("gauges.csv");
+    let gauges_bytes = std::fs::symlink_metadata(&gpath).map(|m| m.len()).unwrap_or(0);
+    let mut b = Blob::default();
+    lp.sim.save_state(&mut b);
+    lp.h5.save(&mut b);
+    lp.gauges.save(&mut b);
+    b.put_f64("run.peaks.ppv", &lp.peaks.ppv);
+    b.put_f64("run.peaks.p_peak", &lp.peaks.p_peak);
+    let e = lp.e0;
+    b.put_f64("run.e0", &[e.kinetic, e.internal, e.elastic, e.total]);
+    b.put_f64("run.scalars", &[lp.next_out, lp.m0, lp.wall()]);
+    b.put("run.last_written", Item::U64(vec![lp.last_written]));
+    b.put_f64("run.resumes.t", &lp.resumes.iter().map(|r| r.1).collect::<Vec<_>>());
+    b.put("run.resumes.step", Item::U64(lp.resumes.iter().map(|r| r.0).collect()));
+    let plan = &lp.sim.plan;
+    let backends: serde_json::Map<String, Value> =
+        plan.modules.iter().map(|(m, p)| (m.name().to_string(), json!(p.backend.name()))).collect();
+    let meta = json!({
+        "format": "blastsph checkpoint",
+        "version": env!("CARGO_PKG_VERSION"),
+        "binary_sha256": binary_sha256(),
+        "case": lp.sim.case.name(),
+        "case_toml_sha256": lp.case_toml_sha,
+        "case_sha256": lp.case_sha,
+        "sets": lp.sets,
+        "backends": backends,
+        "step": lp.sim.nstep,
+        "time": lp.sim.t,
+        "gauges_csv_bytes": gauges_bytes,
+    });
+    b.put_text("run.meta", &meta.to_string());
+    crate::rundir::write_atomic(&lp.dir.join(FILE), &b.encode())
+}
+
+/// What `blastsph resume` is given.
+#[derive(Debug, Clone, Default)]
+pub struct ResumeOptions {
+    /// A new end time (s), beyond the checkpoint's time: case.toml's `time.end_s` is changed.
+    pub end_time: Option<f64>,
+    /// Continue although the case or the binary changed since the checkpoint.
+    pub allow_changed: bool,
+    pub quiet: bool,
+    pub checkpoints: Checkpoints,
+    pub max_particles: Option<u64>,
+    /// Stop cleanly after this step (as a signal would).
+    pub stop_after_step: Option<u64>,
+}
+
+impl ResumeOptions {
+    /// A `run` that finds its own restart in its folder continues it with its own options.
+    pub fn of_run(o: &RunOptions) -> ResumeOptions {
+        ResumeOptions {
+            end_time: None,
+            allow_changed: false,
+            quiet: o.quiet,
+            checkpoints: o.checkpoints,
+            max_particles: o.ov.max_particles,
+            stop_after_step: o.stop_after_step,
+        }
+    }
+}
+
+/// Reads and checks the checkpoint of run directory `dir`: its bytes, its header.
+pub fn read(dir: &Path) -> Result<(Blob, Value)> {
+    let path = dir.join(FILE);
+    let shown = dir.display();
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(input(format!(
+                "resume {shown}: no {FILE} (the run wrote no checkpoint: it was killed before its first, or ran without them)"
+            )));
+        }
+        Err(e) => return Err(input(format!("resume {shown}: {FILE}: {e}"))),
+    };
+    let blob = Blob::decode(&bytes).map_err(|e| input(format!("resume {shown}: {e}")))?;
+    let meta: Value = serde_json::from_str(&blob.text("run.meta")?)
+        .map_err(|e| input(format!("resume {shown}: {FILE}: a header that is not JSON ({e})")))?;
+    Ok((blob, meta))
+}
+
+/// Continues the run in `dir` from its checkpoint (`blastsph resume DIR`).
+pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
+    let shown = dir.display().to_string();
+    crate::rundir::check_existing(dir, "resume")?;
+    let (blob, meta) = read(dir)?;
+    let case_path = dir.join("case.toml");
+    let text = crate::case::read_text(&case_path).map_err(|e| input(format!("resume {shown}: {e}")))?;
+
+    // what changed since the checkpoint
+    let mut changed = Vec::new();
+    let was = meta["case_toml_sha256"].as_str().unwrap_or("?");
+    let now = sha256_hex(text.as_bytes());
+    if was != now {
+        changed.push(format!("the case (case.toml's SHA-256 is {}…, the checkpoint's {}…)", &now[..12], cut(was)));
+    }
+    let (bw, bn) = (meta["binary_sha256"].as_str().unwrap_or("?"), binary_sha256());
+    if bw != bn {
+        changed.push(format!(
+            "the binary (blastsph {} {}… wrote the checkpoint; this is blastsph {} {}…)",
+            meta["version"].as_str().unwrap_or("?"),
+            cut(bw),
+            env!("CARGO_PKG_VERSION"),
+            cut(&bn)
+        ));
+    }
+    if !changed.is_empty() && !o.allow_changed {
+        return Err(input(format!(
+            "resume {shown}: {} changed since the checkpoint: --allow-changed continues with it (the result is then not the uninterrupted run's)",
+            changed.join(" and ")
+        )));
+    }
+    let t_cp = blob.scalar("sim.t")?;
+    let summary_status = std::fs::read_to_string(dir.join("summary.json"))
+        .ok()
+        .and_then(|s| serde_json::from_str::<Value>(&s).ok())
+        .and_then(|v| v["status"].as_str().map(String::from));
+    let text = match o.end_time {
+        Some(t) => {
+            let max = crate::case::validate::T_MAX;
+            if !(t.is_finite() && t <= max) {
+                return Err(input(format!("--end-time {t}: must be a finite time in seconds, at most {max:e}")));
+            }
+            if t <= t_cp {
+                return Err(input(format!(
+                    "--end-time {t}: the checkpoint is at t = {t_cp:e} s already; give a later end"
+                )));
+            }
+            crate::case::apply_sets(&text, &[format!("time.end_s={t:?}")])?
+        }
+        None => {
+            if summary_status.as_deref() == Some("ok") {
+                return Err(input(format!(
+                    "resume {shown}: the run finished (t = {t_cp:e} s); --end-time S extends it"
+                )));
+            }
+            text
+        }
+    };
+    let name = meta["case"].as_str().unwrap_or("case");
+    let case = crate::case::parse(&text, &case_path.display().to_string(), &[], Some(name))?;
+    let mut ov = Overrides { max_particles: o.max_particles, ..Default::default() };
+    if let Some(b) = meta["backends"].as_object() {
+        for (m, v) in b {
+            match v.as_str().and_then(Backend::parse) {
+                Some(Backend::Rust) => ov.rust.push(m.clone()),
+                Some(Backend::Fortran) => ov.fortran.push(m.clone()),
+                None => {}
+            }
+        }
+    }
+    let mut sim = Sim::new(case, &ov).map_err(|e| match e {
+        SphError::Input(m) => input(format!("resume {shown}: {m}")),
+        e => e,
+    })?;
+    sim.restore_state(&blob).map_err(|e| input(format!("resume {shown}: {e}")))?;
+
+    // the files, cut back to the checkpoint
+    let gpath = dir.join("gauges.csv");
+    let gbytes = meta["gauges_csv_bytes"].as_u64().unwrap_or(0);
+    if !sim.case.gauges.is_empty() {
+        let f = crate::rundir::open_rw(&gpath)?;
+        let len = f.metadata().map(|m| m.len()).unwrap_or(0);
+        if len < gbytes {
+            return Err(input(format!(
+                "resume {shown}: gauges.csv holds {len} bytes, fewer than the {gbytes} of the checkpoint (damaged)"
+            )));
+        }
+        f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+    }
+    let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
+    let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
+    let n = sim.p.nreal;
+    let peaks = Peaks { ppv: blob.f64("run.peaks.ppv")?, p_peak: blob.f64("run.peaks.p_peak")? };
+    if peaks.ppv.len() != n || peaks.p_peak.len() != n {
+        return Err(input(format!("resume {shown}: {FILE}: the peaks are not the particles'")));
+    }
+    let e = blob.f64("run.e0")?;
+    let s = blob.f64("run.scalars")?;
+    let (&[kinetic, internal, elastic, total], &[next_out, m0, wall_before]) = (e.as_slice(), s.as_slice()) else {
+        return Err(input(format!("resume {shown}: {FILE}: the run's numbers are incomplete")));
+    };
+    let mut resumes: Vec<(u64, f64)> =
+        blob.u64("run.resumes.step")?.into_iter().zip(blob.f64("run.resumes.t")?).collect();
+    resumes.push((sim.nstep, sim.t));
+    let case_toml_sha = sha256_hex(text.as_bytes());
+    if o.end_time.is_some() {
+        crate::rundir::write_atomic(&case_path, text.as_bytes())?;
+    }
+    let sets = meta["sets"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|v| v.as_str().map(String::from)).collect())
+        .unwrap_or_default();
+    if !o.quiet {
+        eprintln!("resume {shown}: from step {} (t = {:.6e} s) to t = {:e} s", sim.nstep, sim.t, sim.cfg.end);
+    }
+    let lp = Loop {
+        sim,
+        dir: dir.to_path_buf(),
+        h5,
+        gauges,
+        peaks,
+        e0: Energy { kinetic, internal, elastic, total },
+        m0,
+        next_out,
+        last_written: blob.count("run.last_written")?,
+        wall_before,
+        case_sha: meta["case_sha256"].as_str().unwrap_or("").to_string(),
+        case_toml_sha,
+        sets,
+        resumes,
+        start: Instant::now(),
+    };
+    let ro = RunOptions {
+        quiet: o.quiet,
+        checkpoints: o.checkpoints,
+        stop_after_step: o.stop_after_step,
+        ..Default::default()
+    };
+    lp.go(&ro)
+}
+
+/// The first 12 characters of a checksum.
+fn cut(s: &str) -> &str {
+    s.get(..12).unwrap_or(s)
+}

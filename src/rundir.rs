@@ -1,0 +1,216 @@
+//! Run directories (docs/output.md): what a run may write where.
+//!
+//! - A run writes into an empty or new folder; a folder that holds anything else is refused
+//!   unless it is the run's own restart (the same case, an unfinished run with a checkpoint) or
+//!   `--force` is given, which clears it first — and clears only what blastsph writes (a folder
+//!   holding other files is refused even then: `--force` never deletes a user's files).
+//! - Files are created without following symbolic links: new files with `O_CREAT | O_EXCL`
+//!   (which never follows a link), files appended to with `O_NOFOLLOW`, and rewritten files
+//!   through a new temporary file renamed over the old (a rename replaces a link, it does not
+//!   write through it). A run directory holds no links; `report` and `resume` refuse one that
+//!   does.
+//! - The default folder `runs/<name>` takes the case's name sanitised: letters, digits, `-`,
+//!   `_` and inner `.` kept, everything else `_` (so "../../x" and "/tmp/x" stay inside `runs/`).
+
+use crate::error::{Result, SphError, input};
+use std::fs::{File, OpenOptions};
+use std::path::{Path, PathBuf};
+
+/// The files blastsph writes into a run directory (and their temporaries).
+pub fn is_ours(name: &str) -> bool {
+    let base = name.strip_suffix(".tmp").unwrap_or(name);
+    matches!(
+        base,
+        "particles.h5"
+            | "particles.xmf"
+            | "summary.json"
+            | "gauges.csv"
+            | "case.toml"
+            | "checkpoint.bin"
+            | "report.json"
+            | "animation.gif"
+            | "dual_report.json"
+            | "dual_free.json"
+    ) || (base.ends_with(".png") && !base.contains('/'))
+}
+
+/// A folder name from a case name: at most 100 characters of `[A-Za-z0-9._-]`, others `_`, no
+/// leading `.`; "case" when nothing is left.
+pub fn sanitize(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .take(100)
+        .map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' })
+        .collect();
+    while s.starts_with('.') {
+        s.replace_range(..1, "_");
+    }
+    if s.is_empty() || s.chars().all(|c| c == '_') { "case".to_string() } else { s }
+}
+
+/// The default run directory of a case: `runs/<sanitised name>`.
+pub fn default_dir(case_name: &str) -> PathBuf {
+    PathBuf::from("runs").join(sanitize(case_name))
+}
+
+/// What a run directory holds now.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Found {
+    /// Nothing there yet (its nearest existing ancestor is a folder).
+    Missing,
+    /// An empty folder.
+    Empty,
+    /// A folder with entries, all of them blastsph's: `case.toml`'s text and whether a
+    /// checkpoint is there.
+    Run { case_toml: Option<String>, checkpoint: bool },
+    /// A folder with something blastsph did not write (its name).
+    Other(String),
+}
+
+fn io(dir: &Path, e: std::io::Error) -> SphError {
+    input(format!("{}: {e}", dir.display()))
+}
+
+/// Looks at `dir` without writing: refuses a path that is a link, a file, or lies under a file.
+pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
+    let shown = dir.display();
+    match std::fs::symlink_metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            // the nearest ancestor that exists must be a folder
+            let mut a = dir.parent();
+            while let Some(p) = a {
+                if p.as_os_str().is_empty() {
+                    break;
+                }
+                match std::fs::metadata(p) {
+                    Ok(m) if m.is_dir() => break,
+                    Ok(_) => return Err(input(format!("{flag} {shown}: {} is not a folder", p.display()))),
+                    Err(_) => a = p.parent(),
+                }
+            }
+            Ok(Found::Missing)
+        }
+        Err(e) => Err(input(format!("{flag} {shown}: {e}"))),
+        Ok(m) if m.file_type().is_symlink() => {
+            Err(input(format!("{flag} {shown}: a symbolic link (give the folder it points to)")))
+        }
+        Ok(m) if !m.is_dir() => Err(input(format!("{flag} {shown}: exists and is not a folder"))),
+        Ok(_) => {
+            let mut entries = Vec::new();
+            for e in std::fs::read_dir(dir).map_err(|e| input(format!("{flag} {shown}: {e}")))? {
+                let e = e.map_err(|e| io(dir, e))?;
+                let name = e.file_name().to_string_lossy().into_owned();
+                let ft = e.file_type().map_err(|e| io(dir, e))?;
+                if ft.is_symlink() || ft.is_dir() || !is_ours(&name) {
+                    return Ok(Found::Other(name));
+                }
+                entries.push(name);
+            }
+            if entries.is_empty() {
+                return Ok(Found::Empty);
+            }
+            let case_toml = if entries.iter().any(|n| n == "case.toml") {
+                crate::case::read_text(&dir.join("case.toml")).ok()
+            } else {
+                None
+            };
+            Ok(Found::Run { case_toml, checkpoint: entries.iter().any(|n| n == "checkpoint.bin") })
+        }
+    }
+}
+
+/// Makes `dir` (and its parents); with `clear`, removes blastsph's files from it first (links
+/// are removed, never followed). Call after [`inspect`] accepted it.
+pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot make the run directory {}: {e}", dir.display())))?;
+    if clear {
+        for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
+            let e = e.map_err(|e| io(dir, e))?;
+            let name = e.file_name().to_string_lossy().into_owned();
+            let ft = e.file_type().map_err(|e| io(dir, e))?;
+            if ft.is_dir() || !(is_ours(&name) || ft.is_symlink()) {
+                return Err(input(format!(
+                    "--force {}: it holds `{name}`, which blastsph did not write (--force clears only run directories)",
+                    dir.display()
+                )));
+            }
+            std::fs::remove_file(e.path()).map_err(|e| io(dir, e))?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn nofollow(o: &mut OpenOptions) {
+    use std::os::unix::fs::OpenOptionsExt;
+    o.custom_flags(libc::O_NOFOLLOW);
+}
+
+#[cfg(not(unix))]
+fn nofollow(_o: &mut OpenOptions) {}
+
+/// Creates a new file (refused when the name exists, as a file or a link: never follows one).
+pub fn create_new(path: &Path) -> Result<File> {
+    let mut o = OpenOptions::new();
+    o.write(true).create_new(true);
+    nofollow(&mut o);
+    o.open(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
+}
+
+/// Opens an existing file to append to, refusing a link.
+pub fn open_append(path: &Path) -> Result<File> {
+    let mut o = OpenOptions::new();
+    o.append(true);
+    nofollow(&mut o);
+    o.open(path).map_err(|e| input(format!("{}: {e}", path.display())))
+}
+
+/// Opens an existing file to read and write, refusing a link.
+pub fn open_rw(path: &Path) -> Result<File> {
+    let mut o = OpenOptions::new();
+    o.read(true).write(true);
+    nofollow(&mut o);
+    o.open(path).map_err(|e| input(format!("{}: {e}", path.display())))
+}
+
+/// Writes `bytes` as `path` through a new temporary file beside it, synced, then renamed over
+/// `path`: a reader sees the old file or the new one, and a link at either name is replaced,
+/// never written through.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = PathBuf::from(tmp);
+    match std::fs::remove_file(&tmp) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
+    }
+    let mut f = create_new(&tmp)?;
+    f.write_all(bytes).and_then(|_| f.sync_all()).map_err(|e| SphError::Io(format!("{}: {e}", tmp.display())))?;
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
+}
+
+/// Refuses a run directory given to `report` or `resume` that is not one: missing, not a folder,
+/// a link, or holding a link.
+pub fn check_existing(dir: &Path, what: &str) -> Result<()> {
+    let shown = dir.display();
+    let m = std::fs::symlink_metadata(dir).map_err(|e| input(format!("{what} {shown}: {e}")))?;
+    if m.file_type().is_symlink() {
+        return Err(input(format!("{what} {shown}: a symbolic link (give the run directory itself)")));
+    }
+    if !m.is_dir() {
+        return Err(input(format!("{what} {shown}: not a run directory (not a folder)")));
+    }
+    for e in std::fs::read_dir(dir).map_err(|e| input(format!("{what} {shown}: {e}")))? {
+        let e = e.map_err(|e| io(dir, e))?;
+        if e.file_type().map_err(|e| io(dir, e))?.is_symlink() {
+            return Err(input(format!(
+                "{what} {shown}: it holds a symbolic link, {} (a run directory holds none; nothing written)",
+                e.file_name().to_string_lossy()
+            )));
+        }
+    }
+    Ok(())
+}
