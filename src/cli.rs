@@ -260,6 +260,28 @@ pub enum LegacyCmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The defect ledger: the case run with your routines, with the compat profile's Rust twins,
+    /// then with each compat item switched off in turn; the effect of each on the end state
+    /// (max |delta| of rho, v, p, e) and on the case's own errors; DIR/ledger.json
+    Ledger {
+        /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
+        case: PathBuf,
+        /// The `legacy build` folder of your code
+        #[arg(long, value_name = "DIR")]
+        legacy: PathBuf,
+        /// The compat profile and items of the reference run (default liu-book)
+        #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+        compat: Option<String>,
+        /// Where ledger.json goes (default: runs/<case name>_ledger)
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Override a case key: --set time.end_s=0.1
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Folder to look a case name up in (default as for `run`)
+        #[arg(long = "case-dir", value_name = "DIR")]
+        case_dir: Option<PathBuf>,
+    },
 }
 
 fn overrides(a: &CaseArgs) -> Result<Overrides> {
@@ -547,6 +569,36 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
         }
+        Cmd::Legacy { cmd: LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir } } => {
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
+            let la = LegacyArgs { legacy: Some(legacy.clone()), compat };
+            let c = case::load(&case, &la.sets(&sets)?)?;
+            let dir = out
+                .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
+            if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
+                return Err(input(format!(
+                    "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
+                    dir.display()
+                )));
+            }
+            crate::rundir::prepare(&dir, false)?;
+            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
+            print!("{text}");
+            let same = rows.first().is_some_and(|r| r.particles_differing == 0);
+            println!(
+                "{}; each row against the profile run; {}",
+                if same {
+                    "your routines and the profile's Rust twins end in the same state, bit for bit".to_string()
+                } else {
+                    format!(
+                        "your routines end {} particles away from the profile's Rust twins",
+                        rows[0].particles_differing
+                    )
+                },
+                dir.join("ledger.json").display()
+            );
+            Ok(0)
+        }
         Cmd::Report { dir, times, animate } => {
             if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0 || **t > 1e6) {
                 return Err(input(format!("--times {t}: times must be finite, from 0 to 1e6 s")));
@@ -619,7 +671,15 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     sim.enable_dual(Comparator::new(sim.cfg.dim));
     let mut done = 0;
     let mut diag = None;
-    while done < steps && sim.t < sim.cfg.end * (1.0 - 1e-12) {
+    // a fixed step: the number of steps `run` takes, round(end/dt)
+    let fixed =
+        (sim.cfg.step == case::StepRule::Fixed).then(|| (sim.cfg.end / sim.cfg.dt_fixed).round().max(1.0) as u64);
+    while done < steps
+        && match fixed {
+            Some(n) => sim.nstep < n,
+            None => sim.t < sim.cfg.end * (1.0 - 1e-12),
+        }
+    {
         if let Err(e) = sim.step() {
             diag = Some(e.to_string());
             break;
@@ -646,7 +706,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         String::new()
     } else {
         format!(
-            "; {} stages not compared ({}: compat variants have no Fortran twin, compare them with --legacy)",
+            "; {} stages not compared ({}: compat variants without a Fortran twin, compared through --legacy; legacy routines without a Rust twin)",
             uncompared.len(),
             uncompared.join(", ")
         )

@@ -51,7 +51,12 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         "kernel,viscosity,eos,xsph,integrator,setup",
         "single-precision literals: 2./3. and pi in the kernel; the case's gamma, phi_over_h, alpha, beta, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0)",
     ),
-    (Item::SoundSpeed, "sound_speed", "eos", "ideal-gas sound speed sqrt((gamma-1) e), not sqrt(gamma (gamma-1) e) (§5)"),
+    (
+        Item::SoundSpeed,
+        "sound_speed",
+        "eos",
+        "ideal-gas sound speed sqrt((gamma-1) e), not sqrt(gamma (gamma-1) e) (§5)",
+    ),
     (
         Item::Kernel,
         "kernel",

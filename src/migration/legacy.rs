@@ -151,16 +151,7 @@ impl Legacy {
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();
         let flags = case.compat.flags()?;
-        Ok(Arc::new(Legacy {
-            lib,
-            dir: abs,
-            cwd,
-            itype,
-            setup_only,
-            dt,
-            flags,
-            shared: Mutex::new(Shared::default()),
-        }))
+        Ok(Arc::new(Legacy { lib, dir: abs, cwd, itype, setup_only, dt, flags, shared: Mutex::new(Shared::default()) }))
     }
 
     pub fn dir(&self) -> &Path {
@@ -231,7 +222,8 @@ impl Legacy {
                 _ => Err(input(format!("legacy {}: a set-up routine must give {name}", r.name))),
             }
         };
-        let (x, rho, e, h, mass) = (real("x", dim)?, real("rho", 1)?, real("u", 1)?, real("hsml", 1)?, real("mass", 1)?);
+        let (x, rho, e, h, mass) =
+            (real("x", dim)?, real("rho", 1)?, real("u", 1)?, real("hsml", 1)?, real("mass", 1)?);
         let v = real("vx", dim).unwrap_or_else(|_| vec![0.0; dim * n]);
         let mat: Vec<i32> = match get("itype").or_else(|| get("mat")) {
             Some(Buf::I(codes)) if get("itype").is_some() => codes[..n]
@@ -568,10 +560,9 @@ impl Legacy {
                 .unwrap_or(Phase::Rates);
             let mut at: Option<usize> = None;
             for (_, s) in &covered {
-                if let Some(k) = entries
-                    .iter()
-                    .position(|e| e.phase != Phase::Init && e.stage.module() == s.module() && e.stage.name() == s.name())
-                {
+                if let Some(k) = entries.iter().position(|e| {
+                    e.phase != Phase::Init && e.stage.module() == s.module() && e.stage.name() == s.name()
+                }) {
                     entries.remove(k);
                     at = Some(at.map_or(k, |a: usize| a.min(k)));
                 }
@@ -585,21 +576,38 @@ impl Legacy {
                 }
             });
             let twins: Vec<String> = helpers.iter().chain(&covered).map(|(_, s)| s.name().to_string()).collect();
-            let label = if self.flags.is_empty() { "no --compat".to_string() } else { format!("compat {}", self.flags.label()) };
+            let label = if self.flags.is_empty() {
+                "no --compat".to_string()
+            } else {
+                format!("compat {}", self.flags.label())
+            };
+            // the items of the routine's modules and of the twins it is compared with (the
+            // book's sum_density computes W(0) with the kernel: kernel items)
+            let mut twin_mods: Vec<Module> = mods.clone();
+            twin_mods.extend(helpers.iter().chain(&covered).map(|(_, s)| s.module()));
             let off: Vec<&str> = Item::all()
-                .filter(|&i| !self.flags.has(i) && mods.iter().any(|m| i.modules().split(',').any(|x| x == m.name())))
+                .filter(|&i| {
+                    !self.flags.has(i) && twin_mods.iter().any(|m| i.modules().split(',').any(|x| x == m.name()))
+                })
                 .map(Item::name)
                 .collect();
-            let hint = if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
+            let hint =
+                if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
             let tol = Tolerance {
                 ulp: 0,
                 why: Box::leak(
-                    format!("legacy {} against {} ({label}){hint}", r.name, if alone { "nothing".into() } else { twins.join(" + ") })
-                        .into_boxed_str(),
+                    format!(
+                        "legacy {} against {} ({label}){hint}",
+                        r.name,
+                        if alone { "nothing".into() } else { twins.join(" + ") }
+                    )
+                    .into_boxed_str(),
                 ),
             };
             let why_alone: Option<&'static str> = alone.then(|| {
-                &*Box::leak(format!("legacy {}: no Rust twin in this case; runs alone, not compared", r.name).into_boxed_str())
+                &*Box::leak(
+                    format!("legacy {}: no Rust twin in this case; runs alone, not compared", r.name).into_boxed_str(),
+                )
             });
             let chain: Vec<Box<dyn Stage>> = helpers.into_iter().chain(covered).map(|(_, s)| s).collect();
             let stage = LegacyStage {
@@ -629,7 +637,11 @@ impl Legacy {
                 }
             }
             let ph = format!("{phase:?}").to_lowercase();
-            let what = if alone { "runs alone (no Rust twin here, not compared)".to_string() } else { format!("stands for {}", twins.join(" + ")) };
+            let what = if alone {
+                "runs alone (no Rust twin here, not compared)".to_string()
+            } else {
+                format!("stands for {}", twins.join(" + "))
+            };
             note(
                 if alone { "alone" } else { "run" },
                 format!("{what}; phase {ph}"),

@@ -9,6 +9,8 @@ pub mod bind;
 pub mod builder;
 pub mod compat;
 pub mod ffi;
+#[cfg(feature = "plot")]
+pub mod ledger;
 pub mod legacy;
 pub mod manifest;
 pub mod pairs;

@@ -118,6 +118,8 @@ impl Sim {
         };
         let mut init = setup::particles_limited(&case, ov.max_particles)?;
         if let Some(l) = &legacy {
+            // before the set-up routine fills maxn-long arrays with the case's particles
+            l.check_capacity(init.mass.len())?;
             init = l.setup(&case, init)?;
             l.check_capacity(init.mass.len())?;
         }
