@@ -328,7 +328,7 @@ mod tests {
         assert!(!cfg.flags().unwrap().has(Item::Kernel));
         let bad = CompatCfg { profile: None, items: [("kernal".to_string(), true)].into() };
         assert!(bad.flags().unwrap_err().to_string().contains("compat.kernal"));
-        assert_eq!(single(1.4), 1.399_999_976_158_142_1);
+        assert_eq!(single(1.4), 1.399_999_976_158_142);
         assert!(book.touches("viscosity") && !Flags::default().touches("eos"));
     }
 }

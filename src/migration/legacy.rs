@@ -340,7 +340,6 @@ impl LegacyStage {
             .iter()
             .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, w))
             .collect();
-        drop(ctx);
         if let Err(e) = lg.call_raw(&r.name, &r.bindings, &mut bufs) {
             die(e.to_string());
         }
