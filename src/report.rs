@@ -47,7 +47,10 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     };
     let cp = dir.join("case.toml");
     let text = crate::case::read_text(&cp)?;
-    let name = summary["case"].as_str().map(String::from).or_else(|| dir.file_name().map(|n| n.to_string_lossy().into_owned()));
+    let name = summary["case"]
+        .as_str()
+        .map(String::from)
+        .or_else(|| dir.file_name().map(|n| n.to_string_lossy().into_owned()));
     let case = case::parse(&text, &cp.display().to_string(), &sets, name.as_deref())?;
     Ok((case, summary))
 }
