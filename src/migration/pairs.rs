@@ -141,9 +141,10 @@ mod tests {
 
     #[test]
     fn a_list_in_another_order_lines_up_and_counts() {
-        let mut w = Work { pairs: PairList::new(vec![0, 2, 1], vec![1, 1, 3]), ..Default::default() };
+        // Rust: (0,1) (1,2) (1,3); the other side: (1,3) (0,1) (2,1) — every pair at another
+        // position, (2,1) reversed
+        let mut w = Work { pairs: PairList::new(vec![1, 0, 2], vec![3, 1, 1]), ..Default::default() };
         w.w = vec![0.5, 0.25, 0.125];
-        // Rust: (0,1) (1,2) (1,3) — the other side has (2,1): reversed, and (1,3) moved
         let rust = vec![
             Snap::I(vec![0, 1, 1]),
             Snap::I(vec![1, 2, 3]),
@@ -152,18 +153,22 @@ mod tests {
         ];
         let writes = [Field::PairI, Field::PairJ, Field::W, Field::Dwdx];
         let a = align(&writes, &rust, &Particles::default(), &w, 1).expect("differs");
-        assert_eq!(a.stat, OrderStat { steps: 1, moved: 2, reversed: 1, only_counterpart: 0, only_rust: 0 });
+        assert_eq!(a.stat, OrderStat { steps: 1, moved: 3, reversed: 1, only_counterpart: 0, only_rust: 0 });
         match (&a.snaps[0], &a.snaps[1], &a.snaps[2], &a.snaps[3]) {
             (Snap::I(i), Snap::I(j), Snap::F(wv), Snap::F(g)) => {
-                assert_eq!(i, &vec![0, 2, 1]);
-                assert_eq!(j, &vec![1, 1, 3]);
-                assert_eq!(wv, &vec![1.0, 2.0, 3.0]);
-                assert_eq!(g, &vec![10.0, -20.0, 30.0]);
+                assert_eq!(i, &vec![1, 0, 2]);
+                assert_eq!(j, &vec![3, 1, 1]);
+                assert_eq!(wv, &vec![3.0, 1.0, 2.0]);
+                assert_eq!(g, &vec![30.0, 10.0, -20.0]);
             }
             _ => panic!("kinds"),
         }
+        // a pair reversed in place: not moved
+        let w2 = Work { pairs: PairList::new(vec![0, 2, 1], vec![1, 1, 3]), ..Default::default() };
+        let a = align(&writes, &rust, &Particles::default(), &w2, 1).expect("differs");
+        assert_eq!(a.stat, OrderStat { steps: 1, moved: 0, reversed: 1, only_counterpart: 0, only_rust: 0 });
         // the same list: nothing to align
-        let same = vec![Snap::I(vec![0, 2, 1]), Snap::I(vec![1, 1, 3]), Snap::F(vec![0.0; 3]), Snap::F(vec![0.0; 3])];
+        let same = vec![Snap::I(vec![1, 0, 2]), Snap::I(vec![3, 1, 1]), Snap::F(vec![0.0; 3]), Snap::F(vec![0.0; 3])];
         assert!(align(&writes, &same, &Particles::default(), &w, 1).is_none());
     }
 
