@@ -215,6 +215,7 @@ impl Checker {
 impl Case {
     /// Checks what serde cannot; errors are one line naming the key.
     pub fn validate(&self) -> Result<()> {
+        self.compat.flags()?;
         self.validate_with(&mut Checker::default())
     }
 
