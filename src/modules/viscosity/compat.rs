@@ -131,7 +131,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     let v = &ctx.case.viscosity;
     let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
     let why: &'static str = Box::leak(format!("viscosity: {}", f.label()).into_boxed_str());
-    let st = ViscosityCompat { normal: ViscosityStage { coef, slots: Slots::default() }, f, why };
+    let st = ViscosityCompat { normal: ViscosityStage { coef, slots: Slots::default(), rz: ctx.case.axisymmetric() }, f, why };
     Some(Contribution::run(
         format!("{} [compat {}]", normal.why, f.label()),
         vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)],

@@ -67,6 +67,6 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
         return None;
     }
     let why: &'static str = Box::leak(format!("xsph: {}", f.label()).into_boxed_str());
-    let st = XsphCompat { normal: XsphStage { eps }, why };
+    let st = XsphCompat { normal: XsphStage { eps, rz: ctx.case.axisymmetric() }, why };
     Some(Contribution::run(format!("eps = {eps} [compat {}]", f.label()), vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)]))
 }
