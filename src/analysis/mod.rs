@@ -1,4 +1,8 @@
-//! Measurements of finished runs: craters, ejecta, the exact Riemann solution.
+//! Measurements of finished runs: craters, ejecta, and the exact solutions of the verification
+//! problems (Riemann, Sedov–Taylor, Noh and wall reflection, the CJ detonation and its Taylor wave).
 
+pub mod cj;
 pub mod crater;
+pub mod noh;
 pub mod riemann;
+pub mod sedov;
