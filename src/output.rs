@@ -446,7 +446,9 @@ pub fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)>
     match read_frames(path) {
         Ok(f) => Ok((f, None)),
         Err(e) => {
-            let damaged = |e: hdf5::Error| crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
+            let damaged = |e: hdf5::Error| {
+                crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()))
+            };
             let f = hdf5::File::open(path).map_err(damaged)?;
             let mut names: Vec<(usize, String)> = f
                 .member_names()

@@ -385,7 +385,8 @@ impl Loop {
             .filter(|(_, p)| !p.active)
             .map(|(m, p)| (m.name().to_string(), json!(p.why)))
             .collect();
-        let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
+        let bk = &sim.book;
+        let work = bk.work_wall + bk.work_penalty + bk.work_gravity + bk.work_floor;
         let residual = e1.total - e0.total - work;
         let mut summary = json!({
             "case": sim.case.name(),
@@ -407,6 +408,7 @@ impl Loop {
                 "work_wall": sim.book.work_wall,
                 "work_penalty": sim.book.work_penalty,
                 "work_gravity": sim.book.work_gravity,
+                "work_floor": sim.book.work_floor,
                 "balance_residual": residual,
                 "balance_residual_relative": residual / e0.total.abs().max(1e-300),
             },

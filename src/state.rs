@@ -101,6 +101,10 @@ pub struct Work {
     pub gseg: Vec<i32>,
     /// The step the CFL rule proposes (s), as a one-value array (so the dual run compares it).
     pub dt_cfl: Vec<f64>,
+    /// Largest |μ_ij| of the viscosity per particle (m/s), for the CFL step.
+    pub mumax: Vec<f64>,
+    /// Energy added by the floor e ≥ 0 in the last step (J; per metre of depth in 2D), one value.
+    pub efloor: Vec<f64>,
 }
 
 /// Where a step stands: the time a stage evaluates at and the steps around it (s).
@@ -167,6 +171,8 @@ pub enum Field {
     Gsrc,
     Gseg,
     DtCfl,
+    Mumax,
+    Efloor,
 }
 
 /// A field's array, borrowed.
@@ -213,7 +219,7 @@ impl Field {
             W | PairI | PairJ => (Per::Pair, 1),
             Acc => (Per::Term, dim),
             Dde => (Per::Term, 1),
-            DtCfl => (Per::One, 1),
+            DtCfl | Efloor => (Per::One, 1),
             _ => (Per::Particle, 1),
         }
     }
@@ -256,6 +262,8 @@ impl Field {
             VMin => &w.v_min,
             TauMin => &w.tau_min,
             DtCfl => &w.dt_cfl,
+            Mumax => &w.mumax,
+            Efloor => &w.efloor,
         })
     }
 
@@ -305,6 +313,8 @@ impl Field {
             VMin => &mut w.v_min,
             TauMin => &mut w.tau_min,
             DtCfl => &mut w.dt_cfl,
+            Mumax => &mut w.mumax,
+            Efloor => &mut w.efloor,
         })
     }
 

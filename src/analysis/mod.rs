@@ -6,3 +6,4 @@ pub mod crater;
 pub mod noh;
 pub mod riemann;
 pub mod sedov;
+pub mod verify;

@@ -201,6 +201,8 @@ pub struct PlanCtx<'a> {
     pub dx_min: f64,
     /// Initial positions of the real particles (m), dim × n.
     pub x0: &'a [f64],
+    /// Initial smoothing lengths of the real particles (m).
+    pub h0: &'a [f64],
 }
 
 /// What a module contributes to a case's plan: its stages with their phases, and why they run

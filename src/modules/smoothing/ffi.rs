@@ -16,7 +16,7 @@ pub(super) fn from_density(a: &mut FromDensity) {
     chk("rho0", a.rho0.len(), n);
     // SAFETY: every array holds the n values the routine reads or writes (checked above).
     unsafe {
-        sys::sph_smoothing_density(n32(a.dim), n32(n), a.rho.as_ptr(), a.h0.as_ptr(), a.rho0.as_ptr(), a.h.as_mut_ptr())
+        sys::sph_smoothing_density(n32(a.dim), n32(n), a.rho.as_ptr(), a.h0.as_ptr(), a.rho0.as_ptr(), a.hmax, a.h.as_mut_ptr())
     }
 }
 
@@ -35,5 +35,5 @@ pub(super) fn advance(a: &mut Advance) {
     let n = a.dhdt.len();
     chk("h", a.h.len(), n);
     // SAFETY: h holds the n values the routine updates (checked above).
-    unsafe { sys::sph_smoothing_advance(n32(n), a.dt, a.theta, a.dhdt.as_ptr(), a.h.as_mut_ptr()) }
+    unsafe { sys::sph_smoothing_advance(n32(n), a.dt, a.theta, a.hmax, a.dhdt.as_ptr(), a.h.as_mut_ptr()) }
 }

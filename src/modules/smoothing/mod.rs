@@ -1,6 +1,9 @@
 //! Smoothing-length evolution (thesis (2-15), (2-16); Liu's h_upgrade):
 //! from density h_i = h0_i (ρ0_i/ρ_i)^{1/d}; rate dh_i/dt = −(h_i/(ρ_i d)) Dρ_i/Dt (m/s), with
-//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Fortran twin: `sph_smoothing.f90`.
+//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt; both capped at h_max (m; `f64::MAX` = no
+//! cap, `sph.h_max_ratio`): a particle left alone in a rarefaction (the centre of a point blast)
+//! would otherwise take every particle of the domain as its neighbour. Fortran twin:
+//! `sph_smoothing.f90`.
 //! Tier: 0 ULP in 1D and 2D (division, √), and in 3D (`pow`, the same C library on both sides).
 
 mod ffi;
@@ -18,6 +21,8 @@ pub struct FromDensity<'a> {
     pub rho: &'a [f64],
     pub h0: &'a [f64],
     pub rho0: &'a [f64],
+    /// Cap on h (m; `f64::MAX` = none).
+    pub hmax: f64,
     pub h: &'a mut [f64],
 }
 
@@ -34,6 +39,8 @@ pub struct Rate<'a> {
 pub struct Advance<'a> {
     pub dt: f64,
     pub theta: f64,
+    /// Cap on h (m; `f64::MAX` = none).
+    pub hmax: f64,
     pub dhdt: &'a [f64],
     pub h: &'a mut [f64],
 }
@@ -75,6 +82,8 @@ enum Which {
 /// A stage of the smoothing module (real particles only).
 pub struct SmoothingStage {
     which: Which,
+    /// Cap on h (m; `f64::MAX` = none).
+    hmax: f64,
 }
 
 impl Stage for SmoothingStage {
@@ -116,10 +125,13 @@ impl Stage for SmoothingStage {
         let (dim, n) = (p.dim, p.nreal);
         match self.which {
             Which::FromDensity => {
-                FromDensity { dim, rho: &p.rho[..n], h0: &p.h0, rho0: &p.rho0, h: &mut p.h[..n] }.run(b)
+                let (rho, h0, rho0, hmax) = (&p.rho[..n], &p.h0[..], &p.rho0[..], self.hmax);
+                FromDensity { dim, rho, h0, rho0, hmax, h: &mut p.h[..n] }.run(b)
             }
             Which::Rate => Rate { dim, rho: &p.rho[..n], h: &p.h[..n], drho: &w.drho[..n], dhdt: &mut w.dhdt }.run(b),
-            Which::Advance(theta) => Advance { dt: k.dt, theta, dhdt: &w.dhdt, h: &mut p.h[..n] }.run(b),
+            Which::Advance(theta) => {
+                Advance { dt: k.dt, theta, hmax: self.hmax, dhdt: &w.dhdt, h: &mut p.h[..n] }.run(b)
+            }
         }
     }
     fn tolerance(&self) -> Tolerance {
@@ -130,8 +142,14 @@ impl Stage for SmoothingStage {
 /// h from the density (after it), or dh/dt with the rates and the update after the advance.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let sph = &ctx.case.sph;
-    let why = format!("{:?}", sph.smoothing).to_lowercase();
-    let st = |which| Box::new(SmoothingStage { which }) as Box<dyn Stage>;
+    let mut why = format!("{:?}", sph.smoothing).to_lowercase();
+    // the cap: a multiple of the largest initial h
+    let h0max = ctx.h0.iter().cloned().fold(0.0, f64::max);
+    let hmax = sph.h_max_ratio.map_or(f64::MAX, |r| r * h0max);
+    if let Some(r) = sph.h_max_ratio {
+        why += &format!(", h at most {r} h0");
+    }
+    let st = |which| Box::new(SmoothingStage { which, hmax }) as Box<dyn Stage>;
     match sph.smoothing {
         SmoothingKind::Constant => Contribution::skip(why),
         SmoothingKind::Density => Contribution::run(why, vec![(Phase::Smooth, st(Which::FromDensity))]),

@@ -14,16 +14,22 @@ fn smoothing_from_density_rate_advance() {
     let drho = g.vec(n, -5e6, 5e6);
     let dhdt = g.vec(n, -20.0, 20.0);
     for dim in 1..=3 {
-        parity(&format!("smoothing::from_density {dim}D"), 0, ["h"], [sentinel(n)], |b, [hh]| {
-            run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, h: hh }, b)
-        });
+        for hmax in [f64::MAX, 0.015] {
+            let [f] = parity(&format!("smoothing::from_density {dim}D hmax {hmax}"), 0, ["h"], [sentinel(n)], |b, [hh]| {
+                run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, hmax, h: hh }, b)
+            });
+            assert!(f.iter().all(|&x| x <= hmax));
+            if hmax < 1.0 {
+                assert!(f.contains(&hmax), "{dim}D: the cap never acts");
+            }
+        }
         parity(&format!("smoothing::rate {dim}D"), 0, ["dhdt"], [sentinel(n)], |b, [o]| {
             run(Rate { dim, rho: &rho, h: &h, drho: &drho, dhdt: o }, b)
         });
     }
-    for (dt, theta) in [(1e-7, 1.0), (3.3e-6, 0.7)] {
-        let [f] = parity(&format!("smoothing::advance dt {dt}"), 0, ["h"], [h.clone()], |b, [hh]| {
-            run(Advance { dt, theta, dhdt: &dhdt, h: hh }, b)
+    for (dt, theta, hmax) in [(1e-7, 1.0, f64::MAX), (3.3e-6, 0.7, f64::MAX), (3.3e-6, 0.7, 0.02)] {
+        let [f] = parity(&format!("smoothing::advance dt {dt} hmax {hmax}"), 0, ["h"], [h.clone()], |b, [hh]| {
+            run(Advance { dt, theta, hmax, dhdt: &dhdt, h: hh }, b)
         });
         assert_ne!(f, h);
     }
