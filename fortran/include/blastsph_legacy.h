@@ -80,6 +80,12 @@ void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
                             const double *c, const double *mass, double alpha, double beta,
                             double etq, double *dvdt, double *dedt, double *mumax);
 
+/* conductivity (sph_conductivity.f90) */
+void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
+                            const double *dwdx, const double *x, const double *v,
+                            const double *rho, const double *p, const double *e,
+                            const double *mass, double alpha, int signal, double *dedt);
+
 /* strength (sph_strength.f90) */
 void sph_strength_rates(int dim, int ntotal, int n, int npair, const int *pair_i,
                         const int *pair_j, const double *dwdx, const double *mass,

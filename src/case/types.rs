@@ -22,6 +22,8 @@ pub struct Case {
     pub sph: SphCfg,
     #[serde(default)]
     pub viscosity: ViscCfg,
+    #[serde(default)]
+    pub conductivity: ConductivityCfg,
     pub penalty: Option<PenaltyCfg>,
     #[serde(default)]
     pub boundary: BoundaryCfg,
@@ -286,6 +288,28 @@ impl Default for ViscCfg {
     fn default() -> Self {
         ViscCfg { alpha: 1.0, beta: 10.0, phi_over_h: 0.1 }
     }
+}
+
+/// Signal speed of the artificial conductivity.
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ConductivitySignal {
+    /// √(|p_i − p_j|/ρ̄) (Price 2008): contact discontinuities.
+    #[default]
+    Pressure,
+    /// |v_ij·x̂_ij|: shocks, wall heating.
+    Velocity,
+}
+
+/// Artificial conductivity (Price 2008; theory.md §6): off while `alpha = 0`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConductivityCfg {
+    /// α_u (dimensionless; 0 = off; Price uses 1).
+    #[serde(default)]
+    pub alpha: f64,
+    #[serde(default)]
+    pub signal: ConductivitySignal,
 }
 
 #[derive(Debug, Clone, Deserialize)]

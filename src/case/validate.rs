@@ -303,6 +303,9 @@ impl Case {
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;
         v.num(&at, "phi_over_h", self.viscosity.phi_over_h, Range::above(0.0, 1.0))?;
+        let at = At::top("conductivity");
+        v.num(&at, "alpha", self.conductivity.alpha, Range::within(0.0, 100.0))?;
+        v.any(&at, "signal");
         if let Some(p) = &self.penalty {
             let at = At::top("penalty");
             v.num(&at, "pbar", p.pbar, Range::above(0.0, P_MAX))?;
