@@ -9,7 +9,7 @@
 
 use crate::analysis::crater::{Crater, CraterInput, explosive_mask, measure_xy, soil_mask, soil_spacing};
 use crate::case::Case;
-use crate::error::{Result, SphError};
+use crate::error::Result;
 use crate::output::Frame;
 use crate::plot::{self, Colouring, MapSpec, Reference, Scale};
 use plotters::style::RGBColor;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 fn case_files() -> Vec<PathBuf> {
     let mut v = Vec::new();
-    for dir in ["cases", "cases/hard"] {
+    for dir in ["cases", "cases/hard", "cases/verify"] {
         let d = Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
         if let Ok(rd) = std::fs::read_dir(&d) {
             for e in rd.flatten() {
