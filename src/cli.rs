@@ -662,6 +662,42 @@ pub fn check_text(sim: &Sim) -> String {
         },
         c.time.output_interval_s
     );
+    let det = c
+        .detonation
+        .as_ref()
+        .filter(|d| d.mode == case::BurnMode::Programmed)
+        .map(|d| {
+            format!(
+                ", burn: ramp {} h, beta burn {}, lighting at {} D",
+                d.width_h,
+                if d.beta_burn { "on" } else { "off" },
+                d.lighting_speed_factor
+            )
+        })
+        .unwrap_or_default();
+    s += &format!(
+        "numerics: {} density{}, energy {}, h {}{}, e floor {}, viscous step {}{}{}\n",
+        format!("{:?}", c.sph.density).to_lowercase(),
+        if c.sph.density == case::DensityKind::Continuity {
+            format!(" ({:?} form)", c.sph.continuity_form).to_lowercase()
+        } else {
+            String::new()
+        },
+        format!("{:?}", c.sph.energy_form).to_lowercase(),
+        format!("{:?}", c.sph.smoothing).to_lowercase(),
+        c.sph.h_max_ratio.map(|r| format!(" (h <= {r} h0 max)")).unwrap_or_default(),
+        if c.sph.e_floor { "on" } else { "off" },
+        if c.time.viscous_step { "on" } else { "off" },
+        if c.conductivity.alpha > 0.0 {
+            format!(", conductivity alpha_u = {} ({:?})", c.conductivity.alpha, c.conductivity.signal).to_lowercase()
+        } else {
+            String::new()
+        },
+        det
+    );
+    for w in crate::advice::warnings(c) {
+        s += &format!("warning: {w}\n");
+    }
     s + &sim.plan.text()
 }
 

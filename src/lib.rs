@@ -9,6 +9,7 @@
 // operations, for bit-for-bit parity); iterator rewrites would obscure that correspondence.
 #![allow(clippy::needless_range_loop)]
 
+pub mod advice;
 pub mod analysis;
 #[cfg(feature = "plot")]
 pub mod bench;

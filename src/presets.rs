@@ -11,14 +11,14 @@ use toml::{Table, Value};
 pub const PRESETS: [(&str, &str, &str); 8] = [
     (
         "tnt",
-        "thesis Table 4-2 after Liu (A as Liu publishes it, 3.712e11 Pa; B = 3.21e9 Pa as the thesis and Liu's cases use)",
-        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.21e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0 }
+        "thesis Table 4-2 after Liu (A as Liu publishes it, 3.712e11 Pa; B = 3.21e9 Pa as the thesis and Liu's cases use); unreacted TNT Us = 2390 + 2.05 Up m/s (cast TNT, Marsh 1980, LASL Shock Hugoniot Data), Gamma = 1 assumed (docs/theory.md s.9)",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.21e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0, unreacted_c_ms = 2390.0, unreacted_s = 2.05, unreacted_gamma = 1.0 }
 e0_jkg = 4.29e6"#,
     ),
     (
         "tnt_dobratz",
-        "Dobratz & Crawford, LLNL Explosives Handbook (1985): TNT at 1630 kg/m3, B = 3.231e9 Pa, E0 = 7.0 GJ/m3 (e0 = E0/rho0)",
-        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.231e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0 }
+        "Dobratz & Crawford, LLNL Explosives Handbook (1985): TNT at 1630 kg/m3, B = 3.231e9 Pa, E0 = 7.0 GJ/m3 (e0 = E0/rho0); unreacted as for tnt",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1630.0, a_pa = 3.712e11, b_pa = 3.231e9, r1 = 4.15, r2 = 0.95, omega = 0.30, d_ms = 6930.0, unreacted_c_ms = 2390.0, unreacted_s = 2.05, unreacted_gamma = 1.0 }
 e0_jkg = 4294478.5"#,
     ),
     (

@@ -211,7 +211,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     println!("mass: initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}", (m1 - m0) / m0.abs().max(1e-300));
     let en = &summary["energy"];
     println!(
-        "energy (J): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}; balance residual {:.3e} ({:.3e} relative)",
+        "energy (J): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}, floor e >= 0 {:.3e}; balance residual {:.3e} ({:.3e} relative)",
         en["initial"]["total"].as_f64().unwrap_or(0.0),
         en["final"]["total"].as_f64().unwrap_or(0.0),
         en["final"]["kinetic"].as_f64().unwrap_or(0.0),
@@ -220,12 +220,16 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         en["work_wall"].as_f64().unwrap_or(0.0),
         en["work_penalty"].as_f64().unwrap_or(0.0),
         en["work_gravity"].as_f64().unwrap_or(0.0),
+        en["work_floor"].as_f64().unwrap_or(0.0),
         en["balance_residual"].as_f64().unwrap_or(0.0),
         en["balance_residual_relative"].as_f64().unwrap_or(0.0)
     );
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
         AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?,
+        AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation => {
+            crate::analysis::verify::report(dir, &case, &frames)?
+        }
         AnalysisKind::None if case.dim == 2 => {
             crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?
         }

@@ -330,6 +330,12 @@ impl Loop {
                     }
                     pb.update(self.sim.nstep, self.sim.t, dt);
                 }
+                Err(SphError::Unstable(msg)) => {
+                    // the diagnostic names the likely fix (src/advice.rs)
+                    let hint = crate::advice::hint(&self.sim.case, &msg);
+                    diag = Some(SphError::Unstable(format!("{msg}; {hint}")));
+                    break;
+                }
                 Err(e) => {
                     diag = Some(e);
                     break;
@@ -397,7 +403,8 @@ impl Loop {
             .filter(|(_, p)| !p.active)
             .map(|(m, p)| (m.name().to_string(), json!(p.why)))
             .collect();
-        let work = sim.book.work_wall + sim.book.work_penalty + sim.book.work_gravity;
+        let bk = &sim.book;
+        let work = bk.work_wall + bk.work_penalty + bk.work_gravity + bk.work_floor;
         let residual = e1.total - e0.total - work;
         let mut summary = json!({
             "case": sim.case.name(),
@@ -419,6 +426,7 @@ impl Loop {
                 "work_wall": sim.book.work_wall,
                 "work_penalty": sim.book.work_penalty,
                 "work_gravity": sim.book.work_gravity,
+                "work_floor": sim.book.work_floor,
                 "balance_residual": residual,
                 "balance_residual_relative": residual / e0.total.abs().max(1e-300),
             },
@@ -434,6 +442,32 @@ impl Loop {
             "diagnostic": diag.map(|d| d.to_string()),
             "resumed": self.resumes.iter().map(|(s, t)| json!({ "step": s, "time": t })).collect::<Vec<_>>(),
         });
+        // particles with negative specific internal energy, per material
+        {
+            let mut by = serde_json::Map::new();
+            let (mut count, mut emin) = (0usize, f64::INFINITY);
+            for (m, mc) in sim.case.materials.iter().enumerate() {
+                let es: Vec<f64> = (0..n).filter(|&i| sim.p.mat[i] as usize == m).map(|i| sim.p.e[i]).collect();
+                let neg = es.iter().filter(|&&e| e < 0.0).count();
+                let lo = es.iter().cloned().fold(f64::INFINITY, f64::min);
+                count += neg;
+                emin = emin.min(lo);
+                let lo = if lo.is_finite() { json!(lo) } else { json!(null) };
+                by.insert(mc.name.clone(), json!({ "count": neg, "min_e_jkg": lo }));
+            }
+            let emin = if emin.is_finite() { json!(emin) } else { json!(null) };
+            summary["negative_e"] = json!({ "count": count, "min_e_jkg": emin, "by_material": by });
+        }
+        if matches!(
+            sim.case.analysis.kind,
+            AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation
+        ) {
+            // the measures of the current state (a detonation's history needs the outputs: report)
+            let f = analysis::verify::frame_of(sim);
+            if let Ok((v, _)) = analysis::verify::measure(&sim.case, std::slice::from_ref(&f)) {
+                summary["verification"] = v;
+            }
+        }
         if !self.gauges.names.is_empty() {
             summary["gauges"] = json!(self.gauges.summary());
         }

@@ -3,7 +3,10 @@
 
 use crate::case::{BurnMode, Case, EosCfg, Shape, WallKind};
 use crate::error::{Result, input};
-use crate::modules::param::{MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, Segments};
+use crate::modules::param::{
+    MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_ECHEM, SPH_MP_ETA_CJ,
+    SPH_MP_UNR_C, SPH_MP_UNR_GAMMA, SPH_MP_UNR_S, Segments,
+};
 
 /// Particles as generated, before the solver takes them.
 #[derive(Debug, Clone, Default)]
@@ -38,10 +41,47 @@ pub fn material_table(case: &Case) -> MatTable {
                 col[0] = rho0_kgm3.unwrap_or(1.0);
                 col[1] = *gamma;
             }
-            EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+                unreacted_c_ms,
+                unreacted_s,
+                unreacted_gamma,
+            } => {
                 mtype[m] = SPH_EOS_JWL as i32;
                 col[0] = *rho0_kgm3;
                 col[1..7].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
+                // the energy of the explosive at rest: the material's e0, else its first region's
+                let e0 = mc
+                    .e0_jkg
+                    .or_else(|| case.regions.iter().find(|r| r.material == mc.name).and_then(|r| r.e_jkg))
+                    .unwrap_or(0.0);
+                if let (Some(c), Some(s), Some(g)) = (unreacted_c_ms, unreacted_s, unreacted_gamma) {
+                    col[SPH_MP_UNR_C as usize - 1] = *c;
+                    col[SPH_MP_UNR_S as usize - 1] = *s;
+                    col[SPH_MP_UNR_GAMMA as usize - 1] = *g;
+                    col[SPH_MP_ECHEM as usize - 1] = e0;
+                }
+                let beta = case.detonation.as_ref().is_some_and(|d| d.mode == BurnMode::Programmed && d.beta_burn);
+                if beta {
+                    let jwl = crate::analysis::cj::Jwl {
+                        rho0: *rho0_kgm3,
+                        a: *a_pa,
+                        b: *b_pa,
+                        r1: *r1,
+                        r2: *r2,
+                        omega: *omega,
+                        e0,
+                    };
+                    if let Some(s) = crate::analysis::cj::cj(&jwl) {
+                        col[SPH_MP_ETA_CJ as usize - 1] = s.rho / rho0_kgm3;
+                    }
+                }
             }
             EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
                 mtype[m] = SPH_EOS_WATER as i32;
@@ -289,12 +329,20 @@ fn generate(case: &Case) -> Result<Initial> {
         init.dx_min = init.dx_min.min(rc.spacing_m);
         // axisymmetric: each particle is a ring of mass 2π r ρ Δx² (kg)
         let ring = |p: &[f64; 3]| 2.0 * std::f64::consts::PI * p[0] * (rho * rc.spacing_m * rc.spacing_m);
+        let cen = rc.radial_center_m.clone().unwrap_or_else(|| vec![0.0; d]);
         for p in pts {
             init.x.extend_from_slice(&p[..d]);
-            match &rc.velocity_ms {
-                Some(v) => init.v.extend_from_slice(v),
-                None => init.v.extend(std::iter::repeat_n(0.0, d)),
+            let mut v = rc.velocity_ms.clone().unwrap_or_else(|| vec![0.0; d]);
+            if let Some(vr) = rc.radial_velocity_ms {
+                // v += v_r (x − c)/|x − c| (zero at the centre): the Noh problem
+                let r = (0..d).map(|a| (p[a] - cen[a]) * (p[a] - cen[a])).sum::<f64>().sqrt();
+                if r > 0.0 {
+                    for a in 0..d {
+                        v[a] += vr * (p[a] - cen[a]) / r;
+                    }
+                }
             }
+            init.v.extend_from_slice(&v);
             init.rho.push(rho);
             init.e.push(e);
             init.h.push(h);

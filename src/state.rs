@@ -105,6 +105,10 @@ pub struct Work {
     /// empty in plane geometry.
     pub rinv: Vec<f64>,
     pub pmass: Vec<f64>,
+    /// Largest |μ_ij| of the viscosity per particle (m/s), for the CFL step.
+    pub mumax: Vec<f64>,
+    /// Energy added by the floor e ≥ 0 in the last step (J; per metre of depth in 2D), one value.
+    pub efloor: Vec<f64>,
 }
 
 /// Where a step stands: the time a stage evaluates at and the steps around it (s).
@@ -173,6 +177,8 @@ pub enum Field {
     DtCfl,
     Rinv,
     Pmass,
+    Mumax,
+    Efloor,
 }
 
 /// A field's array, borrowed.
@@ -220,7 +226,7 @@ impl Field {
             W | PairI | PairJ => (Per::Pair, 1),
             Acc => (Per::Term, dim),
             Dde => (Per::Term, 1),
-            DtCfl => (Per::One, 1),
+            DtCfl | Efloor => (Per::One, 1),
             _ => (Per::Particle, 1),
         }
     }
@@ -265,6 +271,8 @@ impl Field {
             DtCfl => &w.dt_cfl,
             Rinv => &w.rinv,
             Pmass => &w.pmass,
+            Mumax => &w.mumax,
+            Efloor => &w.efloor,
         })
     }
 
@@ -316,6 +324,8 @@ impl Field {
             DtCfl => &mut w.dt_cfl,
             Rinv => &mut w.rinv,
             Pmass => &mut w.pmass,
+            Mumax => &mut w.mumax,
+            Efloor => &mut w.efloor,
         })
     }
 

@@ -132,6 +132,37 @@ fn markdown(scenes: &[Scene]) -> String {
             let _ = writeln!(s, "\n{}: {note}", sc.name);
         }
     }
+    let _ = writeln!(
+        s,
+        "\nParticles with negative specific internal energy at the end time (per material: count, smallest e in J/kg):\n"
+    );
+    let _ = writeln!(s, "| case | e < 0 (all) | per material |");
+    let _ = writeln!(s, "|---|---|---|");
+    for sc in scenes {
+        let ne = &sc.summary["negative_e"];
+        let per: Vec<String> = ne["by_material"]
+            .as_object()
+            .map(|o| {
+                o.iter()
+                    .map(|(k, v)| {
+                        let c = v["count"].as_u64().unwrap_or(0);
+                        if c > 0 {
+                            format!("{k}: {c} (min {:.3e})", v["min_e_jkg"].as_f64().unwrap_or(f64::NAN))
+                        } else {
+                            format!("{k}: 0")
+                        }
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} |",
+            sc.name,
+            ne["count"].as_u64().map_or("-".into(), |c| c.to_string()),
+            per.join(", ")
+        );
+    }
     let _ =
         writeln!(s, "\nGauges (peak pressure in MPa at peak time in µs; arrival = first time above half the peak):\n");
     let _ = writeln!(s, "| case | gauge | distance (cm) | ours: peak | at | arrival | thesis: peak | at |");

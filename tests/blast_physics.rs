@@ -6,7 +6,9 @@
 use blastsph::case::KernelKind;
 use blastsph::modules::Backend::Fortran as F;
 use blastsph::modules::nnps::{PairList, Search};
-use blastsph::modules::param::{MatTable, NPAR, NSTR, SPH_EOS_JWL, SPH_EOS_SOIL, Segments};
+use blastsph::modules::param::{
+    MatTable, NPAR, NSTR, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_MP_ECHEM, SPH_MP_ETA_CJ, SPH_MP_UNR_C, Segments,
+};
 use blastsph::modules::{Twin, boundary, detonation, eos, kernel, penalty, strength};
 
 /// One soil-like material with strength (G, α_φ, k) and one without (G = 0).
@@ -354,19 +356,36 @@ fn programmed_burn_lights_at_distance_over_d() {
     let x = [0.5, 0.97, 0.53, 0.97, 0.5, 0.5];
     let mat = [0, 0, 1];
     let mut tl = [0.0; 3];
-    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], tlight: &mut tl }.run(F);
+    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], sf: 1.0, tlight: &mut tl }.run(F);
     assert_eq!(tl[0], 0.0);
     assert!((tl[1] - 0.03 / 6930.0).abs() < 1e-18);
     assert_eq!(tl[2], 0.0, "only explosives are lit");
+    // a lighting front at 0.95 D lights particle 1 later by 1/0.95
+    let mut tl95 = [0.0; 3];
+    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], sf: 0.95, tlight: &mut tl95 }.run(F);
+    assert!((tl95[1] - 0.03 / (0.95 * 6930.0)).abs() < 1e-18);
     let h = [0.01; 3];
     let mut lam = [0.0; 3];
-    let burn = |t: f64, width: f64, lam: &mut [f64]| {
-        detonation::Burn { t, mat: &mat, mt: &mt, tlight: &tl, h: &h, width, burn: lam }.run(F)
+    let burn = |mt: &MatTable, t: f64, rho: &[f64], width: f64, lam: &mut [f64]| {
+        detonation::Burn { t, mat: &mat, mt, tlight: &tl, h: &h, rho, width, burn: lam }.run(F)
     };
-    burn(0.5 * 0.03 / 6930.0, 0.0, &mut lam);
+    let rho0 = [1630.0, 1630.0, 1450.0];
+    burn(&mt, 0.5 * 0.03 / 6930.0, &rho0, 0.0, &mut lam);
     assert_eq!(lam[..2], [1.0, 0.0], "the front has not reached particle 1 yet");
-    burn(tl[1] + 0.5 * 0.01 / 6930.0, 1.0, &mut lam);
+    burn(&mt, tl[1] + 0.5 * 0.01 / 6930.0, &rho0, 1.0, &mut lam);
     assert!((lam[1] - 0.5).abs() < 1e-12, "ramp of one h: half burnt half an h behind the front");
+    // the beta burn (η_CJ = 1.3666): unlit but compressed halfway to the CJ density → λ = 0.5; then
+    // expanded again, it keeps what it burnt; compressed beyond ρ_CJ, it has burnt completely
+    let mut mtb = mt.clone();
+    mtb.mpar[SPH_MP_ETA_CJ as usize - 1] = 1.3666;
+    let eta_half = 1.0 / (1.0 - 0.5 * (1.0 - 1.0 / 1.3666));
+    let mut lam = [0.0; 3];
+    burn(&mtb, 0.0, &[1630.0, 1630.0 * eta_half, 1450.0], 1.0, &mut lam);
+    assert!((lam[1] - 0.5).abs() < 1e-12, "beta burn halfway: {}", lam[1]);
+    burn(&mtb, 0.0, &rho0, 1.0, &mut lam);
+    assert!((lam[1] - 0.5).abs() < 1e-12, "the beta burn never un-burns");
+    burn(&mtb, 0.0, &[1630.0, 2300.0, 1450.0], 1.0, &mut lam);
+    assert_eq!(lam[1], 1.0, "beyond the CJ density: burnt");
     // the JWL pressure is scaled by the burn fraction
     let (mut p, mut c) = ([0.0; 1], [0.0; 1]);
     let jwl = {
@@ -378,4 +397,23 @@ fn programmed_burn_lights_at_distance_over_d() {
     eos::Eval { mt: &jwl, mat: &[0], burn: &[0.25], rho: &[1630.0], e: &[4.29e6], p: &mut p, c: &mut c }.run(F);
     let full = 8.376e9;
     assert!((p[0] / (0.25 * full) - 1.0).abs() < 5e-3, "p = {} = a quarter of the constant-volume burn", p[0]);
+    // with an unreacted explosive (C = 2390 m/s, S = 2.05, Γ = 1, e_chem = 4.29 MJ/kg): unlit and
+    // compressed to μ = 0.2 with e = e_chem + 1e5 J/kg, p = (1 − Γμ/2) p_H + Γ ρ (e − e_chem) with
+    // p_H = a0 μ + b0 μ² + c0 μ³ (4-42…4-46 with the unreacted constants); a quarter burnt, the
+    // mixture p = ¼ p_JWL + ¾ p_u
+    let mut un = jwl.clone();
+    un.mpar[SPH_MP_UNR_C as usize - 1..SPH_MP_ECHEM as usize].copy_from_slice(&[2390.0, 2.05, 1.0, 4.29e6]);
+    let (rho, e, mu) = (1630.0 * 1.2, 4.29e6 + 1e5, 0.2);
+    let a0 = 1630.0 * 2390.0 * 2390.0;
+    let (b0, c0) = (a0 * (1.0 + 2.0 * 1.05), a0 * (2.0 * 1.05 + 3.0 * 1.05 * 1.05));
+    let pu = (1.0 - 0.5 * mu) * (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu) + rho * 1e5;
+    let (mut p0, mut pj, mut pq) = ([0.0; 1], [0.0; 1], [0.0; 1]);
+    let mut eval = |mt: &MatTable, lam: f64, p: &mut [f64]| {
+        eos::Eval { mt, mat: &[0], burn: &[lam], rho: &[rho], e: &[e], p, c: &mut c }.run(F)
+    };
+    eval(&un, 0.0, &mut p0);
+    assert!((p0[0] / pu - 1.0).abs() < 1e-12, "unreacted p = {} against {pu}", p0[0]);
+    eval(&jwl, 1.0, &mut pj);
+    eval(&un, 0.25, &mut pq);
+    assert!((pq[0] / (0.25 * pj[0] + 0.75 * pu) - 1.0).abs() < 1e-12, "mixture p = {}", pq[0]);
 }

@@ -63,6 +63,10 @@ xsph_eps = 0.3
 alpha = 1.0
 beta = 10.0
 
+[conductivity]
+alpha = 1.0
+signal = "velocity"
+
 [penalty]
 pbar = 1.0e5
 
@@ -212,6 +216,21 @@ fn dual_shock_tube_every_module_within_tolerance() {
         Module::Integrator,
     ]);
     assert!(modules.is_superset(&expected), "shock tube compared {modules:?}");
+}
+
+/// The shock tube with Price's artificial conductivity, both signal speeds: its stage is compared
+/// too (off by default, so no other dual run has it).
+#[test]
+fn dual_shock_tube_with_conductivity() {
+    for signal in ["pressure", "velocity"] {
+        let dir = tempfile::tempdir().unwrap();
+        let sets = vec!["conductivity.alpha=1.0".to_string(), format!("conductivity.signal=\"{signal}\"")];
+        let c = case::load(&shock_tube(), &sets).expect("shock tube loads");
+        let code = cli::dual_run(c, &Overrides::default(), 12, dir.path()).expect("dual run");
+        assert_eq!(code, 0, "{signal}: exit status of a dual run within tolerance");
+        let modules = check_report(&dir.path().join("dual_report.json"), 12);
+        assert!(modules.contains("conductivity"), "{signal}: compared {modules:?}");
+    }
 }
 
 /// The binary over the whole shock tube (40 steps to t = 0.2 s), with the cell search.

@@ -15,7 +15,7 @@
 #ifndef BLASTSPH_LEGACY_H
 #define BLASTSPH_LEGACY_H
 
-#define SPH_NPAR 12
+#define SPH_NPAR 16
 #define SPH_NSTR 6
 #define SPH_MP_RHO0 1
 #define SPH_MP_E1 2
@@ -23,6 +23,11 @@
 #define SPH_MP_SHEAR 9
 #define SPH_MP_ALPHA_PHI 10
 #define SPH_MP_COHESION 11
+#define SPH_MP_UNR_C 12
+#define SPH_MP_UNR_S 13
+#define SPH_MP_UNR_GAMMA 14
+#define SPH_MP_ECHEM 15
+#define SPH_MP_ETA_CJ 16
 
 #define SPH_EOS_NONE 0
 #define SPH_EOS_IDEAL_GAS 1
@@ -66,14 +71,20 @@ void sph_eos_eval(int n, int nmat, const int *mtype, const double *mpar, const i
 void sph_force_internal(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                         const double *dwdx, const double *mass, const double *rho,
                         const double *p, const double *v, int ntau, const double *tau,
-                        double *dvdt, double *dedt);
+                        int eform, double *dvdt, double *dedt);
 
 /* viscosity (sph_viscosity.f90) */
 void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
                             const int *pair_j, const double *dwdx, const double *x,
                             const double *v, const double *h, const double *rho,
                             const double *c, const double *mass, double alpha, double beta,
-                            double etq, double *dvdt, double *dedt);
+                            double etq, double *dvdt, double *dedt, double *mumax);
+
+/* conductivity (sph_conductivity.f90) */
+void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
+                            const double *dwdx, const double *x, const double *v,
+                            const double *rho, const double *p, const double *e,
+                            const double *mass, double alpha, int signal, double *dedt);
 
 /* strength (sph_strength.f90) */
 void sph_strength_rates(int dim, int ntotal, int n, int npair, const int *pair_i,
@@ -115,10 +126,12 @@ void sph_geometry_continuity(int dim, int ntotal, int n, const double *v, const 
 
 /* smoothing (sph_smoothing.f90) */
 void sph_smoothing_density(int dim, int n, const double *rho, const double *h0,
-                           const double *rho0, int nr, const double *rinv, double *h);
+                           const double *rho0, int nr, const double *rinv, double hmax,
+                           double *h);
 void sph_smoothing_rate(int dim, int n, const double *rho, const double *h, const double *drho,
                         double *dhdt);
-void sph_smoothing_advance(int n, double dt, double theta, const double *dhdt, double *h);
+void sph_smoothing_advance(int n, double dt, double theta, double hmax, const double *dhdt,
+                           double *h);
 
 /* xsph (sph_xsph.f90) */
 void sph_xsph_average(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
@@ -127,10 +140,11 @@ void sph_xsph_average(int dim, int ntotal, int npair, const int *pair_i, const i
 
 /* detonation (sph_detonation.f90) */
 void sph_detonation_light(int dim, int n, const double *x, const int *mat, int nmat,
-                          const int *mtype, const double *mpar, const double *xdet,
+                          const int *mtype, const double *mpar, const double *xdet, double sf,
                           double *tlight);
 void sph_detonation_burn(int n, double t, const int *mat, int nmat, const double *mpar,
-                         const double *tlight, const double *h, double width, double *burn);
+                         const double *tlight, const double *h, const double *rho, double width,
+                         double *burn);
 
 /* integrator (sph_integrator.f90) */
 void sph_integrator_sum_rates(int dim, int n, int lda, int nterm, const double *acc,
@@ -146,6 +160,8 @@ void sph_integrator_advance(int dim, int n, int ntau, int first, double dt_prev,
                             const double *v_min, const double *tau_min, int nav,
                             const double *av, double *x);
 void sph_integrator_cfl(int dim, int n, double cfl, const double *h, const double *c,
-                        const double *v, const double *dv, double *dt);
+                        const double *v, const double *dv, int nmu, double kv,
+                        const double *mumax, double *dt);
+void sph_integrator_efloor(int n, const double *mass, double *e, double *added);
 
 #endif

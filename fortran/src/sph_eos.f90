@@ -6,7 +6,10 @@
 !     (the book returns sqrt((gamma-1) e); the adiabatic speed is used here)
 !   JWL (thesis 4-39), eta = rho/rho0:
 !     p = A (1 - w eta/R1) exp(-R1/eta) + B (1 - w eta/R2) exp(-R2/eta) + w eta rho0 e
-!     times the burn fraction when a programmed burn is running
+!     times the burn fraction lam of a programmed burn (sph_detonation);
+!     with an unreacted explosive (C_u > 0)
+!     p = lam p_JWL + (1 - lam) p_u,  c^2 = lam c_JWL^2 + (1 - lam) c_u^2,
+!     p_u the Mie-Grueneisen below with (C_u, S_u, Gamma_u) and e - e_chem
 !   water polynomial (thesis 4-40, 4-41), mu = eta - 1:
 !     mu > 0 : p = a1 mu + a2 mu^2 + a3 mu^3 + (b0 + b1 mu) rho0 e
 !     mu <= 0: p = a1 mu + (b0 + b1 mu) rho0 e
@@ -33,6 +36,7 @@ contains
     real(c_double), intent(out) :: p, c
     real(c_double) :: rho0, eta, mu, g, a, b, r1, r2, om, x1, x2, dpdr, dpde, c2, cref
     real(c_double) :: a0, b0, c0, s, ph, dph, gam, wa1, wa2, wa3, wb0, wb1
+    real(c_double) :: pu, c2u, eu
 
     rho0 = par(mp_rho0)
     p = 0.0d0
@@ -60,7 +64,28 @@ contains
       dpde = om*rho
       c2 = dpdr + p/(rho*rho)*dpde
       cref = par(mp_e1 + 5)
-      p = lam*p
+      if (par(mp_unr_c) > 0.0d0) then
+        s = par(mp_unr_s)
+        gam = par(mp_unr_gamma)
+        a0 = rho0*par(mp_unr_c)*par(mp_unr_c)
+        b0 = a0*(1.0d0 + 2.0d0*(s - 1.0d0))
+        c0 = a0*(2.0d0*(s - 1.0d0) + 3.0d0*(s - 1.0d0)*(s - 1.0d0))
+        mu = eta - 1.0d0
+        if (mu > 0.0d0) then
+          ph = a0*mu + b0*mu*mu + c0*mu*mu*mu
+          dph = a0 + 2.0d0*b0*mu + 3.0d0*c0*mu*mu
+        else
+          ph = a0*mu
+          dph = a0
+        end if
+        eu = e - par(mp_echem)
+        pu = (1.0d0 - 0.5d0*gam*mu)*ph + gam*rho*eu
+        c2u = ((1.0d0 - 0.5d0*gam*mu)*dph - 0.5d0*gam*ph)/rho0 + gam*eu + pu/(rho*rho)*(gam*rho)
+        p = lam*p + (1.0d0 - lam)*pu
+        c2 = lam*c2 + (1.0d0 - lam)*c2u
+      else
+        p = lam*p
+      end if
     case (eos_water)
       mu = rho/rho0 - 1.0d0
       wa1 = par(mp_e1)

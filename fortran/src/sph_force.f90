@@ -3,6 +3,10 @@
 !  the sign decision of THESIS.md s.2), sigma = -p delta + tau:
 !     dv_i^a/dt = sum_j m_j (sig_i^ab/rho_i^2 + sig_j^ab/rho_j^2) dW_ij/dx_i^b
 !     de_i/dt   = 1/2 sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2) (v_i - v_j).grad_i W_ij
+!  or, with eform = 1 (the asymmetric form, each particle its own p dV work):
+!     de_i/dt   = sum_j m_j (p_i/rho_i^2) (v_i - v_j).grad_i W_ij
+!  which conserves the same total energy with the momentum equation above
+!  and keeps e >= 0 where p >= 0 (docs/theory.md s.5).
 !  The deviatoric work tau:epsdot/rho is added by the strength module.
 !  ntau = 0: fluids, pressure only; ntau = ntotal: tau(6, ntotal) in the
 !  order xx, yy, zz, xy, xz, yz.
@@ -19,8 +23,8 @@ module sph_force
 contains
 
   subroutine sph_force_internal(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, p, v, &
-      ntau, tau, dvdt, dedt) bind(C, name="sph_force_internal")
-    integer(c_int), value :: dim, ntotal, npair, ntau
+      ntau, tau, eform, dvdt, dedt) bind(C, name="sph_force_internal")
+    integer(c_int), value :: dim, ntotal, npair, ntau, eform
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), p(ntotal), &
                                   v(dim, ntotal), tau(nstr, max(ntau, 1))
@@ -61,9 +65,14 @@ contains
           dvdt(a, j) = dvdt(a, j) - mass(i)*f
         end do
       end if
-      de = 0.5d0*pr*vd
-      dedt(i) = dedt(i) + mass(j)*de
-      dedt(j) = dedt(j) + mass(i)*de
+      if (eform == 0) then
+        de = 0.5d0*pr*vd
+        dedt(i) = dedt(i) + mass(j)*de
+        dedt(j) = dedt(j) + mass(i)*de
+      else
+        dedt(i) = dedt(i) + mass(j)*((p(i)/ri2)*vd)
+        dedt(j) = dedt(j) + mass(i)*((p(j)/rj2)*vd)
+      end if
     end do
   end subroutine sph_force_internal
 

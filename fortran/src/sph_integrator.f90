@@ -9,7 +9,11 @@
 !            then x(t_n+1) = x(t_n) + dt * (v(t_n+1/2) + av)
 !  For a fixed step (dt_prev = dt) this is Liu's scheme exactly.
 !  sum_rates adds the acceleration terms in a fixed order, then gravity.
-!  cfl: dt = C min_i min( h_i/(c_i + |v_i|), sqrt(h_i/|a_i|) ).
+!  efloor: e_i = max(e_i, 0), returning the energy added, sum_i m_i max(0, -e_i)
+!  (J; booked in the energy balance by the solver).
+!  cfl: dt = C min_i min( h_i/(c_i + |v_i| + kv mumax_i), sqrt(h_i/|a_i|) ),
+!  kv mumax_i the signal speed of the viscosity's beta term (nmu = n), or
+!  no such term (nmu = 0).
 !-----------------------------------------------------------------------
 module sph_integrator
   use iso_c_binding, only: c_int, c_double
@@ -17,7 +21,7 @@ module sph_integrator
   implicit none
   private
   public :: sph_integrator_sum_rates, sph_integrator_predict, sph_integrator_advance, &
-            sph_integrator_cfl
+            sph_integrator_cfl, sph_integrator_efloor
 
 contains
 
@@ -127,10 +131,11 @@ contains
     end do
   end subroutine sph_integrator_advance
 
-  subroutine sph_integrator_cfl(dim, n, cfl, h, c, v, dv, dt) bind(C, name="sph_integrator_cfl")
-    integer(c_int), value :: dim, n
-    real(c_double), value :: cfl
-    real(c_double), intent(in) :: h(n), c(n), v(dim, n), dv(dim, n)
+  subroutine sph_integrator_cfl(dim, n, cfl, h, c, v, dv, nmu, kv, mumax, dt) &
+      bind(C, name="sph_integrator_cfl")
+    integer(c_int), value :: dim, n, nmu
+    real(c_double), value :: cfl, kv
+    real(c_double), intent(in) :: h(n), c(n), v(dim, n), dv(dim, n), mumax(max(nmu, 1))
     real(c_double), intent(out) :: dt
     integer :: i, d
     real(c_double) :: vv, aa, tc, tf
@@ -143,7 +148,11 @@ contains
         vv = vv + v(d, i)*v(d, i)
         aa = aa + dv(d, i)*dv(d, i)
       end do
-      tc = h(i)/(c(i) + sqrt(vv))
+      if (nmu > 0) then
+        tc = h(i)/(c(i) + sqrt(vv) + kv*mumax(i))
+      else
+        tc = h(i)/(c(i) + sqrt(vv))
+      end if
       dt = min(dt, tc)
       if (aa > 0.0d0) then
         tf = sqrt(h(i)/sqrt(aa))
@@ -152,5 +161,21 @@ contains
     end do
     dt = cfl*dt
   end subroutine sph_integrator_cfl
+
+  subroutine sph_integrator_efloor(n, mass, e, added) bind(C, name="sph_integrator_efloor")
+    integer(c_int), value :: n
+    real(c_double), intent(in) :: mass(n)
+    real(c_double), intent(inout) :: e(n)
+    real(c_double), intent(out) :: added
+    integer :: i
+
+    added = 0.0d0
+    do i = 1, n
+      if (e(i) < 0.0d0) then
+        added = added - mass(i)*e(i)
+        e(i) = 0.0d0
+      end if
+    end do
+  end subroutine sph_integrator_efloor
 
 end module sph_integrator

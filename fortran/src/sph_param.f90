@@ -33,7 +33,15 @@ module sph_param
   integer(c_int), parameter :: mp_shear = 9         ! shear modulus G (Pa), 0 = no strength
   integer(c_int), parameter :: mp_alpha_phi = 10    ! Drucker-Prager alpha_phi
   integer(c_int), parameter :: mp_cohesion = 11     ! Drucker-Prager k (Pa)
-  integer(c_int), parameter :: npar = 12
+  ! JWL explosives: the unreacted explosive (Mie-Grueneisen with a linear
+  ! Us-Up Hugoniot; 0 = a void, the thesis's reading), the chemical energy
+  ! that its e counts (at rest), and the CJ compression of the beta burn
+  integer(c_int), parameter :: mp_unr_c = 12        ! C of Us = C + S Up (m/s)
+  integer(c_int), parameter :: mp_unr_s = 13        ! S
+  integer(c_int), parameter :: mp_unr_gamma = 14    ! Grueneisen Gamma
+  integer(c_int), parameter :: mp_echem = 15        ! e of the unreacted at rest (J/kg)
+  integer(c_int), parameter :: mp_eta_cj = 16       ! rho_CJ/rho0 of the beta burn (0 = off)
+  integer(c_int), parameter :: npar = 16
 
   ! number of stored deviatoric stress components: xx, yy, zz, xy, xz, yz
   integer(c_int), parameter :: nstr = 6

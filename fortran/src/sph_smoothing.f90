@@ -8,6 +8,9 @@
 !   rate (thesis): dh_i/dt = -(h_i/(rho_i d)) sum_j m_j v_ij.grad_i W_ij
 !                          = -(h_i/(rho_i d)) drho_i/dt   (continuity sum)
 !                  h_i <- h_i + theta dt dh_i/dt
+!  Both are capped at hmax (m; huge = no cap): a particle left alone in a
+!  rarefaction (the centre of a point blast) would otherwise take every
+!  particle of the domain as its neighbour.
 !-----------------------------------------------------------------------
 module sph_smoothing
   use iso_c_binding, only: c_int, c_double
@@ -17,9 +20,10 @@ module sph_smoothing
 
 contains
 
-  subroutine sph_smoothing_density(dim, n, rho, h0, rho0, nr, rinv, h) &
+  subroutine sph_smoothing_density(dim, n, rho, h0, rho0, nr, rinv, hmax, h) &
       bind(C, name="sph_smoothing_density")
     integer(c_int), value :: dim, n, nr
+    real(c_double), value :: hmax
     real(c_double), intent(in) :: rho(n), h0(n), rho0(n), rinv(max(nr, 1))
     real(c_double), intent(out) :: h(n)
     integer :: i
@@ -34,6 +38,7 @@ contains
       else
         h(i) = h0(i)*(rho0(i)/rho(i))**(1.0d0/3.0d0)
       end if
+      h(i) = min(h(i), hmax)
     end do
   end subroutine sph_smoothing_density
 
@@ -48,15 +53,15 @@ contains
     end do
   end subroutine sph_smoothing_rate
 
-  subroutine sph_smoothing_advance(n, dt, theta, dhdt, h) bind(C, name="sph_smoothing_advance")
+  subroutine sph_smoothing_advance(n, dt, theta, hmax, dhdt, h) bind(C, name="sph_smoothing_advance")
     integer(c_int), value :: n
-    real(c_double), value :: dt, theta
+    real(c_double), value :: dt, theta, hmax
     real(c_double), intent(in) :: dhdt(n)
     real(c_double), intent(inout) :: h(n)
     integer :: i
 
     do i = 1, n
-      h(i) = h(i) + theta*dt*dhdt(i)
+      h(i) = min(h(i) + theta*dt*dhdt(i), hmax)
     end do
   end subroutine sph_smoothing_advance
 

@@ -5,6 +5,8 @@
 !     Pi_ij = (beta mu_ij - alpha c_ij) mu_ij / rho_ij   (pair means)
 !     dv_i/dt -= sum_j m_j Pi_ij grad_i W_ij
 !     de_i/dt += 1/2 sum_j m_j Pi_ij v_ij.grad_i W_ij
+!  and, for the time step, mumax_i = max_j |mu_ij| over the approaching
+!  pairs of particle i (0 if none): the beta term's signal speed.
 !-----------------------------------------------------------------------
 module sph_viscosity
   use iso_c_binding, only: c_int, c_double
@@ -15,18 +17,19 @@ module sph_viscosity
 contains
 
   subroutine sph_viscosity_monaghan(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, h, rho, c, &
-      mass, alpha, beta, etq, dvdt, dedt) bind(C, name="sph_viscosity_monaghan")
+      mass, alpha, beta, etq, dvdt, dedt, mumax) bind(C, name="sph_viscosity_monaghan")
     integer(c_int), value :: dim, ntotal, npair
     real(c_double), value :: alpha, beta, etq
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), h(ntotal), &
                                   rho(ntotal), c(ntotal), mass(ntotal)
-    real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
+    real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal), mumax(ntotal)
     integer :: i, j, k, d
     real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de
 
     dvdt = 0.0d0
     dedt = 0.0d0
+    mumax = 0.0d0
     do k = 1, npair
       i = pair_i(k) + 1
       j = pair_j(k) + 1
@@ -54,6 +57,8 @@ contains
         de = 0.5d0*piv*vd
         dedt(i) = dedt(i) + mass(j)*de
         dedt(j) = dedt(j) + mass(i)*de
+        mumax(i) = max(mumax(i), -muv)
+        mumax(j) = max(mumax(j), -muv)
       end if
     end do
   end subroutine sph_viscosity_monaghan

@@ -1,6 +1,12 @@
-//! Measurements of finished runs: craters, ejecta, the exact Riemann solution, blast-wave radii.
+//! Measurements of finished runs: craters, ejecta, blast-wave radii, and the exact solutions of
+//! the verification problems (Riemann, Sedov–Taylor, Noh and wall reflection, the CJ detonation
+//! and its Taylor wave).
 
 #[cfg(feature = "io")]
 pub mod blastwave;
+pub mod cj;
 pub mod crater;
+pub mod noh;
 pub mod riemann;
+pub mod sedov;
+pub mod verify;

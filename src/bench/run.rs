@@ -139,11 +139,7 @@ pub(super) fn primary_name(analysis: &str) -> &'static str {
 }
 
 pub(super) fn analysis_name(k: AnalysisKind) -> &'static str {
-    match k {
-        AnalysisKind::Riemann => "riemann",
-        AnalysisKind::Crater => "crater",
-        AnalysisKind::None => "none",
-    }
+    k.name()
 }
 
 /// CPU time of this process so far (s): utime + stime of /proc/self/stat, in clock ticks of
@@ -282,7 +278,7 @@ pub(super) fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Ro
                 }
             }
         }
-        AnalysisKind::None => {}
+        _ => {}
     }
     Ok(row)
 }

@@ -71,7 +71,15 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
     text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
     let attempt = |k: usize| -> Result<Case> {
         let edited = apply_sets(text, &sets[..k])?;
+        // errors name the line of the file as written (or as changed by --set), before the keys
+        // whose defaults depend on the rest of the case are filled in
         let mut case: Case = toml::from_str(&edited).map_err(|e| toml_error(origin, &edited, &e))?;
+        let mut value: toml::Table = edited.parse().map_err(|e| toml_error(origin, &edited, &e))?;
+        if resolve_defaults(&mut value)? {
+            let full = toml::to_string(&value).map_err(|e| input(e.to_string()))?;
+            case =
+                toml::from_str(&full).map_err(|e| toml_error(&format!("{origin} (with its defaults)"), &full, &e))?;
+        }
         if case.name.is_none() {
             case.name = Some(stem.unwrap_or("case").to_string());
         }
@@ -116,6 +124,76 @@ fn blame(e: &SphError, sets: &[String], attempt: &dyn Fn(usize) -> Result<Case>)
     }
     let all: Vec<String> = sets.iter().map(|s| sets::shown(s)).collect();
     input(format!("--set {}: {want}", all.join(" --set ")))
+}
+
+/// The keys of the parity preset `parity = "thesis"`: the thesis's and Liu's settings, for every
+/// key a case leaves out (table, key, value).
+pub const THESIS_PARITY: [(&str, &str, &str); 9] = [
+    ("sph", "density", "\"continuity\""),
+    ("sph", "continuity_form", "\"mass\""),
+    ("sph", "smoothing", "\"rate\""),
+    ("sph", "energy_form", "\"symmetric\""),
+    ("sph", "e_floor", "false"),
+    ("time", "viscous_step", "false"),
+    ("detonation", "width_h", "0.0"),
+    ("detonation", "beta_burn", "false"),
+    ("detonation", "lighting_speed_factor", "1.0"),
+];
+
+/// Fills the keys whose default depends on the rest of the case, before it is read: the parity
+/// preset, then `sph.density` (summation when every material is an ideal gas — gas dynamics —,
+/// continuity otherwise) and `sph.smoothing` (h from the density with summation, capped at 4 h0,
+/// by the rate otherwise). Returns whether anything was added.
+fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
+    let mut changed = false;
+    let get = |root: &toml::Table, t: &str, k: &str| root.get(t).and_then(|v| v.get(k)).cloned();
+    let put = |root: &mut toml::Table, t: &str, k: &str, v: toml::Value| -> Result<()> {
+        let tab = root.entry(t.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        match tab {
+            toml::Value::Table(tt) => {
+                tt.insert(k.to_string(), v);
+                Ok(())
+            }
+            _ => Err(input(format!("`{t}` must be a table"))),
+        }
+    };
+    match root.get("parity") {
+        None => {}
+        Some(toml::Value::String(p)) if p == "thesis" => {
+            for (t, k, v) in THESIS_PARITY {
+                // the detonation keys only where the case has a [detonation]
+                if (t == "detonation" && !root.contains_key("detonation")) || get(root, t, k).is_some() {
+                    continue;
+                }
+                let val = format!("v = {v}").parse::<toml::Table>().ok().and_then(|mut x| x.remove("v"));
+                if let Some(val) = val {
+                    put(root, t, k, val)?;
+                    changed = true;
+                }
+            }
+        }
+        Some(other) => return Err(input(format!("parity = {other}: the only preset is \"thesis\""))),
+    }
+    if get(root, "sph", "density").is_none() {
+        let gas = root.get("material").and_then(|m| m.as_array()).is_some_and(|a| {
+            !a.is_empty()
+                && a.iter()
+                    .all(|m| m.get("eos").and_then(|e| e.get("kind")).and_then(|k| k.as_str()) == Some("ideal_gas"))
+        });
+        put(root, "sph", "density", toml::Value::String(if gas { "summation" } else { "continuity" }.into()))?;
+        changed = true;
+    }
+    let sum = get(root, "sph", "density").and_then(|v| v.as_str().map(String::from)).as_deref() == Some("summation");
+    if get(root, "sph", "smoothing").is_none() {
+        put(root, "sph", "smoothing", toml::Value::String(if sum { "density" } else { "rate" }.into()))?;
+        // with h from the summation density, the few rarefied particles at a blast's centre would
+        // grow h without bound and act across the blast (docs/validation.md, "Sedov–Taylor")
+        if sum && get(root, "sph", "h_max_ratio").is_none() {
+            put(root, "sph", "h_max_ratio", toml::Value::Float(4.0))?;
+        }
+        changed = true;
+    }
+    Ok(changed)
 }
 
 fn toml_error(origin: &str, text: &str, e: &toml::de::Error) -> SphError {

@@ -9,6 +9,9 @@ use serde::Deserialize;
 pub struct Case {
     /// Name of the case (default: the file stem).
     pub name: Option<String>,
+    /// `"thesis"`: every key the case does not give takes the thesis's (and Liu's book code's)
+    /// setting instead of the safe default (docs/cases.md, "Defaults and the parity preset").
+    pub parity: Option<String>,
     /// Free text.
     #[serde(default)]
     pub description: String,
@@ -22,6 +25,8 @@ pub struct Case {
     pub sph: SphCfg,
     #[serde(default)]
     pub viscosity: ViscCfg,
+    #[serde(default)]
+    pub conductivity: ConductivityCfg,
     pub penalty: Option<PenaltyCfg>,
     #[serde(default)]
     pub boundary: BoundaryCfg,
@@ -81,6 +86,15 @@ pub struct TimeCfg {
     /// Stop after this many steps (a safety limit).
     #[serde(default = "default_max_steps")]
     pub max_steps: u64,
+    /// Add the signal speed of the viscosity's β term, 1.2 β max_j |μ_ij|, to c + |v| in the CFL
+    /// rule (Monaghan 1992). Without it a β = 10 viscosity is unstable at C_cfl = 0.25 in cold
+    /// converging flow (docs/validation.md, "Verification problems").
+    #[serde(default = "yes")]
+    pub viscous_step: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// The default floor of the CFL step, as a fraction of the run's first step: a step that falls
@@ -162,7 +176,21 @@ pub enum ContinuityForm {
 }
 
 fn default_cform() -> ContinuityForm {
-    ContinuityForm::Mass
+    ContinuityForm::Volume
+}
+
+/// Form of the pressure work in the energy equation (theory.md §5).
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum EnergyForm {
+    /// ½ Σ m_j (p_i/ρ_i² + p_j/ρ_j²) v_ij·∇W (thesis 4-35, Liu).
+    Symmetric,
+    /// Σ m_j (p_i/ρ_i²) v_ij·∇W: each particle its own p dV work.
+    Asymmetric,
+}
+
+fn default_eform() -> EnergyForm {
+    EnergyForm::Asymmetric
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
@@ -192,11 +220,21 @@ pub struct SphCfg {
     /// (ρ_i Σ (m_j/ρ_j) v_ij·∇W, for large density ratios).
     #[serde(default = "default_cform")]
     pub continuity_form: ContinuityForm,
+    /// Form of the pressure work in the energy equation: "symmetric" (thesis 4-35) or
+    /// "asymmetric" (each particle its own p dV work; keeps e ≥ 0 where p ≥ 0).
+    #[serde(default = "default_eform")]
+    pub energy_form: EnergyForm,
     #[serde(default = "default_smoothing")]
     pub smoothing: SmoothingKind,
     /// θ of the h update (2-16).
     #[serde(default = "one")]
     pub theta: f64,
+    /// Cap on h: h ≤ h_max_ratio × the largest initial h (absent = no cap).
+    pub h_max_ratio: Option<f64>,
+    /// Floor e ≥ 0 after each step, the energy it adds booked in the balance (summary.json
+    /// energy.work_floor).
+    #[serde(default = "yes")]
+    pub e_floor: bool,
     /// XSPH averaging coefficient ε (0 = off).
     #[serde(default)]
     pub xsph_eps: f64,
@@ -231,8 +269,11 @@ impl Default for SphCfg {
             nnps: default_nnps(),
             density: default_density(),
             continuity_form: default_cform(),
+            energy_form: default_eform(),
             smoothing: default_smoothing(),
             theta: 1.0,
+            h_max_ratio: None,
+            e_floor: true,
             xsph_eps: 0.0,
             reorder_every: 0,
         }
@@ -264,6 +305,28 @@ impl Default for ViscCfg {
     fn default() -> Self {
         ViscCfg { alpha: 1.0, beta: 10.0, phi_over_h: 0.1 }
     }
+}
+
+/// Signal speed of the artificial conductivity.
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum ConductivitySignal {
+    /// √(|p_i − p_j|/ρ̄) (Price 2008): contact discontinuities.
+    #[default]
+    Pressure,
+    /// |v_ij·x̂_ij|: shocks, wall heating.
+    Velocity,
+}
+
+/// Artificial conductivity (Price 2008; theory.md §6): off while `alpha = 0`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConductivityCfg {
+    /// α_u (dimensionless; 0 = off; Price uses 1).
+    #[serde(default)]
+    pub alpha: f64,
+    #[serde(default)]
+    pub signal: ConductivitySignal,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -402,8 +465,20 @@ impl TryFrom<toml::Table> for MaterialCfg {
 pub enum EosCfg {
     /// Ideal gas p = (γ−1)ρe.
     IdealGas { gamma: f64, rho0_kgm3: Option<f64> },
-    /// JWL (4-39).
-    Jwl { rho0_kgm3: f64, a_pa: f64, b_pa: f64, r1: f64, r2: f64, omega: f64, d_ms: f64 },
+    /// JWL (4-39); optionally the unreacted explosive's Mie–Grüneisen EOS with a linear Us–Up
+    /// Hugoniot (C, S, Γ), which carries the explosive until it burns (theory.md §9).
+    Jwl {
+        rho0_kgm3: f64,
+        a_pa: f64,
+        b_pa: f64,
+        r1: f64,
+        r2: f64,
+        omega: f64,
+        d_ms: f64,
+        unreacted_c_ms: Option<f64>,
+        unreacted_s: Option<f64>,
+        unreacted_gamma: Option<f64>,
+    },
     /// Water polynomial (4-40, 4-41).
     Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
     /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
@@ -482,6 +557,11 @@ pub struct RegionCfg {
     pub e_jkg: Option<f64>,
     /// Initial velocity (m/s).
     pub velocity_ms: Option<Vec<f64>>,
+    /// Initial radial velocity (m/s, negative = towards `radial_center_m`), added to
+    /// `velocity_ms`: v = radial_velocity_ms (x − c)/|x − c| (zero at the centre). The Noh problem.
+    pub radial_velocity_ms: Option<f64>,
+    /// Centre of `radial_velocity_ms` (m); default the origin.
+    pub radial_center_m: Option<Vec<f64>>,
     /// Particle mass (kg, per metre of depth in 2D); default ρ Δx^d.
     pub mass_kg: Option<f64>,
     /// Initial smoothing length (m); default h_over_dx × Δx.
@@ -536,8 +616,23 @@ pub struct DetonationCfg {
     /// Lighting point (m), for the programmed burn.
     pub point_m: Option<Vec<f64>>,
     /// Width of the burn ramp in units of h (0 = a particle burns at once when lit).
-    #[serde(default)]
+    #[serde(default = "default_width_h")]
     pub width_h: f64,
+    /// Beta burn (Wilkins): an explosive compressed towards its CJ density burns too, and never
+    /// un-burns: λ = max(λ_previous, λ_programmed, (1 − ρ0/ρ)/(1 − ρ0/ρ_CJ)), ρ_CJ from the CJ
+    /// state of its JWL (theory.md §9).
+    #[serde(default = "yes")]
+    pub beta_burn: bool,
+    /// The lighting front runs at this fraction of D: t_i = |x_i − x_det|/(s D) (theory.md §9).
+    #[serde(default = "default_lighting")]
+    pub lighting_speed_factor: f64,
+}
+
+fn default_width_h() -> f64 {
+    2.0
+}
+fn default_lighting() -> f64 {
+    0.95
 }
 
 /// What a gauge follows (docs/cases.md `[[gauge]]`).
@@ -573,6 +668,30 @@ pub enum AnalysisKind {
     Riemann,
     /// A blast in soil: crater, ejecta, gauges.
     Crater,
+    /// Sedov–Taylor point blast: shock radius, peak density, profiles against the similarity
+    /// solution (`src/analysis/sedov.rs`).
+    Sedov,
+    /// Noh implosion: shock radius, post-shock state, wall heating at the centre.
+    Noh,
+    /// A 1D shock reflected from a rigid wall: the reflected state and the wall heating.
+    Reflection,
+    /// A programmed-burn detonation: front pressure against p_CJ, plateau, Taylor wave.
+    Detonation,
+}
+
+impl AnalysisKind {
+    /// The name as written in a case file.
+    pub fn name(self) -> &'static str {
+        match self {
+            AnalysisKind::None => "none",
+            AnalysisKind::Riemann => "riemann",
+            AnalysisKind::Crater => "crater",
+            AnalysisKind::Sedov => "sedov",
+            AnalysisKind::Noh => "noh",
+            AnalysisKind::Reflection => "reflection",
+            AnalysisKind::Detonation => "detonation",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -593,6 +712,11 @@ pub struct AnalysisCfg {
     /// Thesis gauge readings to report beside ours.
     #[serde(default)]
     pub thesis_gauge: Vec<ThesisGauge>,
+    /// Sedov, Noh: the centre of the blast or the implosion (m); default the origin.
+    pub center_m: Option<Vec<f64>>,
+    /// Sedov: the energy released (J in 3D, J/m in 2D, J/m² in 1D); default the initial internal
+    /// energy of every particle above that of the ambient gas (the region with most particles).
+    pub energy_j: Option<f64>,
 }
 
 /// One gauge reading reported by the thesis (THESIS.md §9).

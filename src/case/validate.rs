@@ -228,6 +228,7 @@ impl Case {
             v.name(&top, "name", if n.is_empty() { "case" } else { n })?;
         }
         v.any(&top, "description");
+        v.any(&top, "parity");
         self.validate_time(v)?;
         self.validate_numerics(v)?;
         if let Some(g) = &self.physics.gravity_ms2 {
@@ -271,6 +272,7 @@ impl Case {
         }
         v.int(&at, "max_steps", i64::try_from(t.max_steps).unwrap_or(i64::MAX), 1, i64::MAX)?;
         v.any(&at, "step");
+        v.any(&at, "viscous_step");
         v.num(&at, "cfl", t.cfl, Range::above(0.0, 1.0))?;
         v.opt(&at, "dt_max_s", t.dt_max_s, Range::above(0.0, T_MAX))?;
         v.opt(&at, "dt_min_s", t.dt_min_s, Range::above(0.0, T_MAX))?;
@@ -299,9 +301,12 @@ impl Case {
     fn validate_numerics(&self, v: &mut Checker) -> Result<()> {
         let s = &self.sph;
         let at = At::top("sph");
-        for k in ["kernel", "nnps", "density", "continuity_form", "smoothing", "reorder_every"] {
+        for k in
+            ["kernel", "nnps", "density", "continuity_form", "energy_form", "smoothing", "reorder_every", "e_floor"]
+        {
             v.any(&at, k);
         }
+        v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::above(0.0, 1000.0))?;
         v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
@@ -309,6 +314,9 @@ impl Case {
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;
         v.num(&at, "phi_over_h", self.viscosity.phi_over_h, Range::above(0.0, 1.0))?;
+        let at = At::top("conductivity");
+        v.num(&at, "alpha", self.conductivity.alpha, Range::within(0.0, 100.0))?;
+        v.any(&at, "signal");
         if let Some(p) = &self.penalty {
             let at = At::top("penalty");
             v.num(&at, "pbar", p.pbar, Range::above(0.0, P_MAX))?;
@@ -343,7 +351,28 @@ impl Case {
                     v.num(&e, "gamma", *gamma, Range::above(1.0, 10.0))?;
                     v.opt(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
                 }
-                EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, d_ms } => {
+                EosCfg::Jwl {
+                    rho0_kgm3,
+                    a_pa,
+                    b_pa,
+                    r1,
+                    r2,
+                    omega,
+                    d_ms,
+                    unreacted_c_ms,
+                    unreacted_s,
+                    unreacted_gamma,
+                } => {
+                    let u = [unreacted_c_ms, unreacted_s, unreacted_gamma];
+                    if u.iter().any(|x| x.is_some()) && !u.iter().all(|x| x.is_some()) {
+                        return Err(input(format!(
+                            "{}: unreacted_c_ms, unreacted_s and unreacted_gamma go together (all three or none)",
+                            e.label
+                        )));
+                    }
+                    v.opt(&e, "unreacted_c_ms", *unreacted_c_ms, Range::above(0.0, C_MAX))?;
+                    v.opt(&e, "unreacted_s", *unreacted_s, Range::above(0.0, 100.0))?;
+                    v.opt(&e, "unreacted_gamma", *unreacted_gamma, Range::within(0.0, 100.0))?;
                     v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
                     v.num(&e, "a_pa", *a_pa, Range::within(0.0, P_MAX))?;
                     v.num(&e, "b_pa", *b_pa, Range::within(0.0, P_MAX))?;
@@ -513,6 +542,10 @@ impl Case {
             if let Some(vel) = &r.velocity_ms {
                 v.vec(&at, "velocity_ms", vel, d, Range::abs(C_MAX))?;
             }
+            v.opt(&at, "radial_velocity_ms", r.radial_velocity_ms, Range::abs(C_MAX))?;
+            if let Some(c) = &r.radial_center_m {
+                v.vec(&at, "radial_center_m", c, d, Range::abs(X_MAX))?;
+            }
             if let Some(m) = r.mass_kg {
                 v.num(&at, "mass_kg", m, Range::above(0.0, f64::MAX))?;
                 // within a factor 1000 of ρ Δx^d (the lattice's own mass)
@@ -594,6 +627,9 @@ impl Case {
         let at = At::top("detonation");
         v.any(&at, "mode");
         v.num(&at, "width_h", det.width_h, Range::within(0.0, 100.0))?;
+        v.any(&at, "beta_burn");
+        // at most 1: a front faster than D is not a detonation of this explosive
+        v.num(&at, "lighting_speed_factor", det.lighting_speed_factor, Range::above(0.0, 1.0))?;
         if let Some(p) = &det.point_m {
             v.vec(&at, "point_m", p, self.dim, Range::abs(X_MAX))?;
         } else if det.mode == BurnMode::Programmed {
@@ -633,6 +669,23 @@ impl Case {
                 return Err(input("analysis.window_m: need [lo, hi] with hi > lo"));
             }
         }
+        let ideal = self.materials.iter().any(|m| matches!(m.eos, EosCfg::IdealGas { .. }));
+        match an.kind {
+            AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection if !ideal => {
+                return Err(input(format!("analysis.kind = \"{}\" needs an ideal-gas material", an.kind.name())));
+            }
+            AnalysisKind::Reflection if self.dim != 1 || self.walls.is_empty() => {
+                return Err(input("analysis.kind = \"reflection\" needs dim = 1 and a [[wall]]"));
+            }
+            AnalysisKind::Detonation if self.detonation.as_ref().is_none_or(|dt| dt.mode != BurnMode::Programmed) => {
+                return Err(input("analysis.kind = \"detonation\" needs [detonation] mode = \"programmed\""));
+            }
+            _ => {}
+        }
+        if let Some(c) = &an.center_m {
+            v.vec(&at, "center_m", c, self.dim, Range::abs(X_MAX))?;
+        }
+        v.opt(&at, "energy_j", an.energy_j, Range::above(0.0, 1e30))?;
         if an.kind == AnalysisKind::Riemann {
             if self.dim != 1 {
                 return Err(input("analysis.kind = \"riemann\" needs dim = 1"));

@@ -299,6 +299,7 @@ pub const MODULES: &[&str] = &[
     "strength",
     "force",
     "viscosity",
+    "conductivity",
     "penalty",
     "xsph",
     "smoothing",

@@ -71,7 +71,7 @@ where
     }
 }
 
-/// Calls `$f::<D, W>($args)` with D = `$dim` (1, 2 or 3) and W = D + `$extra` (0 or 1): the pair
+/// Calls `$f::<D, W>($args)` with D = `$dim` (1, 2 or 3) and W = D + `$extra` (0, 1 or 2): the pair
 /// loops are monomorphised over the dimension, so their short inner loops are unrolled.
 macro_rules! by_dim {
     ($dim:expr, 0, $f:ident($($args:expr),* $(,)?)) => {
@@ -88,13 +88,21 @@ macro_rules! by_dim {
             _ => $f::<3, 4>($($args),*),
         }
     };
+    ($dim:expr, 2, $f:ident($($args:expr),* $(,)?)) => {
+        match $dim {
+            1 => $f::<1, 3>($($args),*),
+            2 => $f::<2, 4>($($args),*),
+            _ => $f::<3, 5>($($args),*),
+        }
+    };
 }
 pub(crate) use by_dim;
 
 /// The gather of a pair sum whose pair k holds W terms `t` (a reused buffer): for every particle
 /// `a`, over its pairs in ascending pair order, `acc += m_j t[0..D]` where `a` is the pair's i and
 /// `acc −= m_i t[0..D]` where it is the j (written as `+= (−m_i) t`, the same IEEE operation), and,
-/// when W = D + 1, `e += m_other t[D]`. Rows are `acc` (D values) and `e` (one value, or none
+/// when W = D + 1, `e += m_other t[D]`; when W = D + 2, `e += m_other t[D]` at the i end and
+/// `e += m_other t[D + 1]` at the j end. Rows are `acc` (D values) and `e` (one value, or none
 /// when W = D); `scale` multiplies `acc` at the end.
 pub(crate) fn gather_signed<const D: usize, const W: usize>(
     pl: &nnps::PairList,
@@ -116,7 +124,7 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
                 sa[d] += ms * t[d];
             }
             if W > D {
-                se += m * t[W - 1];
+                se += m * t[if W > D + 1 && !inc.is_i() { D + 1 } else { D }];
             }
         }
         match scale {

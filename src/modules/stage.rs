@@ -115,7 +115,7 @@ impl Phase {
 /// The rate terms a stage writes, by their rank in the sums: the acceleration is
 /// Σ_terms acc_t + g and the energy rate Σ_terms de_t, added in rank order (the order fixes the
 /// bits of the sums). Ranks in use: acceleration force 0, viscosity 1, penalty 2, wall 3; energy
-/// force 0, viscosity 1, strength 2.
+/// force 0, viscosity 1, strength 2, conductivity 3.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Terms {
     pub acc: Option<u8>,
@@ -223,6 +223,8 @@ pub struct PlanCtx<'a> {
     pub dx_min: f64,
     /// Initial positions of the real particles (m), dim × n.
     pub x0: &'a [f64],
+    /// Initial smoothing lengths of the real particles (m).
+    pub h0: &'a [f64],
 }
 
 /// What a module contributes to a case's plan: its stages with their phases, and why they run

@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 
 const MAGIC: &[u8; 20] = b"BLASTSPH-CHECKPOINT\n";
 /// Version of the format; a checkpoint of another version is refused.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 
 /// One named array of a checkpoint.
 #[derive(Debug, Clone, PartialEq)]
@@ -268,8 +268,8 @@ impl Sim {
         b.put_f64("sim.t", &[*t]);
         b.put("sim.nstep", Item::U64(vec![*nstep]));
         b.put_f64("sim.dt_prev", &[*dt_prev]);
-        let Book { work_wall, work_penalty, work_gravity } = book;
-        b.put_f64("sim.book", &[*work_wall, *work_penalty, *work_gravity]);
+        let Book { work_wall, work_penalty, work_gravity, work_floor } = book;
+        b.put_f64("sim.book", &[*work_wall, *work_penalty, *work_gravity, *work_floor]);
         let Stability {
             max_wall_penetration_m,
             left_domain,
@@ -360,6 +360,8 @@ impl Sim {
             dt_cfl,
             rinv,
             pmass,
+            mumax,
+            efloor,
         } = w;
         b.put("w.pairs.i", Item::I32(pairs.i.clone()));
         b.put("w.pairs.j", Item::I32(pairs.j.clone()));
@@ -384,6 +386,8 @@ impl Sim {
             ("w.dt_cfl", dt_cfl),
             ("w.rinv", rinv),
             ("w.pmass", pmass),
+            ("w.mumax", mumax),
+            ("w.efloor", efloor),
         ] {
             b.put_f64(name, a);
         }
@@ -524,6 +528,8 @@ impl Sim {
             dt_cfl,
             rinv,
             pmass,
+            mumax,
+            efloor,
         } = w;
         let (pi, pj) = (b.i32("w.pairs.i")?, b.i32("w.pairs.j")?);
         sized("w.pairs.j", pj.len(), pi.len())?;
@@ -552,6 +558,8 @@ impl Sim {
             ("w.dt_cfl", dt_cfl),
             ("w.rinv", rinv),
             ("w.pmass", pmass),
+            ("w.mumax", mumax),
+            ("w.efloor", efloor),
         ] {
             *a = b.f64(name)?;
         }
@@ -562,10 +570,15 @@ impl Sim {
         *nstep = b.count("sim.nstep")?;
         *dt_prev = b.scalar("sim.dt_prev")?;
         let bk = b.f64("sim.book")?;
-        let [work_wall, work_penalty, work_gravity] = bk.as_slice() else {
-            return Err(bad("`sim.book` must hold 3 values"));
+        let [work_wall, work_penalty, work_gravity, work_floor] = bk.as_slice() else {
+            return Err(bad("`sim.book` must hold 4 values"));
         };
-        *book = Book { work_wall: *work_wall, work_penalty: *work_penalty, work_gravity: *work_gravity };
+        *book = Book {
+            work_wall: *work_wall,
+            work_penalty: *work_penalty,
+            work_gravity: *work_gravity,
+            work_floor: *work_floor,
+        };
         let sf = b.f64("sim.stab.f")?;
         let sn = b.u64("sim.stab.n")?;
         let ([pen, hmin, hmax, gap, mean], [left, maxn, nan, has_gap]) = (sf.as_slice(), sn.as_slice()) else {

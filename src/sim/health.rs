@@ -331,7 +331,8 @@ impl Sim {
         st.left_domain = st.left_domain.max(all.out);
         // energy blow-up: the balance residual (energy created beyond the work of the wall,
         // penalty and gravity forces) above the initial energy; healthy runs stay under 1 %
-        let budget = self.e_initial + self.book.work_wall + self.book.work_penalty + self.book.work_gravity;
+        let bk = &self.book;
+        let budget = self.e_initial + bk.work_wall + bk.work_penalty + bk.work_gravity + bk.work_floor;
         if all.energy - budget > self.e_initial.abs().max(f64::MIN_POSITIVE) {
             let (ke, i) = all.ke_max;
             return Err(SphError::Unstable(format!(

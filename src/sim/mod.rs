@@ -37,6 +37,8 @@ pub struct Book {
     pub work_penalty: f64,
     /// Work done by gravity.
     pub work_gravity: f64,
+    /// Energy added by the floor e ≥ 0 (`sph.e_floor`; theory.md §14).
+    pub work_floor: f64,
 }
 
 /// Health of the run, reported in summary.json.
@@ -126,8 +128,8 @@ impl Sim {
         let dim = case.dim;
         let n = init.mass.len();
         let mt = setup::material_table(&case);
-        let ctx =
-            PlanCtx { case: &case, dim, mt: &mt, kappa: case.sph.kernel.support(), dx_min: init.dx_min, x0: &init.x };
+        let kappa = case.sph.kernel.support();
+        let ctx = PlanCtx { case: &case, dim, mt: &mt, kappa, dx_min: init.dx_min, x0: &init.x, h0: &init.h };
         let plan = Plan::build_with(&ctx, &choice, legacy.as_ref());
         let cfg = Config::new(&case, mt, &init.x, init.dx_min);
         let mut p = Particles {

@@ -153,6 +153,10 @@ impl Sim {
         self.account(dt);
         self.run_phase(Phase::Advance, dt);
         self.run_phase(Phase::Correct, dt);
+        if self.plan.has("integrator.efloor") {
+            // the energy the floor e ≥ 0 added (theory.md §14)
+            self.book.work_floor += self.w.efloor[0];
+        }
         self.t += dt;
         self.dt_prev = dt;
         self.nstep += 1;

@@ -27,6 +27,7 @@ pub(super) fn light(a: &mut Light) {
             a.mt.mtype.as_ptr(),
             a.mt.mpar.as_ptr(),
             a.xdet.as_ptr(),
+            a.sf,
             a.tlight.as_mut_ptr(),
         )
     }
@@ -36,6 +37,7 @@ pub(super) fn burn(a: &mut Burn) {
     let n = a.mat.len();
     chk("tlight", a.tlight.len(), n);
     chk("h", a.h.len(), n);
+    chk("rho", a.rho.len(), n);
     chk("burn", a.burn.len(), n);
     chk_mat(a.mt, a.mat);
     // SAFETY: the arrays hold the n values the routine reads or writes and every material index
@@ -49,6 +51,7 @@ pub(super) fn burn(a: &mut Burn) {
             a.mt.mpar.as_ptr(),
             a.tlight.as_ptr(),
             a.h.as_ptr(),
+            a.rho.as_ptr(),
             a.width,
             a.burn.as_mut_ptr(),
         )

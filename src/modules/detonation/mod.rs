@@ -1,6 +1,9 @@
-//! Detonation (THESIS.md §5 decision). Programmed burn: particle i lights at t_i = |x_i − x_det|/D
-//! (s); its burn fraction λ_i = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))).
-//! The instantaneous burn needs no routine. Fortran twin: `sph_detonation.f90`.
+//! Detonation (THESIS.md §5 decision). Programmed burn: particle i lights at
+//! t_i = |x_i − x_det|/(s D) (s), s the lighting-speed factor (1: the thesis's reading); its burn
+//! fraction is λ_p = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))). With the beta
+//! burn (row η_CJ = ρ_CJ/ρ0 > 1), an explosive compressed towards its CJ density burns too and never
+//! un-burns: λ_i ← max(λ_i, λ_p, min(1, (1 − ρ0/ρ_i)/(1 − 1/η_CJ))). The instantaneous burn needs no
+//! routine. Fortran twin: `sph_detonation.f90`. Tier: 0 ULP (a maximum is exact).
 
 mod ffi;
 #[cfg(test)]
@@ -11,6 +14,9 @@ use super::param::MatTable;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin};
 use crate::state::{Clock, Field, Particles, Work};
 
+/// Row of η_CJ = ρ_CJ/ρ0 of the beta burn in a column of mpar (0-based; 0 = off).
+pub(crate) const ETA_CJ: usize = super::param::SPH_MP_ETA_CJ as usize - 1;
+
 /// `sph_detonation_light`: the lighting time (s) of the first `mat.len()` particles (0 for
 /// materials that are not explosives).
 pub struct Light<'a> {
@@ -20,16 +26,21 @@ pub struct Light<'a> {
     pub mt: &'a MatTable,
     /// The lighting point (m).
     pub xdet: &'a [f64],
+    /// The lighting speed over D (1: the thesis's reading).
+    pub sf: f64,
     pub tlight: &'a mut [f64],
 }
 
-/// `sph_detonation_burn`: the burn fraction at time `t` (s) of the first `mat.len()` particles.
+/// `sph_detonation_burn`: the burn fraction at time `t` (s) of the first `mat.len()` particles;
+/// `burn` holds the previous fractions (0 at the start), which the beta burn never lowers.
 pub struct Burn<'a> {
     pub t: f64,
     pub mat: &'a [i32],
     pub mt: &'a MatTable,
     pub tlight: &'a [f64],
     pub h: &'a [f64],
+    /// Density (kg/m³), for the beta burn.
+    pub rho: &'a [f64],
     /// Width of the burn ramp in units of h (0: a particle burns at once when lit).
     pub width: f64,
     pub burn: &'a mut [f64],
@@ -57,6 +68,7 @@ impl Twin for Burn<'_> {
 pub struct LightStage {
     mt: MatTable,
     xdet: Vec<f64>,
+    sf: f64,
 }
 
 impl Stage for LightStage {
@@ -77,8 +89,8 @@ impl Stage for LightStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let (dim, n) = (p.dim, p.nreal);
-        Light { dim, x: &p.x[..dim * n], mat: &p.mat[..n], mt: &self.mt, xdet: &self.xdet, tlight: &mut p.tlight }
-            .run(b);
+        let (x, mat) = (&p.x[..dim * n], &p.mat[..n]);
+        Light { dim, x, mat, mt: &self.mt, xdet: &self.xdet, sf: self.sf, tlight: &mut p.tlight }.run(b);
     }
 }
 
@@ -86,6 +98,8 @@ impl Stage for LightStage {
 pub struct BurnStage {
     mt: MatTable,
     width: f64,
+    /// The burn at t = 0: from zero (a dual run repeats the set-up on a state that has burnt).
+    init: bool,
 }
 
 impl Stage for BurnStage {
@@ -96,7 +110,7 @@ impl Stage for BurnStage {
         "detonation.burn"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::Mat, Field::Tlight, Field::H]
+        &[Field::Mat, Field::Tlight, Field::H, Field::Rho, Field::Burn]
     }
     fn writes(&self) -> &[Field] {
         &[Field::Burn]
@@ -106,8 +120,11 @@ impl Stage for BurnStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, k: &Clock) {
         let n = p.nreal;
-        let (mat, tlight, h) = (&p.mat[..n], &p.tlight, &p.h[..n]);
-        Burn { t: k.t, mat, mt: &self.mt, tlight, h, width: self.width, burn: &mut p.burn }.run(b);
+        if self.init {
+            p.burn[..n].fill(0.0);
+        }
+        let (mat, tlight, h, rho) = (&p.mat[..n], &p.tlight, &p.h[..n], &p.rho[..n]);
+        Burn { t: k.t, mat, mt: &self.mt, tlight, h, rho, width: self.width, burn: &mut p.burn }.run(b);
     }
 }
 
@@ -125,13 +142,15 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let det = case.detonation.as_ref();
     let xdet = det.and_then(|d| d.point_m.clone()).unwrap_or_default();
     let width = det.map(|d| d.width_h).unwrap_or(0.0);
-    let burn = || Box::new(BurnStage { mt: ctx.mt.clone(), width }) as Box<dyn Stage>;
+    let sf = det.map(|d| d.lighting_speed_factor).unwrap_or(1.0);
+    let burn = |init| Box::new(BurnStage { mt: ctx.mt.clone(), width, init }) as Box<dyn Stage>;
+    let beta = ctx.mt.mpar.chunks(super::param::NPAR).any(|c| c[ETA_CJ] > 1.0);
     Contribution::run(
-        "programmed burn",
+        if beta { "programmed burn with the beta burn" } else { "programmed burn" },
         vec![
-            (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet })),
-            (Phase::Init, burn()),
-            (Phase::Burn, burn()),
+            (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet, sf })),
+            (Phase::Init, burn(true)),
+            (Phase::Burn, burn(false)),
         ],
     )
 }

@@ -1,8 +1,10 @@
 //! Parity of the detonation: lighting times of two explosives (and water, which never lights),
-//! burn fractions with and without a ramp at times from before lighting to long after.
+//! burn fractions with and without a ramp at times from before lighting to long after, a lighting
+//! front slower than D, and the beta burn (burning by compression, never un-burning).
 
 use super::{Burn, Light};
-use crate::modules::param::{SPH_EOS_JWL, SPH_EOS_WATER};
+use super::ETA_CJ;
+use crate::modules::param::{NPAR, SPH_EOS_JWL, SPH_EOS_WATER};
 use crate::modules::testkit::*;
 
 #[test]
@@ -24,20 +26,48 @@ fn detonation_light_and_burn() {
         let xdet: Vec<f64> = (0..dim).map(|d| 0.031 + 0.004 * d as f64).collect();
         let tag = format!("detonation::light {dim}D seed {seed}");
         let [lf] = parity(&tag, 0, ["tlight"], [sentinel(n)], |b, [tlight]| {
-            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, tlight }, b)
+            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, sf: 1.0, tlight }, b)
         });
         nonzero(&tag, &lf);
+        // a lighting front at 0.95 D
+        let tag = format!("detonation::light 0.95 {dim}D seed {seed}");
+        let [sf] = parity(&tag, 0, ["tlight"], [sentinel(n)], |b, [tlight]| {
+            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, sf: 0.95, tlight }, b)
+        });
+        for i in 0..n {
+            assert!(sf[i] >= lf[i], "a slower front lights no particle earlier");
+        }
         let tmax = lf.iter().cloned().fold(0.0, f64::max);
         let h = &cl.h[..n];
         // unlit (0), burning (0 < λ < 1, width > 0 only) and burnt (1) particles all appear
         let mut seen = [false; 3];
-        for width in [0.0, 1.5, 4.0] {
+        // with the beta burn (η_CJ = 1.3666 for both explosives): densities from 0.9 to 1.5 times
+        // ρ0 of the TNT, so that some particles burn by compression before they are lit; the
+        // previous fractions random, so that some are kept
+        let mut mtb = mt.clone();
+        for m in [0, 2] {
+            mtb.mpar[ETA_CJ + NPAR * m] = 1.3666;
+        }
+        let mut g = Rng::new(seed + 7);
+        let rho: Vec<f64> = (0..n).map(|_| 1630.0 * g.range(0.9, 1.5)).collect();
+        let prev: Vec<f64> = (0..n).map(|_| g.range(0.0, 1.0)).collect();
+        let mut by_compression = 0;
+        for (width, table, beta) in [(0.0, &mt, false), (1.5, &mt, false), (4.0, &mt, false), (1.5, &mtb, true)] {
             for frac in [0.0, 0.3, 0.6, 3.0] {
                 let t = frac * tmax;
-                let tag = format!("detonation::burn {dim}D seed {seed} width {width} t {t:.3e}");
-                let [bf] = parity(&tag, 0, ["burn"], [sentinel(n)], |b, [burn]| {
-                    run(Burn { t, mat: &mat, mt: &mt, tlight: &lf, h, width, burn }, b)
+                let tag = format!("detonation::burn {dim}D seed {seed} width {width} beta {beta} t {t:.3e}");
+                let start = if beta { prev.clone() } else { sentinel(n) };
+                let [bf] = parity(&tag, 0, ["burn"], [start], |b, [burn]| {
+                    run(Burn { t, mat: &mat, mt: table, tlight: &lf, h, rho: &rho, width, burn }, b)
                 });
+                if beta {
+                    for i in (0..n).filter(|&i| mat[i] != 1) {
+                        assert!(bf[i] >= prev[i], "the beta burn lowered a burn fraction");
+                        if t < lf[i] && bf[i] > prev[i] {
+                            by_compression += 1;
+                        }
+                    }
+                }
                 for l in &bf {
                     assert!((0.0..=1.0).contains(l), "burn fraction {l}");
                     seen[if *l == 0.0 {
@@ -50,6 +80,7 @@ fn detonation_light_and_burn() {
                 }
             }
         }
+        assert!(by_compression > 0, "{dim}D seed {seed}: the beta burn burnt no unlit particle");
         assert_eq!(seen, [true; 3], "{dim}D seed {seed}: unlit, burning, burnt");
     }
 }

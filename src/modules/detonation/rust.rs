@@ -4,12 +4,14 @@ use super::{Burn, Light};
 use crate::modules::par_rows;
 use crate::modules::param::{NPAR, SPH_EOS_JWL};
 
+use super::ETA_CJ;
+
 /// Row of D (m/s) in a JWL column of mpar (0-based).
 const DET: usize = 6;
 
 pub(super) fn light(a: &mut Light) {
-    let Light { dim, x, mat, mt, xdet, tlight } = a;
-    let dim = *dim;
+    let Light { dim, x, mat, mt, xdet, sf, tlight } = a;
+    let (dim, sf) = (*dim, *sf);
     par_rows(&mut tlight[..mat.len()], 1, |i, t| {
         let m = mat[i] as usize;
         let t = &mut t[0];
@@ -19,22 +21,37 @@ pub(super) fn light(a: &mut Light) {
             for d in 0..dim {
                 r2 += (x[d + dim * i] - xdet[d]) * (x[d + dim * i] - xdet[d]);
             }
-            *t = r2.sqrt() / mt.mpar[DET + NPAR * m];
+            *t = r2.sqrt() / (sf * mt.mpar[DET + NPAR * m]);
         }
     });
 }
 
 pub(super) fn burn(a: &mut Burn) {
-    let Burn { t, mat, mt, tlight, h, width, burn } = a;
+    let Burn { t, mat, mt, tlight, h, rho, width, burn } = a;
     let (t, width) = (*t, *width);
     par_rows(&mut burn[..mat.len()], 1, |i, l| {
-        l[0] = if width <= 0.0 {
+        let col = &mt.mpar[NPAR * mat[i] as usize..NPAR * (mat[i] as usize + 1)];
+        let lp = if width <= 0.0 {
             if t >= tlight[i] { 1.0 } else { 0.0 }
         } else {
-            let d = mt.mpar[DET + NPAR * mat[i] as usize];
-            let r = (t - tlight[i]) * d / (width * h[i]);
+            let r = (t - tlight[i]) * col[DET] / (width * h[i]);
             let r = if r > 0.0 { r } else { 0.0 };
             if r < 1.0 { r } else { 1.0 }
+        };
+        l[0] = if col[ETA_CJ] > 1.0 {
+            // Fortran's max(burn, lam, min(1, fb)): the largest, left to right
+            let fb = (1.0 - col[0] / rho[i]) / (1.0 - 1.0 / col[ETA_CJ]);
+            let fb = if fb < 1.0 { fb } else { 1.0 };
+            let mut m = l[0];
+            if lp > m {
+                m = lp;
+            }
+            if fb > m {
+                m = fb;
+            }
+            m
+        } else {
+            lp
         };
     });
 }

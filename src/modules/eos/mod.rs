@@ -1,6 +1,7 @@
 //! Equations of state: p (Pa) and c (m/s) from ρ (kg/m³) and e (J/kg), per material.
-//! Ideal gas p = (γ−1)ρe, c = √(γ(γ−1)e); JWL (4-39) times the burn fraction; water polynomial
-//! (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
+//! Ideal gas p = (γ−1)ρe, c = √(γ(γ−1)e); JWL (4-39) times the burn fraction λ, plus (1 − λ) times
+//! the unreacted explosive's Mie–Grüneisen pressure (linear Us–Up, energy above e_chem) when it has
+//! one, c² blended the same way (theory.md §8, §9); water polynomial (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
 //! the isentropic c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ, floored at 1 % of the reference speed; p is
 //! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
 //!

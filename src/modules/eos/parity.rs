@@ -18,6 +18,13 @@ fn eos_table() -> MatTable {
         (SPH_EOS_SOIL, column(1450.0, &LOOSE_SAND, 0.0, Some((63.58e6, 0.25, 2.0e3)))),
         // dense sand without a floor (negative pressures come out)
         (SPH_EOS_SOIL, column(2200.0, &DENSE_SAND, NO_FLOOR, Some((240e6, 0.25, 2.0e3)))),
+        // TNT with its unreacted explosive (Mie–Grüneisen, C = 2390 m/s, S = 2.05, Γ = 1,
+        // e_chem = 4.29 MJ/kg): the mixture of the burn fraction
+        (SPH_EOS_JWL, {
+            let mut c = column(1630.0, &TNT, NO_FLOOR, None);
+            c[11..15].copy_from_slice(&[2390.0, 2.05, 1.0, 4.29e6]);
+            c
+        }),
     ];
     table(mats, None)
 }
@@ -34,6 +41,8 @@ fn eos_state(g: &mut Rng, m: usize) -> (f64, f64) {
         3 | 4 => (1000.0 * g.range(0.92, 1.25), g.range(0.0, 5e4)),
         // soils: tension and compression
         5 => (1450.0 * g.range(0.9, 1.35), g.range(0.0, 2e3)),
+        // unreacted TNT: tension and compression, e below and above e_chem
+        7 => (1630.0 * g.range(0.9, 1.4), g.range(4.0e6, 6e6)),
         _ => (2200.0 * g.range(0.9, 1.3), g.range(0.0, 2e3)),
     }
 }
@@ -76,7 +85,7 @@ fn eos_eval_every_material_with_and_without_burn() {
         assert!(count(4, &|i| pf[i] == -2.0e6) > 0, "water floor never active");
         assert!(count(5, &|i| pf[i] == 0.0) > 0, "soil floor never active");
         assert!(count(6, &|i| pf[i] < 0.0) > 0, "dense sand never in tension");
-        for m in [3, 5, 6] {
+        for m in [3, 5, 6, 7] {
             assert!(count(m, &|i| mu(i) > 0.0) > 0 && count(m, &|i| mu(i) <= 0.0) > 0);
         }
         assert!(pf.iter().chain(&cf).all(|v| v.is_finite()));

@@ -7,6 +7,10 @@ use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, 
 const RHO0: usize = 0;
 const E1: usize = 1;
 const PMIN: usize = 7;
+const UNR_C: usize = 11;
+const UNR_S: usize = 12;
+const UNR_GAMMA: usize = 13;
+const ECHEM: usize = 14;
 
 /// p and c of one particle: material type `itype`, parameters `par` (one column of mpar),
 /// burn fraction `lam`.
@@ -33,7 +37,28 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         let dpde = om * rho;
         c2 = dpdr + p / (rho * rho) * dpde;
         cref = par[E1 + 5];
-        p *= lam;
+        if par[UNR_C] > 0.0 {
+            // the unreacted explosive: Mie–Grüneisen, linear Us–Up, energy above e_chem
+            let s = par[UNR_S];
+            let gam = par[UNR_GAMMA];
+            let a0 = rho0 * par[UNR_C] * par[UNR_C];
+            let b0 = a0 * (1.0 + 2.0 * (s - 1.0));
+            let c0 = a0 * (2.0 * (s - 1.0) + 3.0 * (s - 1.0) * (s - 1.0));
+            let mu = eta - 1.0;
+            let (ph, dph) = if mu > 0.0 {
+                (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu, a0 + 2.0 * b0 * mu + 3.0 * c0 * mu * mu)
+            } else {
+                (a0 * mu, a0)
+            };
+            let eu = e - par[ECHEM];
+            let pu = (1.0 - 0.5 * gam * mu) * ph + gam * rho * eu;
+            let c2u =
+                ((1.0 - 0.5 * gam * mu) * dph - 0.5 * gam * ph) / rho0 + gam * eu + pu / (rho * rho) * (gam * rho);
+            p = lam * p + (1.0 - lam) * pu;
+            c2 = lam * c2 + (1.0 - lam) * c2u;
+        } else {
+            p *= lam;
+        }
     } else if itype == SPH_EOS_WATER as i32 {
         let mu = rho / rho0 - 1.0;
         let (wa1, wa2, wa3, wb0, wb1) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);

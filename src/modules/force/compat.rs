@@ -87,7 +87,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
         return None;
     }
     let why: &'static str = Box::leak(format!("force: {}", f.label()).into_boxed_str());
-    let stage = ForceCompat { normal: ForceStage { slots: Slots::default(), rz: ctx.case.axisymmetric() }, why };
+    let stage = ForceCompat { normal: ForceStage { slots: Slots::default(), rz: ctx.case.axisymmetric(), asym: false }, why };
     Some(Contribution::run(
         format!("pressure only [compat {}]", f.label()),
         vec![(Phase::Rates, Box::new(stage) as Box<dyn Stage>)],

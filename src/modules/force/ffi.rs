@@ -39,6 +39,7 @@ pub(super) fn internal(a: &mut Internal) {
             a.v.as_ptr(),
             n32(ntau),
             ptr_or(a.tau, &dummy),
+            i32::from(a.asym),
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
         )

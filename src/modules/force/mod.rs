@@ -1,7 +1,10 @@
 //! Internal force (thesis (4-33)…(4-38), sign as decided in THESIS.md §2; Liu's int_force), with
 //! σ = −p δ + τ:
 //! Dv_i^α/Dt = Σ_j m_j (σ_i^{αβ}/ρ_i² + σ_j^{αβ}/ρ_j²) ∂W_ij/∂x_i^β (m/s²),
-//! De_i/Dt = ½ Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) v_ij·∇_i W_ij (J/kg/s).
+//! De_i/Dt = ½ Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) v_ij·∇_i W_ij (J/kg/s), or in the asymmetric form
+//! (`sph.energy_form = "asymmetric"`) De_i/Dt = Σ_j m_j (p_i/ρ_i²) v_ij·∇_i W_ij: each particle does
+//! its own p dV work; the total energy is conserved with the same momentum equation, and e stays
+//! ≥ 0 where p ≥ 0 (theory.md §5).
 //! The deviatoric work τ:ε̇/ρ comes from the strength module. Fortran twin: `sph_force.f90`.
 
 mod ffi;
@@ -25,6 +28,8 @@ pub struct Internal<'a> {
     pub v: &'a [f64],
     /// Deviatoric stress, NSTR × ntotal; empty for fluids.
     pub tau: &'a [f64],
+    /// The asymmetric energy form (false: the thesis's symmetric one).
+    pub asym: bool,
     /// Acceleration (m/s²), dim × ntotal.
     pub dvdt: &'a mut [f64],
     /// Energy rate (J/kg/s), ntotal.
@@ -45,6 +50,8 @@ pub struct ForceStage {
     slots: Slots,
     /// Axisymmetric: the pair sums of the planar masses.
     rz: bool,
+    /// The asymmetric energy form (`sph.energy_form`).
+    asym: bool,
 }
 
 impl Stage for ForceStage {
@@ -78,6 +85,7 @@ impl Stage for ForceStage {
             p: &p.p[..nt],
             v: &p.v[..dim * nt],
             tau: &p.tau,
+            asym: self.asym,
             dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
             dedt: &mut w.dde[self.slots.de_range(nt)],
         }
@@ -95,5 +103,7 @@ impl Stage for ForceStage {
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let why = if crate::setup::has_strength(ctx.case) { "sigma = -p I + tau" } else { "pressure only" };
     let rz = ctx.case.axisymmetric();
-    Contribution::run(why, vec![(Phase::Rates, Box::new(ForceStage { slots: Slots::default(), rz }))])
+    let asym = ctx.case.sph.energy_form == crate::case::EnergyForm::Asymmetric;
+    let why = format!("{why}, {} energy form", if asym { "asymmetric" } else { "symmetric" });
+    Contribution::run(why, vec![(Phase::Rates, Box::new(ForceStage { slots: Slots::default(), rz, asym }))])
 }

@@ -9,13 +9,17 @@ fn force_internal_fluid_and_with_tau() {
         let cl = cloud(dim, side(dim), seed);
         let pl = pairs(&cl, 2.0);
         let (_, dwdx) = kernel_values(&cl, &pl);
-        for with_tau in [false, true] {
+        for (with_tau, asym) in [(false, false), (true, false), (false, true), (true, true)] {
             let tau: &[f64] = if with_tau { &cl.tau } else { &[] };
-            let tag = format!("force::internal {dim}D seed {seed} {}", if with_tau { "with tau" } else { "fluid" });
+            let tag = format!(
+                "force::internal {dim}D seed {seed} {} {}",
+                if with_tau { "with tau" } else { "fluid" },
+                if asym { "asymmetric" } else { "symmetric" }
+            );
             let [acc, _] =
                 parity(&tag, 0, ["dvdt", "dedt"], [sentinel(dim * cl.nt), sentinel(cl.nt)], |b, [dvdt, dedt]| {
                     let (mass, rho, p, v) = (&cl.mass, &cl.rho, &cl.p, &cl.v);
-                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, dvdt, dedt }, b)
+                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, asym, dvdt, dedt }, b)
                 });
             nonzero(&tag, &acc);
         }

@@ -15,7 +15,7 @@ use crate::modules::{by_dim, gather_signed, par_rows};
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
 pub(super) fn internal(a: &mut Internal) {
-    by_dim!(a.dim, 1, run(a))
+    if a.asym { by_dim!(a.dim, 2, run(a)) } else { by_dim!(a.dim, 1, run(a)) }
 }
 
 fn run<const D: usize, const W: usize>(a: &mut Internal) {
@@ -69,7 +69,13 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
                 t[al] = f;
             }
         }
-        t[D] = 0.5 * pr * vd;
+        if W == D + 1 {
+            t[D] = 0.5 * pr * vd;
+        } else {
+            // the asymmetric form: each end its own p/ρ² times v_ij·∇W
+            t[D] = si[0] * vd;
+            t[D + 1] = sj[0] * vd;
+        }
     });
     gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
 }

@@ -1,7 +1,7 @@
 //! The Fortran twin of the leapfrog (`sph_integrator_sum_rates`, `_predict`, `_advance`, `_cfl`).
 #![allow(unsafe_code)]
 
-use super::{Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use super::{Advance, Cfl, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::ffi_util::{chk, mptr_or, n32, ptr_or};
 use crate::modules::param::NSTR;
 
@@ -127,8 +127,32 @@ pub(super) fn cfl(a: &mut Cfl) {
     chk("c", a.c.len(), n);
     chk("v", a.v.len(), dim * n);
     chk("dv", a.dv.len(), dim * n);
-    // SAFETY: h and c hold n values, v and dv dim × n (checked above); dt is one value.
+    let nmu = if a.mumax.is_empty() { 0 } else { n };
+    chk("mumax", a.mumax.len(), nmu);
+    let dummy = 0.0;
+    // SAFETY: h and c hold n values, v and dv dim × n, mumax n or none (a one-value dummy for the
+    // extent max(nmu, 1)) (checked above); dt is one value.
     unsafe {
-        sys::sph_integrator_cfl(n32(dim), n32(n), a.cfl, a.h.as_ptr(), a.c.as_ptr(), a.v.as_ptr(), a.dv.as_ptr(), a.dt)
+        sys::sph_integrator_cfl(
+            n32(dim),
+            n32(n),
+            a.cfl,
+            a.h.as_ptr(),
+            a.c.as_ptr(),
+            a.v.as_ptr(),
+            a.dv.as_ptr(),
+            n32(nmu),
+            a.kv,
+            ptr_or(a.mumax, &dummy),
+            a.dt,
+        )
     }
+}
+
+pub(super) fn efloor(a: &mut Efloor) {
+    let n = a.e.len();
+    chk("mass", a.mass.len(), n);
+    // SAFETY: mass and e hold the n values the routine reads and updates (checked above); added is
+    // one value.
+    unsafe { sys::sph_integrator_efloor(n32(n), a.mass.as_ptr(), a.e.as_mut_ptr(), a.added) }
 }

@@ -6,7 +6,11 @@
 //! advance, first step: u(t_{1/2}) = u(t_0) + Δt_0/2 · du(t_0);
 //! later: u(t_{n+1/2}) = u_min + (Δt_{n−1} + Δt_n)/2 · du(t_n); then x += Δt (v + av).
 //! With a fixed step this is Liu's scheme exactly. CFL (s):
-//! Δt = C min_i min(h_i/(c_i + |v_i|), √(h_i/|a_i|)).
+//! Δt = C min_i min(h_i/(c_i + |v_i| + k_v mumax_i), √(h_i/|a_i|)), k_v mumax_i the signal speed
+//! of the viscosity's β term (k_v = 1.2 β, Monaghan 1992; `time.viscous_step`) or none.
+//! The floor e_i ← max(e_i, 0) after the advance (`sph.e_floor`) returns the energy it adds,
+//! Σ_i m_i max(0, −e_i) (J; per metre of depth in 2D), which the solver books in the energy
+//! balance (theory.md §14).
 
 mod ffi;
 #[cfg(test)]
@@ -88,8 +92,20 @@ pub struct Cfl<'a> {
     pub c: &'a [f64],
     pub v: &'a [f64],
     pub dv: &'a [f64],
+    /// Weight of the viscous signal speed (1.2 β).
+    pub kv: f64,
+    /// Largest |μ_ij| per particle (m/s), or empty (no viscous signal speed).
+    pub mumax: &'a [f64],
     /// The step (s).
     pub dt: &'a mut f64,
+}
+
+/// `sph_integrator_efloor`: e = max(e, 0) for the first `e.len()` particles, and the energy added.
+pub struct Efloor<'a> {
+    pub mass: &'a [f64],
+    pub e: &'a mut [f64],
+    /// Σ m_i max(0, −e_i) (J).
+    pub added: &'a mut f64,
 }
 
 impl Twin for SumRates<'_> {
@@ -116,6 +132,15 @@ impl Twin for Advance<'_> {
     }
     fn fortran(&mut self) {
         ffi::advance(self)
+    }
+}
+
+impl Twin for Efloor<'_> {
+    fn rust(&mut self) {
+        rust::efloor(self)
+    }
+    fn fortran(&mut self) {
+        ffi::efloor(self)
     }
 }
 
@@ -162,12 +187,14 @@ fn size_leapfrog(p: &Particles, w: &mut Work) {
     }
 }
 
-/// The four stages of the module.
+/// The stages of the module.
 enum Which {
     Sum,
     Predict,
-    Cfl(f64),
+    /// The Courant number and the weight of the viscous signal speed (None: without it).
+    Cfl(f64, Option<f64>),
     Advance,
+    Efloor,
 }
 
 /// A stage of the leapfrog.
@@ -190,24 +217,28 @@ impl Stage for IntegratorStage {
         match self.which {
             Which::Sum => "integrator.sum_rates",
             Which::Predict => "integrator.predict",
-            Which::Cfl(_) => "integrator.cfl",
+            Which::Cfl(..) => "integrator.cfl",
             Which::Advance => "integrator.advance",
+            Which::Efloor => "integrator.efloor",
         }
     }
     fn reads(&self) -> &[Field] {
         match self.which {
             Which::Sum => &[Field::Acc, Field::Dde],
             Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau],
-            Which::Cfl(_) => &[Field::H, Field::C, Field::V, Field::Dv],
+            Which::Cfl(_, None) => &[Field::H, Field::C, Field::V, Field::Dv],
+            Which::Cfl(_, Some(_)) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
             Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
+            Which::Efloor => &[Field::Mass, Field::E],
         }
     }
     fn writes(&self) -> &[Field] {
         match self.which {
             Which::Sum => &[Field::Dv, Field::De],
             Which::Predict => &LEAPFROG,
-            Which::Cfl(_) => &[Field::DtCfl],
+            Which::Cfl(..) => &[Field::DtCfl],
             Which::Advance => &[Field::Rho, Field::E, Field::V, Field::Tau, Field::X],
+            Which::Efloor => &[Field::E, Field::Efloor],
         }
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
@@ -216,7 +247,8 @@ impl Stage for IntegratorStage {
                 w.dv.resize(p.dim * p.nreal, 0.0);
                 w.de.resize(p.nreal, 0.0);
             }
-            Which::Cfl(_) => w.dt_cfl.resize(1, 0.0),
+            Which::Cfl(..) => w.dt_cfl.resize(1, 0.0),
+            Which::Efloor => w.efloor.resize(1, 0.0),
             Which::Predict | Which::Advance => size_leapfrog(p, w),
         }
     }
@@ -233,10 +265,15 @@ impl Stage for IntegratorStage {
                 let (lf, rates, _, _) = parts(p, w);
                 Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates }.run(b);
             }
-            Which::Cfl(cfl) => {
+            Which::Cfl(cfl, kv) => {
                 let (h, c, v) = (&p.h[..n], &p.c[..n], &p.v[..dim * n]);
-                Cfl { dim, cfl, h, c, v, dv: &w.dv, dt: &mut w.dt_cfl[0] }.run(b);
+                let (kv, mumax) = match kv {
+                    Some(k) => (k, &w.mumax[..n]),
+                    None => (0.0, &[][..]),
+                };
+                Cfl { dim, cfl, h, c, v, dv: &w.dv, kv, mumax, dt: &mut w.dt_cfl[0] }.run(b);
             }
+            Which::Efloor => Efloor { mass: &p.mass[..n], e: &mut p.e[..n], added: &mut w.efloor[0] }.run(b),
             Which::Advance => {
                 let (first, dt_prev, dt, cont) = (k.first, k.dt_prev, k.dt, self.cont);
                 let (lf, rates, av, x) = parts(p, w);
@@ -258,9 +295,21 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         Box::new(IntegratorStage { which, cont, grav: grav.clone(), slots: Slots::default() })
     };
     let mut stages = vec![(Phase::Predict, st(Which::Predict)), (Phase::Sum, st(Which::Sum))];
+    let mut why = format!("leapfrog, {:?} step", case.time.step).to_lowercase();
     if case.time.step == StepRule::Cfl {
-        stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl))));
+        // the viscous signal speed, where there is a viscosity with a β term
+        let v = &case.viscosity;
+        let visc = v.alpha > 0.0 || v.beta > 0.0;
+        let kv = (case.time.viscous_step && visc).then_some(1.2 * v.beta);
+        if kv.is_some() {
+            why += " with the viscous signal speed";
+        }
+        stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl, kv))));
     }
     stages.push((Phase::Advance, st(Which::Advance)));
-    Contribution::run(format!("leapfrog, {:?} step", case.time.step).to_lowercase(), stages)
+    if case.sph.e_floor {
+        why += ", floor e >= 0 booked in the balance";
+        stages.push((Phase::Correct, st(Which::Efloor)));
+    }
+    Contribution::run(why, stages)
 }

@@ -1,7 +1,7 @@
 //! Parity of the leapfrog: the rate sums (0 to 5 terms), predict and advance (first and later
 //! steps, with and without τ, XSPH and continuity density), the CFL step.
 
-use super::{Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use super::{Advance, Cfl, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::param::NSTR;
 use crate::modules::testkit::*;
 
@@ -122,10 +122,41 @@ fn integrator_cfl() {
             let dv: Vec<f64> =
                 (0..dim * n).map(|l| if (l / dim) % 3 == 0 { 0.0 } else { g.range(-scale, scale) }).collect();
             let cfl = g.range(0.1, 0.4);
-            let [f] = parity(&format!("integrator::cfl {dim}D trial {trial}"), 0, ["dt"], [sentinel(1)], |b, [dt]| {
-                run(Cfl { dim, cfl, h: &h, c: &c, v: &v, dv: &dv, dt: &mut dt[0] }, b)
-            });
-            assert!(f[0] > 0.0 && f[0].is_finite());
+            // without and with the viscous signal speed (largest |μ| per particle, m/s)
+            let mu = g.vec(n, 0.0, 3000.0);
+            let mut steps = Vec::new();
+            for (kv, mumax) in [(0.0, &[][..]), (12.0, &mu[..])] {
+                let tag = format!("integrator::cfl {dim}D trial {trial} kv {kv}");
+                let [f] = parity(&tag, 0, ["dt"], [sentinel(1)], |b, [dt]| {
+                    run(Cfl { dim, cfl, h: &h, c: &c, v: &v, dv: &dv, kv, mumax, dt: &mut dt[0] }, b)
+                });
+                assert!(f[0] > 0.0 && f[0].is_finite());
+                steps.push(f[0]);
+            }
+            assert!(steps[1] <= steps[0], "the viscous signal speed cannot lengthen the step");
+        }
+    }
+}
+
+#[test]
+fn integrator_efloor() {
+    let mut g = Rng::new(211);
+    for trial in 0..10 {
+        let n = 500 + trial;
+        let mass = g.vec(n, 0.1, 3.0);
+        // a third of the energies negative
+        let e: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { -g.range(1e-3, 1e5) } else { g.range(0.0, 1e6) }).collect();
+        let tag = format!("integrator::efloor trial {trial}");
+        let [ef, af] = parity(&tag, 0, ["e", "added"], [e.clone(), sentinel(1)], |b, [ee, added]| {
+            run(Efloor { mass: &mass, e: ee, added: &mut added[0] }, b)
+        });
+        let want: f64 = e.iter().zip(&mass).filter(|(x, _)| **x < 0.0).map(|(x, m)| -m * x).sum();
+        assert!((af[0] - want).abs() <= 1e-12 * want, "energy added {} against {want}", af[0]);
+        assert!(ef.iter().all(|x| *x >= 0.0));
+        for i in 0..n {
+            if e[i] >= 0.0 {
+                assert_eq!(ef[i], e[i], "a non-negative energy is left as it was");
+            }
         }
     }
 }

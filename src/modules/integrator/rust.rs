@@ -2,7 +2,7 @@
 //! particles updates every staggered variable (the CFL minimum is taken per task in index order,
 //! then over the tasks in order, so it does not depend on the thread count).
 
-use super::{Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use super::{Efloor, Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::param::NSTR;
 use crate::modules::{CHUNK, par_rows, serial};
 use rayon::prelude::*;
@@ -121,8 +121,9 @@ pub(super) fn advance(a: &mut Advance) {
 }
 
 pub(super) fn cfl(a: &Cfl) -> f64 {
-    let Cfl { dim, cfl, h, c, v, dv, .. } = a;
-    let (dim, cfl) = (*dim, *cfl);
+    let Cfl { dim, cfl, h, c, v, dv, kv, mumax, .. } = a;
+    let (dim, cfl, kv) = (*dim, *cfl, *kv);
+    let with_mu = !mumax.is_empty();
     let n = h.len();
     let part = |b: usize| -> f64 {
         let mut m = f64::MAX;
@@ -133,7 +134,7 @@ pub(super) fn cfl(a: &Cfl) -> f64 {
                 vv += v[d + dim * i] * v[d + dim * i];
                 aa += dv[d + dim * i] * dv[d + dim * i];
             }
-            let mut t = h[i] / (c[i] + vv.sqrt());
+            let mut t = if with_mu { h[i] / (c[i] + vv.sqrt() + kv * mumax[i]) } else { h[i] / (c[i] + vv.sqrt()) };
             if aa > 0.0 {
                 let tf = (h[i] / aa.sqrt()).sqrt();
                 if tf < t {
@@ -151,4 +152,17 @@ pub(super) fn cfl(a: &Cfl) -> f64 {
         if serial() { (0..nb).map(part).collect() } else { (0..nb).into_par_iter().map(part).collect() };
     let m = mins.into_iter().fold(f64::MAX, |a, b| if b < a { b } else { a });
     cfl * m
+}
+
+/// e_i = max(e_i, 0), in index order; the energy added Σ_i m_i max(0, −e_i), term by term as the
+/// Fortran sums it.
+pub(super) fn efloor(a: &mut Efloor) {
+    let mut added = 0.0;
+    for (ei, &m) in a.e.iter_mut().zip(a.mass) {
+        if *ei < 0.0 {
+            added -= m * *ei;
+            *ei = 0.0;
+        }
+    }
+    *a.added = added;
 }

@@ -28,6 +28,7 @@ pub(super) fn from_density(a: &mut FromDensity) {
             a.rho0.as_ptr(),
             n32(nr),
             ptr_or(a.rinv, &dummy),
+            a.hmax,
             a.h.as_mut_ptr(),
         )
     }
@@ -48,5 +49,5 @@ pub(super) fn advance(a: &mut Advance) {
     let n = a.dhdt.len();
     chk("h", a.h.len(), n);
     // SAFETY: h holds the n values the routine updates (checked above).
-    unsafe { sys::sph_smoothing_advance(n32(n), a.dt, a.theta, a.dhdt.as_ptr(), a.h.as_mut_ptr()) }
+    unsafe { sys::sph_smoothing_advance(n32(n), a.dt, a.theta, a.hmax, a.dhdt.as_ptr(), a.h.as_mut_ptr()) }
 }

@@ -1,9 +1,11 @@
 //! Smoothing-length evolution (thesis (2-15), (2-16); Liu's h_upgrade):
 //! from density h_i = h0_i (ρ0_i/ρ_i)^{1/d}; rate dh_i/dt = −(h_i/(ρ_i d)) Dρ_i/Dt (m/s), with
-//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Axisymmetric (RZ) geometry: h follows
-//! the particle spacing in the r-z plane, so the rate reads the plane part of Dρ/Dt (the geometry
-//! module adds the hoop term −ρ v_r/r after it) and h from density is h0 (η0/η)^{1/2}, η = ρ r
-//! (∝ the planar density of the ring masses), with ρ0 r0 kept in `rho0`. Fortran twin:
+//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt; both capped at h_max (m; `f64::MAX` = no
+//! cap, `sph.h_max_ratio`): a particle left alone in a rarefaction (the centre of a point blast)
+//! would otherwise take every particle of the domain as its neighbour. Axisymmetric (RZ) geometry:
+//! h follows the particle spacing in the r-z plane, so the rate reads the plane part of Dρ/Dt (the
+//! geometry module adds the hoop term −ρ v_r/r after it) and h from density is h0 (η0/η)^{1/2},
+//! η = ρ r (∝ the planar density of the ring masses), with ρ0 r0 kept in `rho0`. Fortran twin:
 //! `sph_smoothing.f90`.
 //! Tier: 0 ULP in 1D and 2D (division, √), and in 3D (`pow`, the same C library on both sides).
 
@@ -25,6 +27,8 @@ pub struct FromDensity<'a> {
     pub rho0: &'a [f64],
     /// Axisymmetric: 1/r* (1/m) of the geometry module; empty in plane geometry.
     pub rinv: &'a [f64],
+    /// Cap on h (m; `f64::MAX` = none).
+    pub hmax: f64,
     pub h: &'a mut [f64],
 }
 
@@ -41,6 +45,8 @@ pub struct Rate<'a> {
 pub struct Advance<'a> {
     pub dt: f64,
     pub theta: f64,
+    /// Cap on h (m; `f64::MAX` = none).
+    pub hmax: f64,
     pub dhdt: &'a [f64],
     pub h: &'a mut [f64],
 }
@@ -84,6 +90,8 @@ pub struct SmoothingStage {
     which: Which,
     /// Axisymmetric geometry.
     rz: bool,
+    /// Cap on h (m; `f64::MAX` = none).
+    hmax: f64,
 }
 
 impl Stage for SmoothingStage {
@@ -138,10 +146,13 @@ impl Stage for SmoothingStage {
         match self.which {
             Which::FromDensity => {
                 let rinv: &[f64] = if self.rz { &w.rinv[..n] } else { &[] };
-                FromDensity { dim, rho: &p.rho[..n], h0: &p.h0, rho0: &p.rho0, rinv, h: &mut p.h[..n] }.run(b)
+                let (rho, h0, rho0, hmax) = (&p.rho[..n], &p.h0[..], &p.rho0[..], self.hmax);
+                FromDensity { dim, rho, h0, rho0, rinv, hmax, h: &mut p.h[..n] }.run(b)
             }
             Which::Rate => Rate { dim, rho: &p.rho[..n], h: &p.h[..n], drho: &w.drho[..n], dhdt: &mut w.dhdt }.run(b),
-            Which::Advance(theta) => Advance { dt: k.dt, theta, dhdt: &w.dhdt, h: &mut p.h[..n] }.run(b),
+            Which::Advance(theta) => {
+                Advance { dt: k.dt, theta, hmax: self.hmax, dhdt: &w.dhdt, h: &mut p.h[..n] }.run(b)
+            }
         }
     }
     fn tolerance(&self) -> Tolerance {
@@ -152,9 +163,15 @@ impl Stage for SmoothingStage {
 /// h from the density (after it), or dh/dt with the rates and the update after the advance.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let sph = &ctx.case.sph;
-    let why = format!("{:?}", sph.smoothing).to_lowercase();
+    let mut why = format!("{:?}", sph.smoothing).to_lowercase();
     let rz = ctx.case.axisymmetric();
-    let st = |which| Box::new(SmoothingStage { which, rz }) as Box<dyn Stage>;
+    // the cap: a multiple of the largest initial h
+    let h0max = ctx.h0.iter().cloned().fold(0.0, f64::max);
+    let hmax = sph.h_max_ratio.map_or(f64::MAX, |r| r * h0max);
+    if let Some(r) = sph.h_max_ratio {
+        why += &format!(", h at most {r} h0");
+    }
+    let st = |which| Box::new(SmoothingStage { which, rz, hmax }) as Box<dyn Stage>;
     match sph.smoothing {
         SmoothingKind::Constant => Contribution::skip(why),
         SmoothingKind::Density => Contribution::run(why, vec![(Phase::Smooth, st(Which::FromDensity))]),

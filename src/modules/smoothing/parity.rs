@@ -15,24 +15,33 @@ fn smoothing_from_density_rate_advance() {
     let dhdt = g.vec(n, -20.0, 20.0);
     let rinv = g.vec(n, 1.0, 500.0);
     for dim in 1..=3 {
-        parity(&format!("smoothing::from_density {dim}D"), 0, ["h"], [sentinel(n)], |b, [hh]| {
-            run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, rinv: &[], h: hh }, b)
-        });
+        for hmax in [f64::MAX, 0.015] {
+            let [f] = parity(&format!("smoothing::from_density {dim}D hmax {hmax}"), 0, ["h"], [sentinel(n)], |b, [hh]| {
+                run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, rinv: &[], hmax, h: hh }, b)
+            });
+            assert!(f.iter().all(|&x| x <= hmax));
+            if hmax < 1.0 {
+                assert!(f.contains(&hmax), "{dim}D: the cap never acts");
+            }
+        }
         if dim == 2 {
             // axisymmetric: rho0 holds ρ0 r0
             let eta0: Vec<f64> = rho0.iter().zip(&rinv).map(|(r, ri)| r / ri).collect();
-            let [hr] = parity("smoothing::from_density RZ", 0, ["h"], [sentinel(n)], |b, [hh]| {
-                run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &eta0, rinv: &rinv, h: hh }, b)
-            });
-            nonzero("smoothing::from_density RZ", &hr);
+            for hmax in [f64::MAX, 0.015] {
+                let [hr] = parity(&format!("smoothing::from_density RZ hmax {hmax}"), 0, ["h"], [sentinel(n)], |b, [hh]| {
+                    run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &eta0, rinv: &rinv, hmax, h: hh }, b)
+                });
+                nonzero("smoothing::from_density RZ", &hr);
+                assert!(hr.iter().all(|&x| x <= hmax));
+            }
         }
         parity(&format!("smoothing::rate {dim}D"), 0, ["dhdt"], [sentinel(n)], |b, [o]| {
             run(Rate { dim, rho: &rho, h: &h, drho: &drho, dhdt: o }, b)
         });
     }
-    for (dt, theta) in [(1e-7, 1.0), (3.3e-6, 0.7)] {
-        let [f] = parity(&format!("smoothing::advance dt {dt}"), 0, ["h"], [h.clone()], |b, [hh]| {
-            run(Advance { dt, theta, dhdt: &dhdt, h: hh }, b)
+    for (dt, theta, hmax) in [(1e-7, 1.0, f64::MAX), (3.3e-6, 0.7, f64::MAX), (3.3e-6, 0.7, 0.02)] {
+        let [f] = parity(&format!("smoothing::advance dt {dt} hmax {hmax}"), 0, ["h"], [h.clone()], |b, [hh]| {
+            run(Advance { dt, theta, hmax, dhdt: &dhdt, h: hh }, b)
         });
         assert_ne!(f, h);
     }

@@ -3,20 +3,27 @@
 use super::{Advance, FromDensity, Rate};
 use crate::modules::par_rows;
 
+/// Fortran's `min(a, b)` for non-NaN arguments: `a` unless `b` is smaller.
+#[inline]
+fn fmin(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
 pub(super) fn from_density(a: &mut FromDensity) {
-    let FromDensity { dim, rho, h0, rho0, rinv, h } = a;
-    let dim = *dim;
+    let FromDensity { dim, rho, h0, rho0, rinv, hmax, h } = a;
+    let (dim, hmax) = (*dim, *hmax);
     par_rows(h, 1, |i, hi| {
-        if let Some(ri) = rinv.get(i) {
+        let v = if let Some(ri) = rinv.get(i) {
             // axisymmetric: η0 = ρ0 r0 in rho0, h follows the spacing in the r-z plane
-            hi[0] = h0[i] * (rho0[i] * ri / rho[i]).sqrt();
-            return;
-        }
-        hi[0] = match dim {
-            1 => h0[i] * (rho0[i] / rho[i]),
-            2 => h0[i] * (rho0[i] / rho[i]).sqrt(),
-            _ => h0[i] * (rho0[i] / rho[i]).powf(1.0 / 3.0),
-        }
+            h0[i] * (rho0[i] * ri / rho[i]).sqrt()
+        } else {
+            match dim {
+                1 => h0[i] * (rho0[i] / rho[i]),
+                2 => h0[i] * (rho0[i] / rho[i]).sqrt(),
+                _ => h0[i] * (rho0[i] / rho[i]).powf(1.0 / 3.0),
+            }
+        };
+        hi[0] = fmin(v, hmax);
     });
 }
 
@@ -27,8 +34,8 @@ pub(super) fn rate(a: &mut Rate) {
 }
 
 pub(super) fn advance(a: &mut Advance) {
-    let Advance { dt, theta, dhdt, h } = a;
-    let (dt, theta) = (*dt, *theta);
+    let Advance { dt, theta, hmax, dhdt, h } = a;
+    let (dt, theta, hmax) = (*dt, *theta, *hmax);
     let n = dhdt.len();
-    par_rows(&mut h[..n], 1, |i, hi| hi[0] += theta * dt * dhdt[i]);
+    par_rows(&mut h[..n], 1, |i, hi| hi[0] = fmin(hi[0] + theta * dt * dhdt[i], hmax));
 }

@@ -16,6 +16,7 @@ pub(super) fn monaghan(a: &mut Monaghan) {
     chk("v", a.v.len(), dim * nt);
     chk("dvdt", a.dvdt.len(), dim * nt);
     chk("dedt", a.dedt.len(), nt);
+    chk("mumax", a.mumax.len(), nt);
     chk("dwdx", a.dwdx.len(), dim * pl.len());
     for (name, l) in [("h", a.h.len()), ("rho", a.rho.len()), ("c", a.c.len())] {
         chk(name, l, nt);
@@ -42,6 +43,7 @@ pub(super) fn monaghan(a: &mut Monaghan) {
             a.coef.etq,
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
+            a.mumax.as_mut_ptr(),
         )
     }
 }

@@ -1,6 +1,8 @@
 //! Monaghan artificial viscosity (thesis (4-47), (4-48); Liu's art_visc), for approaching pairs:
 //! μ_ij = h_ij v_ij·x_ij/(|x_ij|² + φ²), φ = etq h_ij; Π_ij = (β μ_ij − α c̄_ij) μ_ij / ρ̄_ij;
-//! Dv_i/Dt −= Σ_j m_j Π_ij ∇_i W_ij (m/s²); De_i/Dt += ½ Σ_j m_j Π_ij v_ij·∇_i W_ij (J/kg/s).
+//! Dv_i/Dt −= Σ_j m_j Π_ij ∇_i W_ij (m/s²); De_i/Dt += ½ Σ_j m_j Π_ij v_ij·∇_i W_ij (J/kg/s);
+//! and mumax_i = max_j |μ_ij| over the approaching pairs (m/s, 0 if none), the signal speed of the
+//! β term that the CFL step adds (theory.md §13).
 //! Fortran twin: `fortran/src/sph_viscosity.f90`.
 
 mod ffi;
@@ -39,6 +41,8 @@ pub struct Monaghan<'a> {
     pub dvdt: &'a mut [f64],
     /// Energy rate (J/kg/s), ntotal.
     pub dedt: &'a mut [f64],
+    /// Largest |μ_ij| over each particle's approaching pairs (m/s), ntotal.
+    pub mumax: &'a mut [f64],
 }
 
 impl Twin for Monaghan<'_> {
@@ -73,10 +77,11 @@ impl Stage for ViscosityStage {
         }
     }
     fn writes(&self) -> &[Field] {
-        &[Field::Acc, Field::Dde]
+        &[Field::Acc, Field::Dde, Field::Mumax]
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
         self.slots.size(w, p.dim, p.ntotal);
+        w.mumax.resize(p.ntotal, 0.0);
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt) = (p.dim, p.ntotal);
@@ -93,6 +98,7 @@ impl Stage for ViscosityStage {
             coef: self.coef,
             dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
             dedt: &mut w.dde[self.slots.de_range(nt)],
+            mumax: &mut w.mumax[..nt],
         }
         .run(b);
     }

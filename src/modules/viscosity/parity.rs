@@ -13,12 +13,14 @@ fn viscosity_monaghan() {
         for (alpha, beta, etq) in [(1.0, 10.0, 0.1), (1.0, 1.0, 0.1), (0.5, 0.0, 0.05)] {
             let coef = Coef { alpha, beta, etq };
             let tag = format!("viscosity::monaghan {dim}D seed {seed} {coef:?}");
-            let [acc, _] =
-                parity(&tag, 0, ["dvdt", "dedt"], [sentinel(dim * cl.nt), sentinel(cl.nt)], |b, [dvdt, dedt]| {
-                    let (x, v, h, rho, c, mass) = (&cl.x, &cl.v, &cl.h, &cl.rho, &cl.c, &cl.mass);
-                    run(Monaghan { dim, pairs: &pl, dwdx: &dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt }, b)
-                });
+            let outs = [sentinel(dim * cl.nt), sentinel(cl.nt), sentinel(cl.nt)];
+            let [acc, _, mu] = parity(&tag, 0, ["dvdt", "dedt", "mumax"], outs, |b, [dvdt, dedt, mumax]| {
+                let (x, v, h, rho, c, mass) = (&cl.x, &cl.v, &cl.h, &cl.rho, &cl.c, &cl.mass);
+                run(Monaghan { dim, pairs: &pl, dwdx: &dwdx, x, v, h, rho, c, mass, coef, dvdt, dedt, mumax }, b)
+            });
             nonzero(&tag, &acc);
+            nonzero(&tag, &mu);
+            assert!(mu.iter().all(|&m| m >= 0.0), "{tag}: mumax is a magnitude");
         }
     }
 }

@@ -4,10 +4,12 @@
 //! pass over the particles adds, over each particle's pairs in ascending pair order (the Fortran's
 //! scatter order), ± m_other × those terms into both outputs. A receding pair adds ±0, which leaves
 //! the sum unchanged: an accumulator that starts at +0 is never −0 under round-to-nearest, and
-//! x ± 0 = x for every other x. 0 ULP, independent of the thread count.
+//! x ± 0 = x for every other x. The same pair pass keeps −μ_ij of every approaching pair (+0 where
+//! it recedes); mumax_i is their largest over particle i's pairs (a maximum: independent of the
+//! order). 0 ULP, independent of the thread count.
 
 use super::{Coef, Monaghan};
-use crate::modules::{CHUNK, by_dim, gather_signed, serial};
+use crate::modules::{CHUNK, by_dim, gather_signed, par_rows, serial};
 use rayon::prelude::*;
 
 /// The read-only inputs of the pair pass.
@@ -33,7 +35,7 @@ const NV: usize = 6;
 /// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
 /// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a
 /// receding pair gets +0), so that the divisions run on vectors.
-fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], tmp: &mut [f64]) {
+fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &mut [f64], tmp: &mut [f64]) {
     let Coef { alpha, beta, etq } = a.coef;
     let (x, v) = (a.x, a.v);
     let len = t.len() / W;
@@ -67,6 +69,7 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], tmp: 
         let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
         let piv = (beta * muv - alpha * mc[l]) * muv / mrho[l];
         let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
+        mu[l] = f64::from_bits((-muv).to_bits() & on);
         let de = 0.5 * piv * vd[l];
         hij[l] = f64::from_bits(piv.to_bits() & on);
         vd[l] = f64::from_bits(de.to_bits() & on);
@@ -89,16 +92,33 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
     buf.pair.resize(W * np, 0.0);
+    // −μ of every pair (+0 where it recedes), for the viscous signal speed
+    buf.part.resize(np, 0.0);
     buf.per_thread.ensure();
     let tls = &buf.per_thread;
     // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
     // pairs, the gathers first (into a per-thread array), then the arithmetic over it
-    let body = |b: usize, t: &mut [f64]| tls.with(NV * (t.len() / W), |tmp| block::<D, W>(&inp, CHUNK * b, t, tmp));
+    let body = |b: usize, (t, mu): (&mut [f64], &mut [f64])| {
+        tls.with(NV * (t.len() / W), |tmp| block::<D, W>(&inp, CHUNK * b, t, mu, tmp))
+    };
     let tc = &mut buf.pair[..W * np];
+    let mc = &mut buf.part[..np];
     if serial() {
-        tc.chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
+        tc.chunks_mut(W * CHUNK).zip(mc.chunks_mut(CHUNK)).enumerate().for_each(|(b, t)| body(b, t));
     } else {
-        tc.par_chunks_mut(W * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
+        tc.par_chunks_mut(W * CHUNK).zip(mc.par_chunks_mut(CHUNK)).enumerate().for_each(|(b, t)| body(b, t));
     }
     gather_signed::<D, W>(pl, &buf.pair, a.mass, None, a.dvdt, a.dedt);
+    // the largest −μ over each particle's pairs (a maximum: independent of the order)
+    let mu: &[f64] = &buf.part;
+    par_rows(&mut a.mumax[..a.mass.len()], 1, |i, r| {
+        let mut m = 0.0f64;
+        for inc in pl.incident(i) {
+            let q = mu[inc.pair()];
+            if q > m {
+                m = q;
+            }
+        }
+        r[0] = m;
+    });
 }

@@ -1,0 +1,63 @@
+!-----------------------------------------------------------------------
+!  sph_conductivity: artificial conductivity (Price 2008, J. Comput.
+!  Phys. 227, 10040), an energy exchange between the two particles of a
+!  pair that smooths a jump of the specific internal energy e:
+!     de_i/dt += sum_j m_j alpha_u vsig_ij (e_i - e_j) / rho_ij
+!                          (xhat_ij . grad_i W_ij)
+!  with rho_ij = (rho_i + rho_j)/2, xhat_ij = x_ij/r_ij, and the signal
+!  speed (m/s)
+!     signal = 0 (pressure, Price): vsig = sqrt(|p_i - p_j| / rho_ij)
+!     signal = 1 (velocity, for shocks and wall heating):
+!                                    vsig = |v_ij . xhat_ij|
+!  xhat.grad W <= 0, so heat flows from the hotter particle; the pair's
+!  two terms cancel in sum_i m_i de_i/dt (energy is conserved).
+!  Coincident particles (r = 0) exchange nothing.
+!-----------------------------------------------------------------------
+module sph_conductivity
+  use iso_c_binding, only: c_int, c_double
+  implicit none
+  private
+  public :: sph_conductivity_price
+
+contains
+
+  subroutine sph_conductivity_price(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, rho, p, e, &
+      mass, alpha, signal, dedt) bind(C, name="sph_conductivity_price")
+    integer(c_int), value :: dim, ntotal, npair, signal
+    real(c_double), value :: alpha
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), rho(ntotal), &
+                                  p(ntotal), e(ntotal), mass(ntotal)
+    real(c_double), intent(out) :: dedt(ntotal)
+    integer :: i, j, k, d
+    real(c_double) :: dx, r2, r, xw, vr, mrho, vs, q
+
+    dedt = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      r2 = 0.0d0
+      xw = 0.0d0
+      vr = 0.0d0
+      do d = 1, dim
+        dx = x(d, i) - x(d, j)
+        r2 = r2 + dx*dx
+        xw = xw + dx*dwdx(d, k)
+        vr = vr + (v(d, i) - v(d, j))*dx
+      end do
+      if (r2 > 0.0d0) then
+        r = sqrt(r2)
+        mrho = 0.5d0*(rho(i) + rho(j))
+        if (signal == 0) then
+          vs = sqrt(abs(p(i) - p(j))/mrho)
+        else
+          vs = abs(vr)/r
+        end if
+        q = alpha*vs*(e(i) - e(j))/mrho*(xw/r)
+        dedt(i) = dedt(i) + mass(j)*q
+        dedt(j) = dedt(j) - mass(i)*q
+      end if
+    end do
+  end subroutine sph_conductivity_price
+
+end module sph_conductivity

@@ -1,0 +1,542 @@
+//! Measurements of the verification problems (`cases/verify/`, `[analysis] kind = "sedov" |
+//! "noh" | "reflection" | "detonation"`) against their exact solutions, for `summary.json` (at the
+//! end of a run) and `blastsph report` (with profile plots). Every definition is stated here and in
+//! docs/validation.md ("Verification problems").
+//!
+//! Common measures (SI units):
+//! - **radial profile**: the particles binned by distance r from the centre in bins one initial
+//!   spacing Δx wide; a bin's density is the mean of its particles' ρ;
+//! - **shock radius, peak measure** R_peak: the position of the largest binned density, refined by
+//!   the vertex of the parabola through that bin and its two neighbours;
+//! - **shock radius, threshold measure** R_half: outward from that bin, where the binned density
+//!   falls through the middle between its peak and the density ahead of the shock (linear
+//!   interpolation between bins) — the mid-rise of the front;
+//! - **L1(ρ)** = Σ m_i |ρ_i − ρ_exact(r_i)| / Σ m_i over the particles within 1.5 exact shock
+//!   radii (kg/m³): mass-weighted (the mean over the particles when their masses are equal), so
+//!   that a few rarefied particles near a blast's centre, whose volume m/ρ is huge, do not dominate
+//!   it; also given divided by the exact density jump's density;
+//! - **clumping**: the largest particle density over the exact peak density;
+//! - e < 0: the count of particles with negative specific internal energy, and the smallest e.
+
+use crate::analysis::cj::{Jwl, TaylorWave};
+use crate::analysis::noh::{Noh, reflect};
+use crate::analysis::sedov::Sedov;
+use crate::case::{AnalysisKind, Case, EosCfg};
+use crate::error::{Result, input};
+use crate::output::Frame;
+use serde_json::{Value, json};
+
+/// A frame of the current state of a simulation (real particles), for the end-of-run summary.
+pub fn frame_of(sim: &crate::sim::Sim) -> Frame {
+    let p = &sim.p;
+    let (d, n) = (sim.cfg.dim, p.nreal);
+    let comp = |a: &[f64], k: usize| -> Vec<f64> { (0..n).map(|i| if k < d { a[k + d * i] } else { 0.0 }).collect() };
+    Frame {
+        time: sim.t,
+        x: comp(&p.x, 0),
+        y: comp(&p.x, 1),
+        z: comp(&p.x, 2),
+        vx: comp(&p.v, 0),
+        vy: comp(&p.v, 1),
+        vz: comp(&p.v, 2),
+        rho: p.rho[..n].to_vec(),
+        p: p.p[..n].to_vec(),
+        e: p.e[..n].to_vec(),
+        h: p.h[..n].to_vec(),
+        mass: p.mass[..n].to_vec(),
+        mat: p.mat[..n].to_vec(),
+        id: p.id[..n].to_vec(),
+        ppv: Vec::new(),
+        p_peak: Vec::new(),
+    }
+}
+
+/// What the problem needs from the case and its initial particles.
+struct Setup {
+    dim: usize,
+    centre: [f64; 3],
+    gamma: f64,
+    /// Density and energy of the ambient gas (the region with the most particles).
+    rho0: f64,
+    e_amb: f64,
+    /// Speed of the ambient gas (Noh, reflection), m/s.
+    u0: f64,
+    /// Finest initial spacing (m).
+    dx: f64,
+    /// Sedov: the released energy.
+    energy: f64,
+}
+
+fn setup_of(case: &Case) -> Result<Setup> {
+    let init = crate::setup::particles(case)?;
+    let d = case.dim;
+    let big = (0..init.counts.len()).max_by_key(|&r| init.counts[r]).unwrap_or(0);
+    let first = init.region.iter().position(|&r| r as usize == big).unwrap_or(0);
+    let (rho0, e_amb) = (init.rho[first], init.e[first]);
+    let u0 = (0..d).map(|a| init.v[a + d * first] * init.v[a + d * first]).sum::<f64>().sqrt();
+    let gamma = case
+        .materials
+        .iter()
+        .find_map(|m| if let EosCfg::IdealGas { gamma, .. } = m.eos { Some(gamma) } else { None })
+        .unwrap_or(1.4);
+    let mut centre = [0.0; 3];
+    if let Some(c) = &case.analysis.center_m {
+        centre[..d].copy_from_slice(&c[..d]);
+    }
+    let energy = case
+        .analysis
+        .energy_j
+        .unwrap_or_else(|| (0..init.mass.len()).map(|i| init.mass[i] * (init.e[i] - e_amb)).sum::<f64>());
+    Ok(Setup { dim: d, centre, gamma, rho0, e_amb, u0, dx: init.dx_min, energy })
+}
+
+fn radius(s: &Setup, f: &Frame, i: usize) -> f64 {
+    let dx = f.x[i] - s.centre[0];
+    if s.dim == 1 {
+        return dx.abs();
+    }
+    let dy = f.y[i] - s.centre[1];
+    (dx * dx + dy * dy).sqrt()
+}
+
+/// Binned mean density against distance: (bin centre, mean ρ, count).
+fn profile(r: &[f64], rho: &[f64], dr: f64) -> Vec<(f64, f64, usize)> {
+    let rmax = r.iter().cloned().fold(0.0, f64::max);
+    let nb = ((rmax / dr) as usize + 1).min(1_000_000);
+    let mut sum = vec![0.0; nb];
+    let mut cnt = vec![0usize; nb];
+    for (k, &ri) in r.iter().enumerate() {
+        let b = ((ri / dr) as usize).min(nb - 1);
+        sum[b] += rho[k];
+        cnt[b] += 1;
+    }
+    (0..nb).filter(|&b| cnt[b] > 0).map(|b| ((b as f64 + 0.5) * dr, sum[b] / cnt[b] as f64, cnt[b])).collect()
+}
+
+/// R_peak, R_half and the peak binned density of a profile; `ahead(r)` is the density ahead of
+/// the shock at r.
+fn shock_measures(prof: &[(f64, f64, usize)], ahead: &dyn Fn(f64) -> f64) -> (f64, f64, f64) {
+    if prof.is_empty() {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    let kmax = (0..prof.len()).max_by(|&a, &b| prof[a].1.total_cmp(&prof[b].1)).unwrap_or(0);
+    let (mut rp, peak) = (prof[kmax].0, prof[kmax].1);
+    if kmax > 0 && kmax + 1 < prof.len() {
+        let (ya, yb, yc) = (prof[kmax - 1].1, prof[kmax].1, prof[kmax + 1].1);
+        let den = ya - 2.0 * yb + yc;
+        let dr = 0.5 * (prof[kmax + 1].0 - prof[kmax - 1].0);
+        if den < 0.0 {
+            rp += dr * 0.5 * (ya - yc) / den;
+        }
+    }
+    let mut rhalf = f64::NAN;
+    for k in kmax..prof.len().saturating_sub(1) {
+        let (ra, da) = (prof[k].0, prof[k].1);
+        let (rb, db) = (prof[k + 1].0, prof[k + 1].1);
+        let (la, lb) = (0.5 * (peak + ahead(ra)), 0.5 * (peak + ahead(rb)));
+        if da >= la && db < lb {
+            let s = (da - la) / ((da - la) - (db - lb));
+            rhalf = ra + s * (rb - ra);
+            break;
+        }
+    }
+    (rp, rhalf, peak)
+}
+
+fn l1(vol: &[f64], err: &[f64]) -> f64 {
+    let v: f64 = vol.iter().sum();
+    vol.iter().zip(err).map(|(a, b)| a * b.abs()).sum::<f64>() / v.max(1e-300)
+}
+
+fn neg_e(f: &Frame) -> (usize, f64) {
+    (f.e.iter().filter(|&&e| e < 0.0).count(), f.e.iter().cloned().fold(f64::INFINITY, f64::min))
+}
+
+/// Profiles of one frame for the plots: (r, ρ, radial v, p) per particle and the exact curves.
+pub struct Profiles {
+    pub particles: Vec<[f64; 4]>,
+    pub exact: Vec<[f64; 4]>,
+    pub xlabel: &'static str,
+}
+
+fn radial_v(s: &Setup, f: &Frame, i: usize, r: f64) -> f64 {
+    if r <= 0.0 {
+        return 0.0;
+    }
+    let mut u = f.vx[i] * (f.x[i] - s.centre[0]);
+    if s.dim > 1 {
+        u += f.vy[i] * (f.y[i] - s.centre[1]);
+    }
+    u / r
+}
+
+/// The measures of the last frame (and, for a detonation, of every frame), as JSON, with the
+/// profiles for the plots.
+pub fn measure(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>)> {
+    let last = frames.last().ok_or_else(|| input("no output step to measure"))?;
+    match case.analysis.kind {
+        AnalysisKind::Sedov => sedov(case, last),
+        AnalysisKind::Noh => noh(case, last),
+        AnalysisKind::Reflection => reflection(case, last),
+        AnalysisKind::Detonation => detonation(case, frames),
+        _ => Ok((json!({}), None)),
+    }
+}
+
+fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
+    let s = setup_of(case)?;
+    let sol = Sedov::new(s.dim as u32, s.gamma).ok_or_else(|| input("sedov: no similarity solution"))?;
+    let t = f.time;
+    let rex = sol.radius(s.energy, s.rho0, t);
+    let jump = sol.jump();
+    let n = f.x.len();
+    let r: Vec<f64> = (0..n).map(|i| radius(&s, f, i)).collect();
+    let prof = profile(&r, &f.rho, s.dx);
+    let (rp, rh, peak) = shock_measures(&prof, &|_| s.rho0);
+    let (mut vol, mut err) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        if r[i] <= 1.5 * rex {
+            vol.push(f.mass[i]);
+            err.push(f.rho[i] - sol.sample(r[i], s.energy, s.rho0, t).rho);
+        }
+    }
+    let l1r = l1(&vol, &err);
+    let rho_max = f.rho.iter().cloned().fold(0.0, f64::max);
+    let (nneg, emin) = neg_e(f);
+    let parts: Vec<[f64; 4]> = (0..n).map(|i| [r[i], f.rho[i], radial_v(&s, f, i, r[i]), f.p[i]]).collect();
+    let rmax = r.iter().cloned().fold(0.0, f64::max).min(1.5 * rex).max(rex * 1.05);
+    let exact: Vec<[f64; 4]> = (0..=1000)
+        .map(|k| {
+            let x = rmax * k as f64 / 1000.0;
+            let q = sol.sample(x, s.energy, s.rho0, t);
+            [x, q.rho, q.u, q.p]
+        })
+        .collect();
+    let v = json!({
+        "kind": "sedov",
+        "geometry_j": s.dim,
+        "gamma": s.gamma,
+        "xi0": sol.xi0,
+        "energy": s.energy,
+        "rho0": s.rho0,
+        "time": t,
+        "shock_radius_exact_m": rex,
+        "shock_radius_peak_m": rp,
+        "shock_radius_half_m": rh,
+        "shock_radius_peak_ratio": rp / rex,
+        "shock_radius_half_ratio": rh / rex,
+        "density_jump_exact": jump,
+        "peak_density_binned": peak,
+        "peak_density_fraction_of_jump": (peak / s.rho0 - 1.0) / (jump - 1.0),
+        "peak_density_ratio": peak / (s.rho0 * jump),
+        "max_particle_density": rho_max,
+        "clumping": rho_max / (s.rho0 * jump),
+        "l1_rho": l1r,
+        "l1_rho_relative": l1r / (s.rho0 * jump),
+        "l1_window_m": 1.5 * rex,
+        "negative_e_count": nneg,
+        "min_e": emin,
+        "dx_m": s.dx,
+    });
+    Ok((v, Some(Profiles { particles: parts, exact, xlabel: "r (m)" })))
+}
+
+fn noh(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
+    let s = setup_of(case)?;
+    let sol = Noh { j: s.dim as u32, gamma: s.gamma, rho0: s.rho0, u0: s.u0 };
+    let t = f.time;
+    let sh = sol.shocked();
+    let rex = sol.radius(t);
+    let n = f.x.len();
+    let r: Vec<f64> = (0..n).map(|i| radius(&s, f, i)).collect();
+    let prof = profile(&r, &f.rho, s.dx);
+    // the threshold measure: where ρ falls through the middle of ρ₂ and the inflow density
+    let ahead = |x: f64| sol.sample(x.max(rex * 1.000001), t).rho;
+    let mut rh = f64::NAN;
+    for k in 0..prof.len().saturating_sub(1) {
+        let (ra, da, rb, db) = (prof[k].0, prof[k].1, prof[k + 1].0, prof[k + 1].1);
+        let (la, lb) = (0.5 * (sh.rho + ahead(ra)), 0.5 * (sh.rho + ahead(rb)));
+        if ra > 0.3 * rex && da >= la && db < lb {
+            rh = ra + (da - la) / ((da - la) - (db - lb)) * (rb - ra);
+            break;
+        }
+    }
+    // the shocked plateau away from the centre (0.4 R … 0.8 R) and the centre (r < 2 Δx)
+    let mean = |lo: f64, hi: f64, q: &dyn Fn(usize) -> f64| {
+        let v: Vec<f64> = (0..n).filter(|&i| r[i] >= lo && r[i] < hi).map(q).collect();
+        if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+    };
+    let rho_plateau = mean(0.4 * rex, 0.8 * rex, &|i| f.rho[i]);
+    let e_plateau = mean(0.4 * rex, 0.8 * rex, &|i| f.e[i]);
+    let rho_centre = mean(0.0, 2.0 * s.dx, &|i| f.rho[i]);
+    let e_centre = mean(0.0, 2.0 * s.dx, &|i| f.e[i]);
+    let window = 1.5 * rex;
+    let (mut vol, mut err) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        if r[i] <= window {
+            vol.push(f.mass[i]);
+            err.push(f.rho[i] - sol.sample(r[i], t).rho);
+        }
+    }
+    let l1r = l1(&vol, &err);
+    let (nneg, emin) = neg_e(f);
+    let rho_max = f.rho.iter().cloned().fold(0.0, f64::max);
+    let parts: Vec<[f64; 4]> =
+        (0..n).filter(|&i| r[i] <= 3.0 * rex).map(|i| [r[i], f.rho[i], radial_v(&s, f, i, r[i]), f.p[i]]).collect();
+    let exact: Vec<[f64; 4]> = (1..=1000)
+        .map(|k| {
+            let x = 3.0 * rex * k as f64 / 1000.0;
+            let q = sol.sample(x, t);
+            [x, q.rho, q.u, q.p]
+        })
+        .collect();
+    let v = json!({
+        "kind": "noh",
+        "geometry_j": s.dim,
+        "gamma": s.gamma,
+        "rho0": s.rho0,
+        "u0": s.u0,
+        "time": t,
+        "shock_radius_exact_m": rex,
+        "shock_radius_half_m": rh,
+        "shock_radius_half_ratio": rh / rex,
+        "post_shock_density_exact": sh.rho,
+        "post_shock_density": rho_plateau,
+        "post_shock_density_ratio": rho_plateau / sh.rho,
+        "post_shock_e_exact": sh.e,
+        "post_shock_e": e_plateau,
+        "centre_density_ratio": rho_centre / sh.rho,
+        "centre_e_ratio": e_centre / sh.e,
+        "wall_heating_e_excess": e_centre / sh.e - 1.0,
+        "max_particle_density": rho_max,
+        "clumping": rho_max / sh.rho,
+        "l1_rho": l1r,
+        "l1_rho_relative": l1r / sh.rho,
+        "l1_window_m": window,
+        "negative_e_count": nneg,
+        "min_e": emin,
+        "dx_m": s.dx,
+    });
+    Ok((v, Some(Profiles { particles: parts, exact, xlabel: "r (m)" })))
+}
+
+fn reflection(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
+    let mut s = setup_of(case)?;
+    let xw = case.walls[0].from_m[0];
+    s.centre = [xw, 0.0, 0.0];
+    let p1 = (s.gamma - 1.0) * s.rho0 * s.e_amb;
+    let st = reflect(s.gamma, s.rho0, p1, s.u0)
+        .ok_or_else(|| input("reflection: the gas does not move towards the wall"))?;
+    let t = f.time;
+    let xs = st.speed * t;
+    let n = f.x.len();
+    let r: Vec<f64> = (0..n).map(|i| radius(&s, f, i)).collect();
+    let prof = profile(&r, &f.rho, s.dx);
+    let mut rh = f64::NAN;
+    let mid = 0.5 * (st.rho + s.rho0);
+    for k in 0..prof.len().saturating_sub(1) {
+        if prof[k].0 > 0.3 * xs && prof[k].1 >= mid && prof[k + 1].1 < mid {
+            rh = prof[k].0 + (prof[k].1 - mid) / (prof[k].1 - prof[k + 1].1) * (prof[k + 1].0 - prof[k].0);
+            break;
+        }
+    }
+    let mean = |lo: f64, hi: f64, q: &dyn Fn(usize) -> f64| {
+        let v: Vec<f64> = (0..n).filter(|&i| r[i] >= lo && r[i] < hi).map(q).collect();
+        if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+    };
+    let rho_plateau = mean(0.4 * xs, 0.8 * xs, &|i| f.rho[i]);
+    let e_plateau = mean(0.4 * xs, 0.8 * xs, &|i| f.e[i]);
+    let iw = (0..n).min_by(|&a, &b| r[a].total_cmp(&r[b])).unwrap_or(0);
+    let exact_at = |x: f64| if x < xs { (st.rho, 0.0, st.p) } else { (s.rho0, -s.u0, p1) };
+    let (mut vol, mut err) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        if r[i] <= 1.5 * xs {
+            vol.push(f.mass[i]);
+            err.push(f.rho[i] - exact_at(r[i]).0);
+        }
+    }
+    let l1r = l1(&vol, &err);
+    let (nneg, emin) = neg_e(f);
+    let sign = if f.x.iter().sum::<f64>() / n as f64 >= xw { 1.0 } else { -1.0 };
+    let parts: Vec<[f64; 4]> =
+        (0..n).filter(|&i| r[i] <= 3.0 * xs).map(|i| [r[i], f.rho[i], sign * f.vx[i], f.p[i]]).collect();
+    let exact: Vec<[f64; 4]> = (0..=1000)
+        .map(|k| {
+            let x = 3.0 * xs * k as f64 / 1000.0;
+            let q = exact_at(x);
+            [x, q.0, q.1, q.2]
+        })
+        .collect();
+    let v = json!({
+        "kind": "reflection",
+        "gamma": s.gamma,
+        "rho1": s.rho0,
+        "p1": p1,
+        "u1": s.u0,
+        "time": t,
+        "reflected_density_exact": st.rho,
+        "reflected_e_exact": st.e,
+        "reflected_p_exact": st.p,
+        "shock_distance_exact_m": xs,
+        "shock_distance_half_m": rh,
+        "shock_distance_ratio": rh / xs,
+        "plateau_density_ratio": rho_plateau / st.rho,
+        "plateau_e_ratio": e_plateau / st.e,
+        "wall_density_ratio": f.rho[iw] / st.rho,
+        "wall_e_ratio": f.e[iw] / st.e,
+        "wall_heating_e_excess": f.e[iw] / st.e - 1.0,
+        "l1_rho": l1r,
+        "l1_rho_relative": l1r / st.rho,
+        "negative_e_count": nneg,
+        "min_e": emin,
+        "dx_m": s.dx,
+    });
+    Ok((v, Some(Profiles { particles: parts, exact, xlabel: "distance from the wall (m)" })))
+}
+
+/// The JWL explosive of a case, its material index, and e0.
+fn explosive(case: &Case) -> Result<(usize, Jwl)> {
+    for (m, mc) in case.materials.iter().enumerate() {
+        if let EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, .. } = mc.eos {
+            let e0 =
+                case.regions.iter().find(|r| r.material == mc.name).and_then(|r| r.e_jkg).or(mc.e0_jkg).unwrap_or(0.0);
+            return Ok((m, Jwl { rho0: rho0_kgm3, a: a_pa, b: b_pa, r1, r2, omega, e0 }));
+        }
+    }
+    Err(input("detonation: no JWL material"))
+}
+
+fn detonation(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>)> {
+    let (mj, jwl) = explosive(case)?;
+    let wave = TaylorWave::new(&jwl).ok_or_else(|| input("detonation: no CJ state for this JWL"))?;
+    let cj = wave.cj;
+    let init = crate::setup::particles(case)?;
+    let dx = init.dx_min;
+    let xd = case.detonation.as_ref().and_then(|d| d.point_m.clone()).unwrap_or_default();
+    let x0 = xd.first().copied().unwrap_or(0.0);
+    // a wall through the lighting point makes the Taylor wave's plateau
+    let wall = case.walls.iter().any(|w| (w.from_m[0] - x0).abs() < 0.5 * dx && (w.to_m[0] - x0).abs() < 0.5 * dx);
+    let dist = |f: &Frame, i: usize| (f.x[i] - x0).abs();
+    // every frame: the peak pressure of the explosive and the front (the farthest particle above
+    // half p_CJ), from the frames after 10 spacings of travel
+    let mut hist = Vec::new();
+    for f in frames {
+        if f.time <= 0.0 || cj.d * f.time < 10.0 * dx {
+            continue;
+        }
+        let (mut pk, mut front) = (0.0f64, 0.0f64);
+        for i in 0..f.x.len() {
+            if f.mat[i] as usize != mj {
+                continue;
+            }
+            pk = pk.max(f.p[i]);
+            if f.p[i] > 0.5 * cj.p {
+                front = front.max(dist(f, i));
+            }
+        }
+        hist.push(json!({"time": f.time, "travel_dx": cj.d * f.time / dx, "peak_p_ratio": pk / cj.p, "front_m": front, "front_exact_m": cj.d * f.time}));
+    }
+    let f = frames.last().ok_or_else(|| input("no output step"))?;
+    let t = f.time;
+    let n = f.x.len();
+    let ex: Vec<usize> = (0..n).filter(|&i| f.mat[i] as usize == mj).collect();
+    let pk = ex.iter().map(|&i| f.p[i]).fold(0.0, f64::max);
+    let xf = cj.d * t;
+    let hmax = ex.iter().map(|&i| f.h[i]).fold(0.0, f64::max);
+    let ahead: Vec<usize> = ex.iter().copied().filter(|&i| dist(f, i) > xf + 2.0 * hmax).collect();
+    let rho_ahead = ahead.iter().map(|&i| f.rho[i]).fold(0.0, f64::max);
+    let rho_max = ex.iter().map(|&i| f.rho[i]).fold(0.0, f64::max);
+    let plateau = if wall {
+        let v: Vec<f64> = ex.iter().filter(|&&i| dist(f, i) < 0.5 * wave.c_plateau * t).map(|&i| f.p[i]).collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    } else {
+        None
+    };
+    let (mut vol, mut err) = (Vec::new(), Vec::new());
+    if wall {
+        for &i in &ex {
+            if dist(f, i) <= xf {
+                vol.push(f.mass[i]);
+                err.push(f.p[i] - wave.sample(dist(f, i), t).p);
+            }
+        }
+    }
+    let l1p = if wall { Some(l1(&vol, &err)) } else { None };
+    let (nneg, emin) = neg_e(f);
+    let sign = |i: usize| if f.x[i] >= x0 { 1.0 } else { -1.0 };
+    let parts: Vec<[f64; 4]> = ex.iter().map(|&i| [dist(f, i), f.rho[i], sign(i) * f.vx[i], f.p[i]]).collect();
+    let dmax = ex.iter().map(|&i| dist(f, i)).fold(0.0, f64::max);
+    let exact: Vec<[f64; 4]> = (0..=2000)
+        .map(|k| {
+            let x = dmax * k as f64 / 2000.0;
+            let q = wave.sample(x, t);
+            [x, q.rho, q.u, q.p]
+        })
+        .collect();
+    let ratios: Vec<f64> = hist.iter().filter_map(|h| h["peak_p_ratio"].as_f64()).collect();
+    let v = json!({
+        "kind": "detonation",
+        "p_cj": cj.p,
+        "rho_cj": cj.rho,
+        "d_cj": cj.d,
+        "u_cj": cj.u,
+        "plateau_p_exact": wave.plateau.p,
+        "time": t,
+        "travel_dx": xf / dx,
+        "dx_m": dx,
+        "front_p_ratio": pk / cj.p,
+        "front_p_ratio_min_over_run": ratios.iter().cloned().fold(f64::INFINITY, f64::min),
+        "front_p_ratio_max_over_run": ratios.iter().cloned().fold(0.0, f64::max),
+        "plateau_p": plateau,
+        "plateau_ratio": plateau.map(|p| p / wave.plateau.p),
+        "l1_p_taylor_relative": l1p.map(|x| x / cj.p),
+        "max_density_ahead_of_front": rho_ahead,
+        "max_density_ratio_to_cj": rho_max / cj.rho,
+        "negative_e_count": nneg,
+        "min_e": emin,
+        "history": hist,
+    });
+    Ok((v, Some(Profiles { particles: parts, exact, xlabel: "distance from the lighting point (m)" })))
+}
+
+/// `blastsph report` for a verification case: prints the measures and writes `profiles.png`.
+pub fn report(dir: &std::path::Path, case: &Case, frames: &[Frame]) -> Result<Value> {
+    let (v, prof) = measure(case, frames)?;
+    let skip = ["history"];
+    let mut line = String::new();
+    if let Some(o) = v.as_object() {
+        for (k, x) in o {
+            if skip.contains(&k.as_str()) {
+                continue;
+            }
+            let s = match x {
+                Value::Number(n) => {
+                    let f = n.as_f64().unwrap_or(0.0);
+                    if f.fract() == 0.0 && f.abs() < 1e9 { format!("{f}") } else { format!("{f:.5e}") }
+                }
+                Value::Null => "-".into(),
+                other => other.to_string(),
+            };
+            line.push_str(&format!("  {k} = {s}\n"));
+        }
+    }
+    println!("verification ({}):\n{line}", case.analysis.kind.name());
+    let mut out = v.clone();
+    if let Some(p) = prof {
+        let png = dir.join("profiles.png");
+        let mk = |title: &str, unit: &str, q: usize| crate::plot::Panel {
+            title: title.into(),
+            xlabel: p.xlabel.into(),
+            ylabel: unit.into(),
+            points: p.particles.iter().map(|a| (a[0], a[q])).collect(),
+            curve: p.exact.iter().map(|a| (a[0], a[q])).collect(),
+            curve_label: "exact".into(),
+            points_label: "SPH".into(),
+        };
+        let panels = [mk("density", "rho (kg/m3)", 1), mk("velocity", "v (m/s)", 2), mk("pressure", "p (Pa)", 3)];
+        crate::plot::panels(&png, &panels, 3, (1500, 450))?;
+        println!("plot: {}", png.display());
+        out["plot"] = json!("profiles.png");
+    }
+    Ok(out)
+}

@@ -1,0 +1,43 @@
+//! The Fortran twin of the conductivity (`sph_conductivity_price`).
+#![allow(unsafe_code)]
+
+use super::Price;
+use crate::modules::ffi_util::{chk, chk_pairs, n32};
+
+#[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
+mod sys {
+    include!(concat!(env!("OUT_DIR"), "/ffi_conductivity.rs"));
+}
+
+pub(super) fn price(a: &mut Price) {
+    let (dim, pl) = (a.dim, a.pairs);
+    let nt = a.mass.len();
+    chk("x", a.x.len(), dim * nt);
+    chk("v", a.v.len(), dim * nt);
+    chk("dwdx", a.dwdx.len(), dim * pl.len());
+    for (name, l) in [("rho", a.rho.len()), ("p", a.p.len()), ("e", a.e.len()), ("dedt", a.dedt.len())] {
+        chk(name, l, nt);
+    }
+    chk_pairs(&pl.i, &pl.j, nt);
+    // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
+    // dim × npair) and every pair index is in 0..ntotal (checked above).
+    unsafe {
+        sys::sph_conductivity_price(
+            n32(dim),
+            n32(nt),
+            n32(pl.len()),
+            pl.i.as_ptr(),
+            pl.j.as_ptr(),
+            a.dwdx.as_ptr(),
+            a.x.as_ptr(),
+            a.v.as_ptr(),
+            a.rho.as_ptr(),
+            a.p.as_ptr(),
+            a.e.as_ptr(),
+            a.mass.as_ptr(),
+            a.alpha,
+            a.signal,
+            a.dedt.as_mut_ptr(),
+        )
+    }
+}

@@ -1,0 +1,285 @@
+//! The verification problems of `cases/verify/` against their exact solutions
+//! (`src/analysis/{sedov,noh,cj}.rs`), at the default settings, as docs/validation.md
+//! ("Verification problems") reports them. The short versions run in the normal test run; the
+//! full ones are ignored and run by name:
+//!
+//! ```sh
+//! cargo test --release --test verify -- --ignored --nocapture
+//! ```
+//!
+//! Every bound below is the measured value of docs/validation.md with a stated margin, or the
+//! issue's own acceptance bound where that is tighter.
+
+use blastsph::runner::{RunOptions, run};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn case(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/verify").join(format!("{name}.toml"))
+}
+
+/// Runs a verification case with `sets`; returns its summary.json (status ok asserted).
+fn run_case(name: &str, sets: &[String]) -> Value {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RunOptions { out: Some(dir.path().join("run")), sets: sets.to_vec(), quiet: true, ..Default::default() };
+    let r = run(&case(name), &opts).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"));
+    assert_eq!(r.summary["status"], "ok", "{name}");
+    r.summary
+}
+
+fn sets(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
+}
+
+fn num(v: &Value, k: &str) -> f64 {
+    v["verification"][k].as_f64().unwrap_or_else(|| panic!("no {k} in {}", v["verification"]))
+}
+
+/// The detonation's front pressure over p_CJ at the report's outputs (every tenth of the run),
+/// and the report, for the slab at spacing `dx` run over `travel` spacings.
+fn slab(dx: f64, h_over_dx: f64, travel: f64, extra: &[&str]) -> (Vec<f64>, Value) {
+    slab_of(&case("tnt_slab_1d"), dx, h_over_dx, travel, extra)
+}
+
+fn slab_of(path: &Path, dx: f64, h_over_dx: f64, travel: f64, extra: &[&str]) -> (Vec<f64>, Value) {
+    let t = travel * dx / 6930.0;
+    let mut s = sets(&[
+        &format!("region.slab.spacing_m={dx}"),
+        &format!("region.slab.hi_m=[{}]", dx * (travel + 100.0)),
+        &format!("time.end_s={t}"),
+        &format!("time.output_interval_s={}", t / 10.0),
+        &format!("sph.h_over_dx={h_over_dx}"),
+    ]);
+    s.extend(sets(extra));
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RunOptions { out: Some(dir.path().join("run")), sets: s.clone(), quiet: true, ..Default::default() };
+    let r = run(path, &opts).unwrap_or_else(|e| panic!("slab {s:?}: {e}"));
+    let rep = blastsph::report::report(&r.dir).expect("report");
+    let hist: Vec<f64> =
+        rep["history"].as_array().unwrap().iter().map(|h| h["peak_p_ratio"].as_f64().unwrap()).collect();
+    (hist, rep)
+}
+
+#[test]
+fn noh_1d_post_shock_state_and_shock_position() {
+    let s = run_case("noh_1d", &[]);
+    let (rho, r) = (num(&s, "post_shock_density_ratio"), num(&s, "shock_radius_half_ratio"));
+    eprintln!("noh 1D: rho2 ratio {rho:.4}, shock {r:.4}, wall heating {:.3}", num(&s, "wall_heating_e_excess"));
+    assert!((rho - 1.0).abs() < 0.03, "post-shock density {rho} of the exact 4");
+    assert!((r - 1.0).abs() < 0.03, "shock radius {r} of the exact 0.2 m");
+    assert_eq!(num(&s, "negative_e_count"), 0.0);
+}
+
+#[test]
+fn wall_reflection_1d_reflected_state() {
+    let s = run_case("reflection_1d", &[]);
+    let (rho, r) = (num(&s, "plateau_density_ratio"), num(&s, "shock_distance_ratio"));
+    eprintln!("reflection: plateau rho {rho:.4}, shock {r:.4}, wall heating {:.3}", num(&s, "wall_heating_e_excess"));
+    assert!((rho - 1.0).abs() < 0.03, "reflected density {rho} of the exact");
+    assert!((r - 1.0).abs() < 0.03, "reflected shock {r} of the exact distance");
+}
+
+#[test]
+fn sedov_2d_coarse_point_deposit() {
+    // PySPH's set-up at 3/4 of its resolution (78²): the energy in the four central particles;
+    // measured (docs/validation.md): R_half 1.036 and 1.028, R_peak within 1 %, no e < 0, clumping
+    // 1.04 and 1.11 — asserted within 5 % (the measured plus 1.4 %) and the issue's bounds
+    for (case_name, g) in [("sedov_2d_g14", 1.4), ("sedov_2d_g53", 5.0 / 3.0)] {
+        let dx = 1.0 / 78.0;
+        let s = run_case(
+            case_name,
+            &sets(&[
+                &format!("region.ambient.spacing_m={dx}"),
+                &format!("region.hot.spacing_m={dx}"),
+                &format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
+                &format!("region.hot.hi_m=[{dx}, {dx}]"),
+                &format!("region.hot.e_jkg={}", 78.0 * 78.0 / 4.0),
+            ]),
+        );
+        let (rp, rh, cl) =
+            (num(&s, "shock_radius_peak_ratio"), num(&s, "shock_radius_half_ratio"), num(&s, "clumping"));
+        eprintln!("sedov 2D 78², gamma {g}: R_peak {rp:.4}, R_half {rh:.4}, clumping {cl:.3}");
+        assert!((rh - 1.0).abs() < 0.05, "gamma {g}: threshold shock radius {rh} of the exact");
+        assert!((rp - 1.0).abs() < 0.05, "gamma {g}: peak-density shock radius {rp} of the exact");
+        assert_eq!(num(&s, "negative_e_count"), 0.0, "gamma {g}: particles with e < 0");
+        assert!(cl < 2.0, "gamma {g}: a particle at {cl} times the exact peak density");
+    }
+}
+
+/// The run that would produce e < 0 without the asymmetric energy form: the same point blast with
+/// the thesis's symmetric form drains the neighbours of the hot particles below zero.
+#[test]
+fn point_blast_symmetric_energy_form_goes_negative_and_the_default_does_not() {
+    let dx = 1.0 / 52.0;
+    let base = [
+        format!("region.ambient.spacing_m={dx}"),
+        format!("region.hot.spacing_m={dx}"),
+        format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
+        format!("region.hot.hi_m=[{dx}, {dx}]"),
+        format!("region.hot.e_jkg={}", 52.0 * 52.0 / 4.0),
+        "time.end_s=0.01".to_string(),
+    ];
+    // without the floor e >= 0, so that the forms themselves are compared
+    let mut sym = base.to_vec();
+    sym.push("sph.energy_form=symmetric".into());
+    sym.push("sph.e_floor=false".into());
+    let s = run_case("sedov_2d_g53", &sym);
+    let neg = num(&s, "negative_e_count");
+    assert!(neg > 0.0, "the symmetric form left no particle with e < 0 (min e {})", num(&s, "min_e"));
+    let mut asym = base.to_vec();
+    asym.push("sph.e_floor=false".into());
+    let s = run_case("sedov_2d_g53", &asym);
+    assert_eq!(num(&s, "negative_e_count"), 0.0, "the asymmetric form (default) left e < 0");
+    assert!(num(&s, "min_e") > 0.0);
+    // at the defaults the floor has nothing to do
+    let s = run_case("sedov_2d_g53", &base);
+    assert_eq!(s["energy"]["work_floor"].as_f64(), Some(0.0));
+}
+
+#[test]
+fn tnt_slab_front_holds_p_cj_short() {
+    // 600 spacings at dx = 1 mm, h/dx = 1.0 and 1.5 (the problem is scale-free: other dx give the
+    // same ratios at the same travel in spacings; the full study is the ignored test below)
+    for h in [1.0, 1.5] {
+        let (hist, rep) = slab(0.001, h, 600.0, &[]);
+        eprintln!("slab h/dx {h}: front p/p_CJ {hist:?}");
+        let last = *hist.last().unwrap();
+        assert!((last - 1.0).abs() < 0.03, "h/dx {h}: front pressure {last} p_CJ after 600 spacings");
+        assert!(hist.iter().all(|r| *r < 1.03), "h/dx {h}: the front pressure overshot: {hist:?}");
+        let plateau = rep["plateau_ratio"].as_f64().unwrap();
+        assert!((plateau - 1.0).abs() < 0.02, "h/dx {h}: plateau {plateau} of the Taylor wave's");
+    }
+}
+
+#[test]
+fn tnt_slab_thesis_parity_burn_crushes_the_unlit_explosive() {
+    // the evidence for the burn defaults: the thesis's burn (no ramp, no beta burn, unlit = void)
+    // crushes the explosive ahead of the front within 700 spacings
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(case("tnt_slab_1d")).unwrap();
+    let void = text.replace(", unreacted_c_ms = 2390.0, unreacted_s = 2.05, unreacted_gamma = 1.0", "");
+    assert_ne!(void, text, "the slab's TNT has an unreacted EOS to take out");
+    let path = dir.path().join("tnt_slab_void.toml");
+    std::fs::write(&path, void).unwrap();
+    let (hist, rep) = slab_of(&path, 0.001, 1.0, 700.0, &["parity=\"thesis\""]);
+    eprintln!("thesis-parity burn: {hist:?}, densest ahead {}", rep["max_density_ahead_of_front"]);
+    assert!(hist.last().unwrap() > &1.2, "no runaway: {hist:?}");
+}
+
+/// docs/validation.md, "Detonation": dx = 1, 0.5, 0.25, 0.1 mm, h/dx = 1.0, 1.2, 1.5, 2000
+/// spacings of travel, at the default settings.
+#[test]
+#[ignore]
+fn tnt_slab_converges_to_cj_at_every_resolution() {
+    for dx in [0.001, 0.0005, 0.00025, 0.0001] {
+        for h in [1.0, 1.2, 1.5] {
+            let (hist, rep) = slab(dx, h, 2000.0, &[]);
+            let last = *hist.last().unwrap();
+            let max = hist.iter().cloned().fold(0.0, f64::max);
+            eprintln!(
+                "dx {dx} h/dx {h}: front p/p_CJ at 200..2000 spacings {hist:.4?}, plateau {:.4}, L1(p) {:.4}",
+                rep["plateau_ratio"].as_f64().unwrap(),
+                rep["l1_p_taylor_relative"].as_f64().unwrap()
+            );
+            assert!((last - 1.0).abs() < 0.03, "dx {dx} h/dx {h}: {last}");
+            assert!(max < 1.03, "dx {dx} h/dx {h}: runaway {max}");
+        }
+    }
+}
+
+/// docs/validation.md, "Sedov–Taylor": PySPH's set-up (104², t = 0.1), both γ, defaults.
+#[test]
+#[ignore]
+fn sedov_2d_pysph_setup() {
+    for name in ["sedov_2d_g14", "sedov_2d_g53"] {
+        let s = run_case(name, &[]);
+        let v = &s["verification"];
+        eprintln!("{name}: {v}");
+        for k in ["shock_radius_peak_ratio", "shock_radius_half_ratio"] {
+            assert!((num(&s, k) - 1.0).abs() < 0.03, "{name}: {k} = {}", num(&s, k));
+        }
+        assert_eq!(num(&s, "negative_e_count"), 0.0, "{name}");
+        assert!(num(&s, "clumping") < 2.0, "{name}");
+    }
+}
+
+/// The before/after table of docs/validation.md ("Verification problems"): every case of
+/// cases/verify/ at today's defaults and with the settings of the code before (`parity =
+/// "thesis"`, and the TNT without its unreacted EOS — bitwise the earlier code's defaults), with
+/// the cost per particle-step. Prints markdown.
+#[test]
+#[ignore]
+fn verification_table() {
+    let names = [
+        "sedov_1d_g14",
+        "sedov_1d_g53",
+        "sedov_2d_g14",
+        "sedov_2d_g53",
+        "noh_1d",
+        "noh_2d",
+        "reflection_1d",
+        "tnt_slab_1d",
+        "tnt_strip_2d",
+    ];
+    println!(
+        "| case | settings | status | steps | shock radius (peak / threshold) / exact | peak density / exact peak | clumping | L1(ρ) / exact peak | e < 0 | front p / p_CJ | plateau / exact | wall heating (e excess) | µs per particle-step |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for name in names {
+        for before in [true, false] {
+            let dir = tempfile::tempdir().unwrap();
+            let text = std::fs::read_to_string(case(name)).unwrap();
+            let text = if before {
+                text.replace(", unreacted_c_ms = 2390.0, unreacted_s = 2.05, unreacted_gamma = 1.0", "")
+            } else {
+                text
+            };
+            let path = dir.path().join(format!("{name}.toml"));
+            std::fs::write(&path, text).unwrap();
+            let sets = if before { sets(&["parity=\"thesis\""]) } else { vec![] };
+            let opts = RunOptions { out: Some(dir.path().join("run")), sets, quiet: true, ..Default::default() };
+            let (summary, status) = match run(&path, &opts) {
+                Ok(r) => (r.summary, "ok".to_string()),
+                Err(e) => {
+                    let s = std::fs::read_to_string(dir.path().join("run/summary.json")).unwrap_or_default();
+                    (
+                        serde_json::from_str(&s).unwrap_or(Value::Null),
+                        format!("unstable: {}", e.to_string().chars().take(60).collect::<String>()),
+                    )
+                }
+            };
+            let v = &summary["verification"];
+            let f = |k: &str| v[k].as_f64().map_or("-".to_string(), |x| format!("{x:.3}"));
+            let radius = if v["shock_radius_half_ratio"].is_null() && v["shock_distance_ratio"].is_null() {
+                "-".to_string()
+            } else if !v["shock_distance_ratio"].is_null() {
+                f("shock_distance_ratio")
+            } else {
+                format!("{} / {}", f("shock_radius_peak_ratio"), f("shock_radius_half_ratio"))
+            };
+            let peak = if !v["peak_density_ratio"].is_null() {
+                f("peak_density_ratio")
+            } else if !v["post_shock_density_ratio"].is_null() {
+                f("post_shock_density_ratio")
+            } else if !v["plateau_density_ratio"].is_null() {
+                f("plateau_density_ratio")
+            } else {
+                "-".into()
+            };
+            let wall = summary["wall_seconds"].as_f64().unwrap_or(f64::NAN);
+            let ps = summary["particles"].as_f64().unwrap_or(f64::NAN) * summary["steps"].as_f64().unwrap_or(f64::NAN);
+            println!(
+                "| {name} | {} | {status} | {} | {radius} | {peak} | {} | {} | {} | {} | {} | {} | {:.2} |",
+                if before { "before" } else { "defaults" },
+                summary["steps"],
+                f("clumping"),
+                f("l1_rho_relative"),
+                v["negative_e_count"].as_f64().map_or("-".into(), |x| format!("{x}")),
+                f("front_p_ratio"),
+                f("plateau_ratio"),
+                f("wall_heating_e_excess"),
+                1e6 * wall / ps
+            );
+        }
+    }
+}
