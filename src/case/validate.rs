@@ -38,8 +38,10 @@ pub const MAX_OUTPUTS: f64 = 1e6;
 pub const MAX_GAUGES: usize = 1000;
 /// Vertices of one polygon.
 pub const MAX_VERTICES: usize = 4096;
-/// h / Δx of a region (or `sph.h_over_dx`).
-pub const H_OVER_DX: (f64, f64) = (0.1, 10.0);
+/// h / Δx of a region (or `sph.h_over_dx`): wide enough for a lattice refined under the book's
+/// fixed h (16 spacings: tests/cli.rs), narrow enough to refuse a smoothing length a thousand
+/// spacings wide (the neighbour pairs it costs are then bounded by the size estimate).
+pub const H_OVER_DX: (f64, f64) = (0.01, 100.0);
 /// The spacing relative to the largest coordinate of its region: below this, neighbouring
 /// lattice points are not distinct in double precision.
 pub const SPACING_REL: f64 = 1e-9;
