@@ -26,7 +26,7 @@ pub(crate) mod testkit;
 
 pub(crate) mod ffi_util;
 pub(crate) use par::{CHUNK, by_dim, gather_signed, ipow, par_rows, par_rows2, serial};
-pub use stage::{Backend, Contribution, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};
+pub use stage::{Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};
 
 /// The module registry: one line per module, `folder: Variant => "what it computes"`. The order is
 /// the order in which a phase of the step runs the modules' stages. Each folder provides
@@ -83,6 +83,7 @@ registry! {
     penalty: Penalty => "penalty force between materials (4-53, 4-54)",
     xsph: Xsph => "averaged velocity (XSPH)",
     smoothing: Smoothing => "smoothing-length evolution (2-15, 2-16)",
+    geometry: Geometry => "axisymmetric (RZ): ring masses m/(2 pi r), hoop terms",
     integrator: Integrator => "leapfrog, rate sums, CFL step (2-17..2-27)",
 }
 
