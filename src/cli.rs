@@ -411,6 +411,13 @@ fn stop_on_signals() -> Result<()> {
     Ok(())
 }
 
+/// Refuses an `--out` of `bench`, `validate` or `legacy build` that cannot be a folder (a file, a
+/// link, a path under a file) before anything is computed. (Their folders are their own: what
+/// they hold is replaced.)
+fn out_folder(dir: &Path) -> Result<()> {
+    crate::rundir::inspect(dir, "--out").map(|_| ())
+}
+
 /// Checks the --progress-every value and sets it.
 fn progress_every(s: f64) -> Result<()> {
     if !(s.is_finite() && (0.0..=1e9).contains(&s)) {
@@ -507,6 +514,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         }
         Cmd::Validate { out, cases, only, args, threads: th, quiet } => {
             let cases = crate::casedir::folder(cases.as_deref())?;
+            out_folder(&out)?;
             threads(th)?;
             for o in &only {
                 if !crate::validate::SCENES.contains(&o.as_str()) {
@@ -534,6 +542,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Bench { args } => {
             let o = crate::bench::BenchOptions::from_args(&args)?;
             if !o.dry_run {
+                out_folder(&o.out)?;
                 threads(o.threads)?;
             }
             // on a pool worker, as `run` is: the runs' parallel calls then start from a worker
@@ -552,6 +561,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
                     .unwrap_or_else(|| "build".into());
                 PathBuf::from("runs").join(format!("legacy_{stem}"))
             });
+            out_folder(&out)?;
             let info = crate::migration::build(&manifest, &out)?;
             println!(
                 "built {}: {} routines ({}), dim {}, maxn {}, max_interaction {}",
