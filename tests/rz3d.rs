@@ -102,12 +102,13 @@ fn rz_charge_mass_is_rho_pi_r2_h() {
 ///
 /// NOT MET (ignored until fixed): measured R_half −15.4 % at 50 × 50 and −23 % at 100 × 100
 /// (continuity density, the case's default), −6.5 % with `sph.density=summation`; energy drifts
-/// +5.6 % (continuity) and +13 % (summation) by t = 0.05 s. The lag grows with resolution, so it
-/// is an error of the RZ continuity path, not of resolution (docs/validation.md). Run it with
+/// +5.6 % (continuity) and +13 % (summation) by t = 0.05 s. The plane code lags as much on the
+/// same set-up in 2D (−20 % / −14.5 %), so the cause is not the RZ terms alone
+/// (docs/validation.md). `SEDOV_CASE` runs another case file through it. Run it with
 /// `cargo test --release --test rz3d sedov -- --ignored --nocapture`; `SEDOV_DX=0.005` sets the
 /// spacing, `SEDOV_SETS="a=b;c=d"` adds `--set` overrides.
 #[test]
-#[ignore = "fails: RZ Sedov shock radius -15 % (continuity density); see docs/validation.md"]
+#[ignore = "fails: Sedov shock radius -15 % in RZ (-20 % in plane) on this set-up; see docs/validation.md"]
 fn sedov_spherical_rz_coarse_shock_radius() {
     let e_half = 0.5;
     let dx: f64 = std::env::var("SEDOV_DX").ok().and_then(|v| v.parse().ok()).unwrap_or(0.01);
