@@ -44,6 +44,31 @@ pub struct CaseArgs {
     /// machine's memory, estimated before anything is generated)
     #[arg(long = "max-particles", value_name = "N")]
     pub max_particles: Option<u64>,
+    #[command(flatten)]
+    pub legacy: LegacyArgs,
+}
+
+/// Your legacy code and the compatibility items (docs/migration.md A.6).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct LegacyArgs {
+    /// A `legacy build` folder: your routines in place of the modules they stand for
+    #[arg(long, value_name = "DIR")]
+    pub legacy: Option<PathBuf>,
+    /// Compatibility items of the Rust twins: a profile (liu-book), items to switch on
+    /// (sound_speed), off (-sound_speed); comma-separated (as --set compat.ITEM=true|false)
+    #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+    pub compat: Option<String>,
+}
+
+impl LegacyArgs {
+    /// The `--set` overrides of `--compat`, after `sets`.
+    pub fn sets(&self, sets: &[String]) -> Result<Vec<String>> {
+        let mut out = sets.to_vec();
+        if let Some(c) = &self.compat {
+            out.extend(crate::migration::compat::sets_of(c)?);
+        }
+        Ok(out)
+    }
 }
 
 /// When a run writes its checkpoint (checkpoint.bin: the full state, for `blastsph resume`).
@@ -165,6 +190,8 @@ pub enum Cmd {
         /// Refuse a case with more particles than this (default: from the machine's memory)
         #[arg(long = "max-particles", value_name = "N")]
         max_particles: Option<u64>,
+        #[command(flatten)]
+        legacy: LegacyArgs,
     },
     /// Validate a case, print the module plan and the particle count
     Check {
@@ -233,6 +260,28 @@ pub enum LegacyCmd {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The defect ledger: the case run with your routines, with the compat profile's Rust twins,
+    /// then with each compat item switched off in turn; the effect of each on the end state
+    /// (max |delta| of rho, v, p, e) and on the case's own errors; DIR/ledger.json
+    Ledger {
+        /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
+        case: PathBuf,
+        /// The `legacy build` folder of your code
+        #[arg(long, value_name = "DIR")]
+        legacy: PathBuf,
+        /// The compat profile and items of the reference run (default liu-book)
+        #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+        compat: Option<String>,
+        /// Where ledger.json goes (default: runs/<case name>_ledger)
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Override a case key: --set time.end_s=0.1
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// Folder to look a case name up in (default as for `run`)
+        #[arg(long = "case-dir", value_name = "DIR")]
+        case_dir: Option<PathBuf>,
+    },
 }
 
 fn overrides(a: &CaseArgs) -> Result<Overrides> {
@@ -247,6 +296,8 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
         nnps: a.nnps.clone(),
         end_time: a.end_time,
         max_particles: a.max_particles,
+        legacy: a.legacy.legacy.clone(),
+        legacy_setup_only: false,
     })
 }
 
@@ -377,7 +428,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             threads(th)?;
             let opts = RunOptions {
                 out,
-                sets: args.sets.clone(),
+                sets: args.legacy.sets(&args.sets)?,
                 ov: overrides(&args)?,
                 quiet,
                 threads: th,
@@ -437,7 +488,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         }
         Cmd::Check { case, args, case_dir } => {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
-            let c = case::load(&case, &args.sets)?;
+            let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
             let est = case::size::check(&c, args.max_particles)?;
             let sim = Sim::new(c, &overrides(&args)?)?;
             print!("{}", check_text(&sim));
@@ -518,6 +569,36 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
         }
+        Cmd::Legacy { cmd: LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir } } => {
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
+            let la = LegacyArgs { legacy: Some(legacy.clone()), compat };
+            let c = case::load(&case, &la.sets(&sets)?)?;
+            let dir = out
+                .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
+            if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
+                return Err(input(format!(
+                    "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
+                    dir.display()
+                )));
+            }
+            crate::rundir::prepare(&dir, false)?;
+            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
+            print!("{text}");
+            let same = rows.first().is_some_and(|r| r.particles_differing == 0);
+            println!(
+                "{}; each row against the profile run; {}",
+                if same {
+                    "your routines and the profile's Rust twins end in the same state, bit for bit".to_string()
+                } else {
+                    format!(
+                        "your routines end {} particles away from the profile's Rust twins",
+                        rows[0].particles_differing
+                    )
+                },
+                dir.join("ledger.json").display()
+            );
+            Ok(0)
+        }
         Cmd::Report { dir, times, animate } => {
             if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0 || **t > 1e6) {
                 return Err(input(format!("--times {t}: times must be finite, from 0 to 1e6 s")));
@@ -529,14 +610,17 @@ fn dispatch(cli: Cli) -> Result<i32> {
             crate::report::report_with(&dir, &times, animate)?;
             Ok(0)
         }
-        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, max_particles } => {
+        Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, max_particles, legacy } => {
             if steps == Some(0) {
                 return Err(input("--steps 0: a dual run compares at least one step"));
             }
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             threads(th)?;
-            let c = case::load(&case, &sets)?;
-            let ov = Overrides { nnps, max_particles, ..Default::default() };
+            let c = case::load(&case, &legacy.sets(&sets)?)?;
+            if free && legacy.legacy.is_some() {
+                return Err(input("dual --free --legacy: the free mode compares blastsph's two backends; drop --free"));
+            }
+            let ov = Overrides { nnps, max_particles, legacy: legacy.legacy.clone(), ..Default::default() };
             let dir = out
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", crate::rundir::sanitize(c.name()))));
             if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
@@ -587,7 +671,15 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     sim.enable_dual(Comparator::new(sim.cfg.dim));
     let mut done = 0;
     let mut diag = None;
-    while done < steps && sim.t < sim.cfg.end * (1.0 - 1e-12) {
+    // a fixed step: the number of steps `run` takes, round(end/dt)
+    let fixed =
+        (sim.cfg.step == case::StepRule::Fixed).then(|| (sim.cfg.end / sim.cfg.dt_fixed).round().max(1.0) as u64);
+    while done < steps
+        && match fixed {
+            Some(n) => sim.nstep < n,
+            None => sim.t < sim.cfg.end * (1.0 - 1e-12),
+        }
+    {
         if let Err(e) = sim.step() {
             diag = Some(e.to_string());
             break;
@@ -597,20 +689,37 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     let cmp = sim.cmp.take().unwrap_or_default();
     print!("{}", cmp.table());
     let ok = cmp.ok();
+    let uncompared = cmp.uncompared();
     let rep = serde_json::json!({
         "case": sim.case.name(),
         "steps": done,
         "time": sim.t,
         "within_tolerance": ok,
         "diagnostic": diag,
+        "not_compared": uncompared,
+        "legacy": sim.plan.legacy,
         "rows": cmp.rows(),
     });
     let path = dir.join("dual_report.json");
     crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
+    let not = if uncompared.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} stages not compared ({}: compat variants without a Fortran twin, compared through --legacy; legacy routines without a Rust twin)",
+            uncompared.len(),
+            uncompared.join(", ")
+        )
+    };
     println!(
-        "{} steps compared; {}; report {}",
+        "{} steps compared; {}{}; report {}",
         done,
-        if ok { "every module within tolerance" } else { "MODULES OUT OF TOLERANCE" },
+        match (ok, not.is_empty()) {
+            (true, true) => "every module within tolerance",
+            (true, false) => "every compared stage within tolerance",
+            _ => "MODULES OUT OF TOLERANCE",
+        },
+        not,
         path.display()
     );
     Ok(if ok { 0 } else { 4 })

@@ -14,7 +14,7 @@
 //!
 //! No stage needs a relative tolerance: no summation order differs.
 
-use crate::modules::{Backend, Stage};
+use crate::modules::{Backend, Counterpart, Stage};
 use crate::state::{Array, Clock, Field, Particles, Per, Snap, Work};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -64,6 +64,17 @@ pub struct Stat {
     pub first_divergence: Option<Divergence>,
     /// First difference of any size (even within tolerance).
     pub first_difference: Option<Divergence>,
+    /// What the Rust side was compared with when it is not blastsph's Fortran twin: "legacy"
+    /// (the user's routine, `dual --legacy`) or "none" (a compat variant, not compared).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counterpart: Option<String>,
+    /// Pair lists compared as sets (see [`crate::migration::pairs`]); absent when both sides
+    /// returned the same list in the same order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pair_order: Option<crate::migration::pairs::OrderStat>,
+    /// The stage ran one implementation only (`tolerance_why` says why): nothing compared.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub not_compared: bool,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -82,6 +93,19 @@ impl Comparator {
     /// aside, the outputs put back as they were, then Fortran; compares every output and leaves
     /// the Fortran result in the state.
     pub fn run(&mut self, stage: &dyn Stage, p: &mut Particles, w: &mut Work, k: &Clock, step: u64) {
+        match stage.counterpart() {
+            Counterpart::None(why) => {
+                // a compat variant: no Fortran twin in blastsph's core to compare with
+                stage.run(Backend::Rust, p, w, k);
+                let why = format!("compat ({why}): no Fortran twin in blastsph's core; compare with --legacy");
+                return self.not_compared(step, stage, &why, "none");
+            }
+            Counterpart::LegacyAlone(why) => {
+                stage.run(Backend::Fortran, p, w, k);
+                return self.not_compared(step, stage, why, "legacy");
+            }
+            Counterpart::Fortran | Counterpart::Legacy => {}
+        }
         let outs = stage.writes();
         let before: Vec<Snap> = outs.iter().map(|f| f.snap(p, w)).collect();
         stage.run(Backend::Rust, p, w, k);
@@ -91,6 +115,31 @@ impl Comparator {
         }
         stage.run(Backend::Fortran, p, w, k);
         self.compare(step, stage, &rust, p, w);
+    }
+
+    /// The rows of a stage that runs without a counterpart: compared 0 times, saying why.
+    fn not_compared(&mut self, step: u64, stage: &dyn Stage, why: &str, counterpart: &str) {
+        self.steps = self.steps.max(step + 1);
+        let fields: Vec<Field> = if stage.writes().is_empty() { vec![Field::X] } else { stage.writes().to_vec() };
+        for f in fields {
+            self.stats.entry((stage.name().to_string(), f)).or_insert_with(|| Stat {
+                module: stage.module().name().into(),
+                stage: stage.name().into(),
+                field: if stage.writes().is_empty() { "-".into() } else { f.name() },
+                tolerance_why: why.to_string(),
+                counterpart: Some(counterpart.into()),
+                not_compared: true,
+                ..Default::default()
+            });
+        }
+    }
+
+    /// Stages that ran without being compared (compat variants, legacy routines with no twin),
+    /// each once.
+    pub fn uncompared(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.stats.values().filter(|s| s.not_compared).map(|s| s.stage.clone()).collect();
+        v.dedup();
+        v
     }
 
     fn locate(&self, f: Field, l: usize, p: &Particles, w: &Work) -> String {
@@ -115,6 +164,10 @@ impl Comparator {
     fn compare(&mut self, step: u64, stage: &dyn Stage, rust: &[Snap], p: &Particles, w: &Work) {
         let tol = stage.tolerance();
         self.steps = self.steps.max(step + 1);
+        let legacy = stage.counterpart() == Counterpart::Legacy;
+        // pair lists in another order (or with other pairs): compared as sets
+        let aligned = crate::migration::pairs::align(stage.writes(), rust, p, w, self.dim);
+        let rust: &[Snap] = aligned.as_ref().map_or(rust, |a| &a.snaps);
         for (&f, r) in stage.writes().iter().zip(rust) {
             let key = (stage.name().to_string(), f);
             let mut st = self.stats.remove(&key).unwrap_or_else(|| Stat {
@@ -123,8 +176,25 @@ impl Comparator {
                 field: f.name(),
                 tolerance_ulp: tol.ulp,
                 tolerance_why: tol.why.into(),
+                counterpart: legacy.then(|| "legacy".to_string()),
                 ..Default::default()
             });
+            if let Some(a) = &aligned
+                && f == Field::PairI
+            {
+                let o = st.pair_order.get_or_insert_with(Default::default);
+                o.add(&a.stat);
+                st.out_of_tolerance += a.stat.only_rust;
+                if a.stat.only_rust > 0 && st.first_divergence.is_none() {
+                    st.first_divergence = Some(Divergence {
+                        step,
+                        index: 0,
+                        at: format!("{} pairs only in the Rust list", a.stat.only_rust),
+                        fortran: f64::NAN,
+                        rust: a.stat.only_rust as f64,
+                    });
+                }
+            }
             let pairs: Vec<(f64, f64)> = match (f.of(p, w), r) {
                 (Array::F(a), Snap::F(b)) => {
                     if a.len() != b.len() {
@@ -182,10 +252,16 @@ impl Comparator {
             "stage", "field", "compared", "max abs", "max rel", "maxULP", "tol", "out"
         );
         for st in self.stats.values() {
-            let fd = match &st.first_divergence {
-                Some(d) => format!("step {}, {}: fortran {:e}, rust {:e}", d.step, d.at, d.fortran, d.rust),
+            let other = st.counterpart.as_deref().unwrap_or("fortran");
+            let mut fd = match &st.first_divergence {
+                Some(d) => format!("step {}, {}: {other} {:e}, rust {:e}", d.step, d.at, d.fortran, d.rust),
+                None if st.not_compared && other == "none" => "compat: no Fortran twin, compare with --legacy".into(),
+                None if st.not_compared => "no Rust twin here: not compared".into(),
                 None => "-".into(),
             };
+            if let Some(o) = &st.pair_order {
+                fd += &format!("  [pairs as sets: {}]", o.text());
+            }
             s += &format!(
                 "{:<24} {:<7} {:>10} {:>10.3e} {:>10.3e} {:>6} {:>4} {:>6}  {}\n",
                 st.stage,

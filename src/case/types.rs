@@ -41,6 +41,9 @@ pub struct Case {
     #[serde(default)]
     pub backend: BackendCfg,
     pub domain: Option<DomainCfg>,
+    /// Compatibility items of the Rust twins (`--compat`; docs/migration.md A.6).
+    #[serde(default)]
+    pub compat: crate::migration::compat::CompatCfg,
 }
 
 /// The geometry of a 2D case (docs/theory.md, axisymmetric SPH).

@@ -118,6 +118,10 @@ pub struct BuildInfo {
     pub flags: Flags,
     pub sources: Vec<SourceInfo>,
     pub routines: Vec<RoutineInfo>,
+    /// The manifest's `[itype]` table: the code's type code of each material, by material name
+    /// or EOS kind (empty: the book's codes, ideal gas 1, water 2).
+    #[serde(default)]
+    pub itype: std::collections::BTreeMap<String, i32>,
 }
 
 impl BuildInfo {
@@ -531,6 +535,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             })
             .collect(),
         routines,
+        itype: m.itype.clone(),
     };
     let jp = out.join(BUILD_JSON);
     std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())

@@ -5,6 +5,7 @@
 //! ```toml
 //! dim = 1                        # the compile-time dimension of this build (param.inc's dim)
 //! sources = ["src/*.f"]          # globs relative to this file: .f .for .f77 .F .f90 .F90
+//! # exclude = ["src/time_print.f"] # files the globs match that are not to be compiled
 //! include_dirs = ["src"]         # where param.inc and the other includes are
 //! fflags = ["-finit-local-zero"] # extra gfortran flags
 //! # param_include = "param.inc"  # the include file that defines the three parameters below
@@ -30,6 +31,10 @@ use std::path::{Path, PathBuf};
 struct RawManifest {
     dim: i64,
     sources: Vec<String>,
+    /// Files the `sources` globs match that are not to be compiled (a timing routine that
+    /// needs another compiler's module, say); globs relative to the manifest.
+    #[serde(default)]
+    exclude: Vec<String>,
     #[serde(default)]
     include_dirs: Vec<String>,
     #[serde(default)]
@@ -40,6 +45,8 @@ struct RawManifest {
     param_names: Option<RawParamNames>,
     #[serde(default, rename = "routine")]
     routines: Vec<RawRoutine>,
+    #[serde(default)]
+    itype: std::collections::BTreeMap<String, i32>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -142,6 +149,9 @@ pub struct Manifest {
     pub param_include: String,
     pub param_names: ParamNames,
     pub routines: Vec<Routine>,
+    /// The code's `itype` of each blastsph material, by material name or EOS kind
+    /// (`ideal_gas`, `jwl`, `water`, `soil`); default: the book's, ideal gas 1, water 2.
+    pub itype: std::collections::BTreeMap<String, i32>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -193,6 +203,17 @@ pub fn load(path: &Path) -> Result<Manifest> {
     if raw.sources.is_empty() {
         return Err(err("sources", "no source given".into()));
     }
+    let mut excluded = Vec::new();
+    for pat in &raw.exclude {
+        let full: PathBuf = dir.join(pat).components().collect();
+        let paths =
+            glob::glob(&full.to_string_lossy()).map_err(|e| err("exclude", format!("\"{pat}\": bad pattern: {e}")))?;
+        let before = excluded.len();
+        excluded.extend(paths.filter_map(|p| p.ok()));
+        if excluded.len() == before {
+            return Err(err("exclude", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
+        }
+    }
     let mut sources = Vec::new();
     for pat in &raw.sources {
         let full: PathBuf = dir.join(pat).components().collect();
@@ -201,7 +222,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         let mut found = 0;
         for p in paths {
             let p = p.map_err(|e| err("sources", format!("\"{pat}\": {e}")))?;
-            if !p.is_file() {
+            if !p.is_file() || excluded.contains(&p) {
                 continue;
             }
             let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
@@ -333,6 +354,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         param_include,
         param_names,
         routines,
+        itype: raw.itype.clone(),
     })
 }
 

@@ -5,9 +5,15 @@
 //!
 //! The book's semantics that blastsph's Rust twins differ from are in `docs/compat-liu-book.md`.
 
+pub mod bind;
 pub mod builder;
+pub mod compat;
 pub mod ffi;
+#[cfg(feature = "plot")]
+pub mod ledger;
+pub mod legacy;
 pub mod manifest;
+pub mod pairs;
 pub mod shim;
 pub mod vocab;
 

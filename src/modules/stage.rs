@@ -161,6 +161,24 @@ impl Default for Tolerance {
     }
 }
 
+/// What the dual run compares a stage's Rust implementation with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Counterpart {
+    /// blastsph's own Fortran twin (every module's stages).
+    Fortran,
+    /// Nothing in blastsph: a compatibility variant of the Rust twin (`<module>/compat.rs`,
+    /// `--compat`) reproduces a legacy code's semantics and has no Fortran twin in blastsph's
+    /// core; it is compared with the user's legacy routine (`dual --legacy`). The string says
+    /// which items it reproduces.
+    None(&'static str),
+    /// The user's legacy routine (`--legacy`): `run(Fortran)` calls it, `run(Rust)` runs the
+    /// chain of Rust twins it stands for.
+    Legacy,
+    /// A legacy routine with no Rust twin in the case: it runs alone, not compared; the string
+    /// says why.
+    LegacyAlone(&'static str),
+}
+
 /// A routine bound to the state: what it reads and writes, and how it runs.
 pub trait Stage: Send + Sync {
     /// The module it belongs to.
@@ -188,6 +206,10 @@ pub trait Stage: Send + Sync {
     }
     /// Takes the slots the plan assigned to its rate terms.
     fn assign(&mut self, _slots: Slots) {}
+    /// What the dual run compares its Rust implementation with (default: the Fortran twin).
+    fn counterpart(&self) -> Counterpart {
+        Counterpart::Fortran
+    }
 }
 
 /// What the plan knows when it asks the modules for their stages.

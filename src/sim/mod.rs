@@ -110,13 +110,25 @@ impl Sim {
             };
         }
         let choice = plan::choices(&case, ov)?;
-        let init = setup::particles_limited(&case, ov.max_particles)?;
+        // the case's own numbers as a legacy code writes them (`--compat`; nothing without it)
+        crate::migration::compat::apply_case(&mut case)?;
+        let legacy = match &ov.legacy {
+            Some(d) => Some(crate::migration::legacy::Legacy::open(d, &case, ov.legacy_setup_only)?),
+            None => None,
+        };
+        let mut init = setup::particles_limited(&case, ov.max_particles)?;
+        if let Some(l) = &legacy {
+            // before the set-up routine fills maxn-long arrays with the case's particles
+            l.check_capacity(init.mass.len())?;
+            init = l.setup(&case, init)?;
+            l.check_capacity(init.mass.len())?;
+        }
         let dim = case.dim;
         let n = init.mass.len();
         let mt = setup::material_table(&case);
         let ctx =
             PlanCtx { case: &case, dim, mt: &mt, kappa: case.sph.kernel.support(), dx_min: init.dx_min, x0: &init.x };
-        let plan = Plan::build(&ctx, &choice);
+        let plan = Plan::build_with(&ctx, &choice, legacy.as_ref());
         let cfg = Config::new(&case, mt, &init.x, init.dx_min);
         let mut p = Particles {
             dim,

@@ -4,7 +4,7 @@
 
 use crate::case::Case;
 use crate::error::{Result, input};
-use crate::modules::{Backend, Module, Phase, PlanCtx, Slots, Stage};
+use crate::modules::{Backend, Counterpart, Module, Phase, PlanCtx, Slots, Stage};
 use crate::state::Field;
 use std::collections::BTreeMap;
 
@@ -16,6 +16,11 @@ pub struct Overrides {
     pub fortran: Vec<String>,
     pub nnps: Option<String>,
     pub end_time: Option<f64>,
+    /// A legacy build (`--legacy DIR`): the user's routines in place of the modules they stand
+    /// for (`crate::migration::legacy`).
+    pub legacy: Option<std::path::PathBuf>,
+    /// With `legacy`: only its set-up routine (the initial particles), no routine in the step.
+    pub legacy_setup_only: bool,
     /// The largest particle count allowed (`--max-particles`); default: what fits in 80 % of
     /// the machine's memory ([`crate::case::size`]).
     pub max_particles: Option<u64>,
@@ -49,6 +54,11 @@ pub struct Plan {
     pub de_terms: Vec<&'static str>,
     /// Build the incidence lists after the search (some Rust twin gathers over them).
     pub incidence: bool,
+    /// What the legacy routines replace and what is not run, for `blastsph check` (empty without
+    /// `--legacy`).
+    pub notes: String,
+    /// The same for summary.json (`legacy`), null without `--legacy`.
+    pub legacy: serde_json::Value,
 }
 
 /// The implementation of every module: Rust by default (bitwise equal to the legacy core and
@@ -83,16 +93,35 @@ pub fn choices(case: &Case, ov: &Overrides) -> Result<BTreeMap<Module, Backend>>
 impl Plan {
     /// Asks every module for its stages, orders them, and gives the rate terms their slots.
     pub fn build(ctx: &PlanCtx, choice: &BTreeMap<Module, Backend>) -> Plan {
+        Self::build_with(ctx, choice, None)
+    }
+
+    /// As [`Plan::build`], with the user's legacy routines in place of the stages they stand for.
+    /// A module the case's `[compat]` table touches contributes its compat variants (Rust only:
+    /// they have no Fortran twin).
+    pub fn build_with(
+        ctx: &PlanCtx,
+        choice: &BTreeMap<Module, Backend>,
+        legacy: Option<&std::sync::Arc<crate::migration::legacy::Legacy>>,
+    ) -> Plan {
         let mut entries = Vec::new();
         let mut modules = BTreeMap::new();
         for &m in Module::ALL {
-            let c = m.plan(ctx);
+            let c = crate::migration::compat::plan(m, ctx).unwrap_or_else(|| m.plan(ctx));
             let backend = choice.get(&m).copied().unwrap_or(Backend::Rust);
             modules.insert(m, ModulePlan { active: !c.stages.is_empty(), backend, why: c.why });
             for (phase, stage) in c.stages {
+                let backend = match stage.counterpart() {
+                    Counterpart::None(_) => Backend::Rust,
+                    _ => backend,
+                };
                 entries.push(Entry { phase, stage, backend, seconds: 0.0 });
             }
         }
+        let (notes, legacy) = match legacy {
+            Some(l) => l.edit_plan(ctx, &mut entries, &mut modules),
+            None => (String::new(), serde_json::Value::Null),
+        };
         // by phase; within a phase the registry order (the sort is stable)
         entries.sort_by_key(|e| e.phase);
         // the rate terms in rank order: their slots, and the order of the sums
@@ -117,7 +146,7 @@ impl Plan {
         let acc_terms = acc.iter().map(|t| entries[t.1].stage.name()).collect();
         let de_terms = de.iter().map(|t| entries[t.1].stage.name()).collect();
         let incidence = entries.iter().any(|e| e.backend == Backend::Rust);
-        Plan { entries, modules, acc_terms, de_terms, incidence }
+        Plan { entries, modules, acc_terms, de_terms, incidence, notes, legacy }
     }
 
     pub fn is_active(&self, m: Module) -> bool {
@@ -173,9 +202,21 @@ impl Plan {
     /// implementation, why), then the stages of a step in order with what they read and write.
     pub fn text(&self) -> String {
         let mut s = String::from("module plan:\n");
+        // a stage's implementation as printed: its backend, or "legacy" / "compat"
+        let impl_of = |e: &Entry| match e.stage.counterpart() {
+            Counterpart::Legacy | Counterpart::LegacyAlone(_) => "legacy",
+            Counterpart::None(_) => "compat",
+            Counterpart::Fortran => e.backend.name(),
+        };
         for (m, p) in &self.modules {
             if p.active {
-                s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), p.backend.name(), p.why, m.what());
+                let mine = self.entries.iter().filter(|e| e.stage.module() == *m && e.phase != Phase::Init);
+                let label = if p.why.starts_with("legacy ") {
+                    "legacy"
+                } else {
+                    mine.map(impl_of).find(|l| *l != "fortran" && *l != "rust").unwrap_or(p.backend.name())
+                };
+                s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), label, p.why, m.what());
             } else {
                 s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", p.why);
             }
@@ -189,7 +230,7 @@ impl Plan {
                 k + 1,
                 ph,
                 e.stage.name(),
-                e.backend.name(),
+                impl_of(e),
                 names(e.stage.reads()),
                 names(e.stage.writes())
             );
@@ -203,6 +244,6 @@ impl Plan {
         if !self.de_terms.is_empty() {
             s += &format!("energy rate = {}\n", self.de_terms.join(" + "));
         }
-        s
+        s + &self.notes
     }
 }

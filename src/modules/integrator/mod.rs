@@ -11,6 +11,7 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+pub(crate) mod compat;
 mod rust;
 
 use super::param::NSTR;

@@ -7,6 +7,7 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+pub(crate) mod compat;
 mod rust;
 
 pub use rust::w_dw;

@@ -20,6 +20,7 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+pub(crate) mod compat;
 mod rust;
 mod verlet;
 

@@ -6,6 +6,7 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+pub(crate) mod compat;
 mod rust;
 
 use super::nnps::PairList;

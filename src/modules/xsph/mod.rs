@@ -4,6 +4,7 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+pub(crate) mod compat;
 mod rust;
 
 use super::nnps::PairList;

@@ -1,0 +1,334 @@
+//! Compatibility profiles of the Rust twins (`--compat liu-book`, the case's `[compat]` table):
+//! each **item** is one place where a legacy code computes differently from blastsph's twins
+//! (`docs/compat-liu-book.md` §14), reproduced bit for bit by a variant of the module's Rust twin
+//! in `src/modules/<module>/compat.rs`. A profile switches a set of items on; each item can be
+//! switched on or off on its own over it:
+//!
+//! ```toml
+//! [compat]
+//! profile = "liu-book"     # every item of the book but global_h (that is link_list's)
+//! sound_speed = false      # ... but blastsph's adiabatic sound speed
+//! ```
+//!
+//! or `--compat liu-book,-sound_speed` on the command line (turned into the `--set` overrides
+//! `compat.profile="liu-book"`, `compat.sound_speed=false`, so case.toml of the run records them).
+//! Without a `[compat]` table nothing changes: the twins and their Fortran parity are untouched.
+//! The variants have no Fortran twin in blastsph's core: the dual run says so for their stages and
+//! compares them with the user's legacy routines (`dual --legacy`).
+
+use crate::case::{Case, EosCfg};
+use crate::error::{Result, input};
+use crate::modules::{Contribution, Module, PlanCtx};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// One compatibility item.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Item {
+    Literals,
+    SoundSpeed,
+    Kernel,
+    QuinticGradient,
+    PairTest,
+    VirtualPairs,
+    GlobalH,
+    ForceEnergy,
+    ViscMu,
+    ViscEnergy,
+    XsphExpr,
+    XsphVelocity,
+    EnergyFloor,
+    RateSum,
+}
+
+/// What each item is: its name, the modules whose twins it changes, and what it does (the book
+/// against blastsph; `docs/compat-liu-book.md` has the details, section in brackets).
+pub const ITEMS: &[(Item, &str, &str, &str)] = &[
+    (
+        Item::Literals,
+        "literals",
+        "kernel,viscosity,eos,xsph,integrator,setup",
+        "single-precision literals: 2./3. and pi in the kernel; the case's gamma, phi_over_h, alpha, beta, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0)",
+    ),
+    (
+        Item::SoundSpeed,
+        "sound_speed",
+        "eos",
+        "ideal-gas sound speed sqrt((gamma-1) e), not sqrt(gamma (gamma-1) e) (§5)",
+    ),
+    (
+        Item::Kernel,
+        "kernel",
+        "kernel",
+        "the book's kernel expressions, their association and the q <= 1, q <= 2 (q <= 3) branches (§3)",
+    ),
+    (
+        Item::QuinticGradient,
+        "quintic_gradient",
+        "kernel",
+        "the book's quintic gradient below q = 1, (-120 + 120 q - 50 q^2) (§3; REFERENCES.md's defect)",
+    ),
+    (
+        Item::PairTest,
+        "pair_test",
+        "nnps",
+        "the search's test sqrt(r^2) < kappa h_ij with an integer kappa, not r^2 < (kappa h_ij)^2 (§2)",
+    ),
+    (
+        Item::VirtualPairs,
+        "virtual_pairs",
+        "nnps",
+        "pairs among virtual (mirror) particles too: i over all particles (§2)",
+    ),
+    (
+        Item::GlobalH,
+        "global_h",
+        "nnps,kernel",
+        "link_list's global h: the first particle's h in the test and in the kernel; pairs in canonical order (link_list's own order is compared as a set) (§2); not in the liu-book profile, which is direct_find's",
+    ),
+    (
+        Item::ForceEnergy,
+        "force_energy",
+        "force",
+        "the force's energy rate: sum_d (v_j - v_i)_d h_d per pair, scattered, then 0 + 0.5 x (§6)",
+    ),
+    (Item::ViscMu, "visc_mu", "viscosity", "the viscosity's mu denominator r^2 + ((h h) eta) eta (§7)"),
+    (
+        Item::ViscEnergy,
+        "visc_energy",
+        "viscosity",
+        "the viscosity's energy: - (m dv_d) h_d per component into both particles, halved at the end (§7)",
+    ),
+    (Item::XsphExpr, "xsph_expr", "xsph", "XSPH's term ((2 m_j) dv/(rho_i + rho_j)) W_ij (§8)"),
+    (
+        Item::XsphVelocity,
+        "xsph_velocity",
+        "integrator",
+        "XSPH added to the velocity itself, without dt: v = (v + dt/2 dv) + av, x += dt v (§8, §10)",
+    ),
+    (Item::EnergyFloor, "energy_floor", "integrator", "u < 0 set to 0 after each energy update (§10)"),
+    (
+        Item::RateSum,
+        "rate_sum",
+        "integrator",
+        "the book's time integration order: dv = (force + external) + viscosity, du = (force + viscosity) + 0, the nsym = 0 source terms (§10, §11)",
+    ),
+];
+
+/// The profiles and the items each switches on.
+pub const PROFILES: &[(&str, &str)] = &[
+    ("liu-book", "every item but global_h: Liu & Liu's book code with direct_find"),
+    ("none", "no item (blastsph's own twins)"),
+];
+
+impl Item {
+    pub fn name(self) -> &'static str {
+        ITEMS.iter().find(|t| t.0 == self).map_or("?", |t| t.1)
+    }
+    pub fn modules(self) -> &'static str {
+        ITEMS.iter().find(|t| t.0 == self).map_or("", |t| t.2)
+    }
+    pub fn parse(s: &str) -> Option<Item> {
+        ITEMS.iter().find(|t| t.1 == s).map(|t| t.0)
+    }
+    fn bit(self) -> u32 {
+        1 << (self as u32)
+    }
+    /// Every item, in order.
+    pub fn all() -> impl Iterator<Item = Item> {
+        ITEMS.iter().map(|t| t.0)
+    }
+}
+
+/// The items switched on: a small copyable set, carried by the compat stages.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct Flags(u32);
+
+impl Flags {
+    pub fn has(self, i: Item) -> bool {
+        self.0 & i.bit() != 0
+    }
+    pub fn with(self, i: Item, on: bool) -> Flags {
+        if on { Flags(self.0 | i.bit()) } else { Flags(self.0 & !i.bit()) }
+    }
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// Any of the items of `module` on.
+    pub fn touches(self, module: &str) -> bool {
+        Item::all().any(|i| self.has(i) && i.modules().split(',').any(|m| m == module))
+    }
+    /// The names of the items on, comma-separated.
+    pub fn names(self) -> String {
+        Item::all().filter(|&i| self.has(i)).map(Item::name).collect::<Vec<_>>().join(",")
+    }
+    /// The items of a profile.
+    pub fn profile(name: &str) -> Option<Flags> {
+        match name {
+            "liu-book" => Some(Item::all().filter(|&i| i != Item::GlobalH).fold(Flags(0), |f, i| f.with(i, true))),
+            "none" => Some(Flags(0)),
+            _ => None,
+        }
+    }
+    /// A short label for plan lines and reports ("liu-book", "liu-book,-sound_speed", ...).
+    pub fn label(self) -> String {
+        let book = Flags::profile("liu-book").unwrap_or_default();
+        if self == book {
+            return "liu-book".into();
+        }
+        let off: Vec<&str> = Item::all().filter(|&i| book.has(i) && !self.has(i)).map(Item::name).collect();
+        let on: Vec<&str> = Item::all().filter(|&i| !book.has(i) && self.has(i)).map(Item::name).collect();
+        if off.len() <= on.len() + 3 && off.len() < 7 {
+            let mut parts = vec!["liu-book".to_string()];
+            parts.extend(off.iter().map(|n| format!("-{n}")));
+            parts.extend(on.iter().map(|n| n.to_string()));
+            parts.join(",")
+        } else {
+            self.names()
+        }
+    }
+}
+
+/// The case's `[compat]` table.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+pub struct CompatCfg {
+    /// A profile: "liu-book" or "none".
+    #[serde(default)]
+    pub profile: Option<String>,
+    /// Items switched on (true) or off (false) over the profile, by name.
+    #[serde(flatten)]
+    pub items: BTreeMap<String, bool>,
+}
+
+impl CompatCfg {
+    /// The items on; an unknown profile or item is an input error.
+    pub fn flags(&self) -> Result<Flags> {
+        let mut f = match &self.profile {
+            None => Flags(0),
+            Some(p) => Flags::profile(p).ok_or_else(|| {
+                input(format!("compat.profile = \"{p}\": no such profile (profiles: {})", profile_names()))
+            })?,
+        };
+        for (k, &on) in &self.items {
+            let i = Item::parse(k)
+                .ok_or_else(|| input(format!("compat.{k}: no such compatibility item (items: {})", item_names())))?;
+            f = f.with(i, on);
+        }
+        Ok(f)
+    }
+}
+
+fn profile_names() -> String {
+    PROFILES.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
+}
+
+/// The names of every item, comma-separated.
+pub fn item_names() -> String {
+    Item::all().map(Item::name).collect::<Vec<_>>().join(", ")
+}
+
+/// `--compat SPEC` as `--set` overrides of the case's `[compat]` table. SPEC is comma-separated:
+/// a profile (`liu-book`, `none`), an item to switch on (`sound_speed`), or one to switch off
+/// (`-sound_speed`, `no-sound_speed`).
+pub fn sets_of(spec: &str) -> Result<Vec<String>> {
+    let mut out = Vec::new();
+    for part in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if Flags::profile(part).is_some() {
+            out.push(format!("compat.profile=\"{part}\""));
+            continue;
+        }
+        let (name, on) = match part.strip_prefix('-').or_else(|| part.strip_prefix("no-")) {
+            Some(n) => (n, false),
+            None => (part, true),
+        };
+        if Item::parse(name).is_none() {
+            return Err(input(format!(
+                "--compat {spec}: \"{part}\" is neither a profile ({}) nor an item ({})",
+                profile_names(),
+                item_names()
+            )));
+        }
+        out.push(format!("compat.{name}={on}"));
+    }
+    if out.is_empty() {
+        return Err(input(format!("--compat {spec}: name a profile ({}) or items", profile_names())));
+    }
+    Ok(out)
+}
+
+/// Rounds a double through single precision: what gfortran does with a default-real literal.
+pub fn single(x: f64) -> f64 {
+    x as f32 as f64
+}
+
+/// Applies the items that change the case's own numbers (`literals`): the values a legacy code
+/// writes as default-real literals are rounded to single precision. Nothing without the item.
+pub fn apply_case(case: &mut Case) -> Result<()> {
+    let f = case.compat.flags()?;
+    if !f.has(Item::Literals) {
+        return Ok(());
+    }
+    if let Some(dt) = case.time.dt_s.as_mut() {
+        *dt = single(*dt);
+    }
+    for m in &mut case.materials {
+        if let EosCfg::IdealGas { gamma, .. } = &mut m.eos {
+            *gamma = single(*gamma);
+        }
+    }
+    let v = &mut case.viscosity;
+    (v.alpha, v.beta, v.phi_over_h) = (single(v.alpha), single(v.beta), single(v.phi_over_h));
+    case.sph.xsph_eps = single(case.sph.xsph_eps);
+    for r in &mut case.regions {
+        for x in [&mut r.rho_kgm3, &mut r.e_jkg, &mut r.mass_kg, &mut r.h_m].into_iter().flatten() {
+            *x = single(*x);
+        }
+        if let Some(vel) = r.velocity_ms.as_mut() {
+            vel.iter_mut().for_each(|x| *x = single(*x));
+        }
+    }
+    Ok(())
+}
+
+/// The compat variant of module `m`'s stages when the case switches one of its items on, else
+/// `None` (the module's own plan).
+pub fn plan(m: Module, ctx: &PlanCtx) -> Option<Contribution> {
+    let f = ctx.case.compat.flags().ok()?;
+    if f.is_empty() {
+        return None;
+    }
+    use crate::modules::{eos, force, integrator, kernel, nnps, viscosity, xsph};
+    match m {
+        Module::Nnps => nnps::compat::plan(ctx, f),
+        Module::Kernel => kernel::compat::plan(ctx, f),
+        Module::Eos => eos::compat::plan(ctx, f),
+        Module::Force => force::compat::plan(ctx, f),
+        Module::Viscosity => viscosity::compat::plan(ctx, f),
+        Module::Xsph => xsph::compat::plan(ctx, f),
+        Module::Integrator => integrator::compat::plan(ctx, f),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn profiles_items_and_specs() {
+        let book = Flags::profile("liu-book").unwrap();
+        assert!(book.has(Item::SoundSpeed) && !book.has(Item::GlobalH));
+        assert_eq!(book.label(), "liu-book");
+        assert_eq!(book.with(Item::SoundSpeed, false).label(), "liu-book,-sound_speed");
+        let s = sets_of("liu-book,-sound_speed,global_h").unwrap();
+        assert_eq!(s, ["compat.profile=\"liu-book\"", "compat.sound_speed=false", "compat.global_h=true"]);
+        assert!(sets_of("bogus").unwrap_err().to_string().contains("neither a profile"));
+        let cfg = CompatCfg { profile: Some("liu-book".into()), items: [("kernel".to_string(), false)].into() };
+        assert!(!cfg.flags().unwrap().has(Item::Kernel));
+        let bad = CompatCfg { profile: None, items: [("kernal".to_string(), true)].into() };
+        assert!(bad.flags().unwrap_err().to_string().contains("compat.kernal"));
+        assert_eq!(single(1.4), 1.399_999_976_158_142);
+        assert!(book.touches("viscosity") && !Flags::default().touches("eos"));
+    }
+}

@@ -1,0 +1,702 @@
+//! Running the user's legacy routines inside blastsph (`run --legacy DIR`, `dual --legacy DIR`,
+//! `check --legacy DIR`): each mapped routine becomes a stage of the plan in place of the stages
+//! of its modules that it computes.
+//!
+//! **Which stages a routine stands for.** Among the stages the case's plan has for the routine's
+//! modules (with the `--compat` variants where the case asks for them), those whose every output
+//! is one of the routine's arguments, and whose every input is an argument or is made inside the
+//! routine from its arguments (the book's `sum_density` computes W(0, h) itself: blastsph's
+//! `kernel.self` then joins the chain as a helper). So `direct_find` (nnps, kernel) stands for
+//! `nnps.search` and `kernel.pairs`; `int_force` (eos, force) for `eos.eval` and `force.internal`;
+//! `con_density` in a summation-density case stands for nothing and is not run. A routine that
+//! stands for no stage but adds a rate term (`dvxdt`, `dedt`: the book's `art_heat`) or makes a
+//! work array another mapped routine takes (`viscosity`'s `eta`) runs on its own, uncompared.
+//!
+//! **When.** At the phase of the first stage it stands for; routines of the book's `single_step`
+//! keep that routine's order among themselves. Each is called once per step — a second evaluation
+//! at the same time (the run evaluates the rates once before the first step, for the output at
+//! t = 0) replays the first call's outputs — so SAVEd locals and COMMON blocks see the calls the
+//! legacy program makes.
+//!
+//! **Where.** The routines run with the current folder `DIR/work` (made here, with `DIR/data`
+//! beside it: the book's `input` and `output` open `../data/...`).
+
+use super::bind::{self, Buf, Ctx};
+use super::compat::{Flags, Item};
+use super::ffi::{Args, LegacyLib};
+use super::vocab::Shape;
+use crate::case::{Case, StepRule};
+use crate::error::{Result, SphError, input};
+use crate::modules::{Backend, Counterpart, Module, Phase, PlanCtx, Slots, Stage, Terms, Tolerance};
+use crate::setup::Initial;
+use crate::sim::plan::{Entry, ModulePlan};
+use crate::state::{Clock, Field, Particles, Snap, Work};
+use serde_json::json;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// The order of the book's `single_step` calls (routines of these names keep it).
+const BOOK_ORDER: &[&str] = &[
+    "virt_part",
+    "direct_find",
+    "link_list",
+    "tree_search",
+    "sum_density",
+    "con_density",
+    "viscosity",
+    "int_force",
+    "art_visc",
+    "ext_force",
+    "h_upgrade",
+    "art_heat",
+    "av_vel",
+];
+
+/// Inputs a routine need not take: the material (the routine knows its own), and the burn
+/// fraction and stress of cases that have none.
+const IMPLIED: &[Field] = &[Field::Mat, Field::Burn, Field::Tau];
+
+/// The state legacy calls share: the legacy code's work arrays, the step counter, call counts.
+#[derive(Default)]
+struct Shared {
+    scratch: HashMap<String, Buf>,
+    step: i32,
+    last_t: Option<u64>,
+    calls: BTreeMap<String, u64>,
+}
+
+/// An opened legacy build, bound to a case.
+pub struct Legacy {
+    lib: LegacyLib,
+    dir: PathBuf,
+    cwd: PathBuf,
+    /// The code's type code of each material.
+    itype: Vec<i32>,
+    setup_only: bool,
+    /// The case's fixed step (s), what the routines get as `dt`.
+    dt: Option<f64>,
+    flags: Flags,
+    shared: Mutex<Shared>,
+}
+
+/// The book's type code of an EOS kind.
+fn book_code(kind: &str) -> Option<i32> {
+    match kind {
+        "ideal_gas" => Some(1),
+        "water" => Some(2),
+        _ => None,
+    }
+}
+
+/// Ends the process with one line: a legacy call cannot go on (the legacy program would have
+/// stopped too; a `STOP` in the legacy code ends the process the same way).
+fn die(msg: String) -> ! {
+    eprintln!("error: {msg}");
+    std::process::exit(2)
+}
+
+/// Runs the legacy code with the current folder set to its work folder.
+struct Cwd(Option<PathBuf>);
+impl Cwd {
+    fn enter(dir: &Path) -> Cwd {
+        let back = std::env::current_dir().ok();
+        if std::env::set_current_dir(dir).is_err() {
+            return Cwd(None);
+        }
+        Cwd(back)
+    }
+}
+impl Drop for Cwd {
+    fn drop(&mut self) {
+        if let Some(d) = &self.0 {
+            let _ = std::env::set_current_dir(d);
+        }
+    }
+}
+
+impl Legacy {
+    /// Opens the build in `dir` for `case`: the dimensions must agree and every material needs
+    /// a type code if a routine takes `itype`.
+    pub fn open(dir: &Path, case: &Case, setup_only: bool) -> Result<Arc<Legacy>> {
+        let lib = LegacyLib::open(dir)?;
+        let info = lib.info();
+        let shown = dir.display();
+        if info.dim != case.dim {
+            return Err(input(format!(
+                "--legacy {shown}: the build has dim = {} (its param.inc), the case dim = {}",
+                info.dim, case.dim
+            )));
+        }
+        let needs_itype = info.routines.iter().any(|r| r.bindings.iter().any(|b| b.name == "itype"));
+        let mut itype = Vec::new();
+        for m in &case.materials {
+            let kind = m.eos.kind();
+            let code = info.itype.get(&m.name).or_else(|| info.itype.get(kind)).copied().or_else(|| book_code(kind));
+            match code {
+                Some(c) => itype.push(c),
+                None if needs_itype => {
+                    return Err(input(format!(
+                        "--legacy {shown}: material `{}` ({kind}) has no itype code: add `[itype]` `{} = N` to the manifest and rebuild",
+                        m.name, m.name
+                    )));
+                }
+                None => itype.push(0),
+            }
+        }
+        let abs = std::path::absolute(dir).map_err(|e| SphError::Io(format!("{shown}: {e}")))?;
+        let cwd = abs.join("work");
+        for d in [cwd.clone(), abs.join("data")] {
+            std::fs::create_dir_all(&d).map_err(|e| SphError::Io(format!("{}: {e}", d.display())))?;
+        }
+        let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();
+        let flags = case.compat.flags()?;
+        Ok(Arc::new(Legacy { lib, dir: abs, cwd, itype, setup_only, dt, flags, shared: Mutex::new(Shared::default()) }))
+    }
+
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Refuses a case with more particles than the build's `maxn`.
+    pub fn check_capacity(&self, particles: usize) -> Result<()> {
+        self.lib.info().check_capacity(particles, None)
+    }
+
+    fn shared(&self) -> std::sync::MutexGuard<'_, Shared> {
+        self.shared.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Calls of each routine so far.
+    pub fn calls(&self) -> BTreeMap<String, u64> {
+        self.shared().calls.clone()
+    }
+
+    /// The set-up routine (module `setup`), if the manifest maps one.
+    fn setup_routine(&self) -> Option<&super::builder::RoutineInfo> {
+        self.lib.info().routines.iter().find(|r| r.modules.iter().any(|m| m == "setup"))
+    }
+
+    pub fn has_setup(&self) -> bool {
+        self.setup_routine().is_some()
+    }
+
+    /// The initial particles from the user's set-up routine (the book's `input`); `base` (the
+    /// case's own particles) gives the finest spacing and the regions.
+    pub fn setup(&self, case: &Case, base: Initial) -> Result<Initial> {
+        let Some(r) = self.setup_routine() else { return Ok(base) };
+        let info = self.lib.info();
+        let (dim, maxn) = (case.dim, info.maxn);
+        let empty = Particles { dim, ..Default::default() };
+        let work = Work::default();
+        let mut sh = self.shared();
+        let mut ctx = Ctx {
+            dim,
+            itimestep: 0,
+            dt: self.dt.unwrap_or(0.0),
+            time: 0.0,
+            slots: Slots::default(),
+            itype: &self.itype,
+            nbuf: maxn,
+            pbuf: 0,
+            scratch: &mut sh.scratch,
+        };
+        let mut bufs: Vec<Buf> = r
+            .bindings
+            .iter()
+            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &empty, &work))
+            .collect();
+        self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+        let get = |n: &str| r.bindings.iter().position(|b| b.name == n).map(|k| &bufs[k]);
+        let n = match get("ntotal") {
+            Some(Buf::I(v)) => v[0],
+            _ => return Err(input(format!("legacy {}: a set-up routine must return ntotal", r.name))),
+        };
+        if n < 1 || n as usize > maxn {
+            return Err(input(format!("legacy {}: returned ntotal = {n} (maxn = {maxn})", r.name)));
+        }
+        let n = n as usize;
+        let real = |name: &str, w: usize| -> Result<Vec<f64>> {
+            match get(name) {
+                Some(Buf::R(v)) => Ok(v[..w * n].to_vec()),
+                _ => Err(input(format!("legacy {}: a set-up routine must give {name}", r.name))),
+            }
+        };
+        let (x, rho, e, h, mass) =
+            (real("x", dim)?, real("rho", 1)?, real("u", 1)?, real("hsml", 1)?, real("mass", 1)?);
+        let v = real("vx", dim).unwrap_or_else(|_| vec![0.0; dim * n]);
+        let mat: Vec<i32> = match get("itype").or_else(|| get("mat")) {
+            Some(Buf::I(codes)) if get("itype").is_some() => codes[..n]
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| {
+                    self.itype.iter().position(|&k| k == c.abs()).map(|m| m as i32).ok_or_else(|| {
+                        input(format!(
+                            "legacy {}: particle {} has itype {c}, which no material of the case has (codes: {:?})",
+                            r.name,
+                            i + 1,
+                            self.itype
+                        ))
+                    })
+                })
+                .collect::<Result<_>>()?,
+            Some(Buf::I(m)) => m[..n].to_vec(),
+            _ if case.materials.len() == 1 => vec![0; n],
+            _ => return Err(input(format!("legacy {}: give itype (the case has several materials)", r.name))),
+        };
+        let region_of = |m: i32| -> u32 {
+            let name = &case.materials[m as usize].name;
+            case.regions.iter().position(|rg| &rg.material == name).unwrap_or(0) as u32
+        };
+        let region: Vec<u32> = mat.iter().map(|&m| region_of(m)).collect();
+        let mut counts = vec![0usize; case.regions.len().max(1)];
+        region.iter().for_each(|&r| counts[r as usize] += 1);
+        Ok(Initial { x, v, rho, e, h, mass, mat, region, counts, dx_min: base.dx_min })
+    }
+
+    /// Calls routine `name` on `bufs` (one per binding), in the work folder.
+    fn call_raw(&self, name: &str, bindings: &[super::builder::BindingInfo], bufs: &mut [Buf]) -> Result<()> {
+        let routine = self.lib.routine(name)?;
+        let mut args = Args::new();
+        for (b, buf) in bindings.iter().zip(bufs.iter_mut()) {
+            args = match buf {
+                Buf::R(v) => args.real(&b.name, v),
+                Buf::I(v) => args.int(&b.name, v),
+            };
+        }
+        let _cwd = Cwd::enter(&self.cwd);
+        routine.call(&mut args)
+    }
+}
+
+fn is_vec(s: Shape) -> bool {
+    matches!(s, Shape::ParticleVec | Shape::PairVec)
+}
+
+/// A mapped routine as a stage of the plan.
+pub struct LegacyStage {
+    lg: Arc<Legacy>,
+    /// Index of the routine in the build.
+    routine: usize,
+    name: &'static str,
+    module: Module,
+    /// The Rust twins it stands for (helpers first), in plan order: the dual run's Rust side.
+    chain: Vec<Box<dyn Stage>>,
+    reads: Vec<Field>,
+    writes: Vec<Field>,
+    terms: Terms,
+    slots: Slots,
+    tol: Tolerance,
+    /// Set for a routine with no twin: why it runs alone.
+    alone: Option<&'static str>,
+    replay: Mutex<Option<(u64, Vec<Snap>)>>,
+}
+
+impl LegacyStage {
+    fn call(&self, p: &mut Particles, w: &mut Work, k: &Clock) {
+        let key = k.t.to_bits();
+        {
+            let rp = self.replay.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some((t, snaps)) = &*rp
+                && *t == key
+            {
+                for (f, s) in self.writes.iter().zip(snaps.clone()) {
+                    f.restore(p, w, s);
+                }
+                return;
+            }
+        }
+        let lg = &self.lg;
+        let info = lg.lib.info();
+        let r = &info.routines[self.routine];
+        let (nt, np) = (p.ntotal, w.pairs.len());
+        let search = self.writes.contains(&Field::PairI);
+        if nt > info.maxn || (!search && np > info.max_interaction) {
+            die(format!(
+                "legacy {}: {nt} particles and {np} pairs, more than the build's maxn = {} or max_interaction = {} (param.inc): raise them and rebuild",
+                r.name, info.maxn, info.max_interaction
+            ));
+        }
+        let mut sh = lg.shared();
+        if sh.last_t != Some(key) {
+            sh.step += 1;
+            sh.last_t = Some(key);
+        }
+        *sh.calls.entry(r.name.clone()).or_default() += 1;
+        let itimestep = sh.step;
+        let mut ctx = Ctx {
+            dim: p.dim,
+            itimestep,
+            dt: lg.dt.unwrap_or(k.dt_prev),
+            time: k.t,
+            slots: self.slots,
+            itype: &lg.itype,
+            nbuf: nt,
+            pbuf: if search { info.max_interaction } else { np },
+            scratch: &mut sh.scratch,
+        };
+        let mut bufs: Vec<Buf> = r
+            .bindings
+            .iter()
+            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, w))
+            .collect();
+        if let Err(e) = lg.call_raw(&r.name, &r.bindings, &mut bufs) {
+            die(e.to_string());
+        }
+        let np_after = match r.bindings.iter().position(|b| b.name == "niac").map(|k| &bufs[k]) {
+            Some(Buf::I(v)) if search => v[0].max(0) as usize,
+            _ => np,
+        };
+        let mut ctx = Ctx {
+            dim: p.dim,
+            itimestep,
+            dt: 0.0,
+            time: k.t,
+            slots: self.slots,
+            itype: &lg.itype,
+            nbuf: nt,
+            pbuf: np_after,
+            scratch: &mut sh.scratch,
+        };
+        for (b, buf) in r.bindings.iter().zip(bufs) {
+            bind::scatter(&b.name, buf, &self.writes, &mut ctx, p, w, np_after);
+        }
+        let snaps = self.writes.iter().map(|f| f.snap(p, w)).collect();
+        *self.replay.lock().unwrap_or_else(|e| e.into_inner()) = Some((key, snaps));
+    }
+}
+
+impl Stage for LegacyStage {
+    fn module(&self) -> Module {
+        self.module
+    }
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn reads(&self) -> &[Field] {
+        &self.reads
+    }
+    fn writes(&self) -> &[Field] {
+        &self.writes
+    }
+    fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        if self.terms != Terms::default() {
+            self.slots.size(w, p.dim, p.ntotal);
+        }
+    }
+    fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, k: &Clock) {
+        if b == Backend::Rust && self.alone.is_none() {
+            for s in &self.chain {
+                s.prepare(p, w);
+                s.run(Backend::Rust, p, w, k);
+            }
+        } else {
+            self.call(p, w, k);
+        }
+    }
+    fn tolerance(&self) -> Tolerance {
+        self.tol
+    }
+    fn terms(&self) -> Terms {
+        self.terms
+    }
+    fn assign(&mut self, slots: Slots) {
+        self.slots = slots;
+        for s in &mut self.chain {
+            s.assign(slots);
+        }
+    }
+    fn counterpart(&self) -> Counterpart {
+        match self.alone {
+            Some(why) => Counterpart::LegacyAlone(why),
+            None => Counterpart::Legacy,
+        }
+    }
+}
+
+/// The stages module `m` contributes to this case (its compat variants where asked), the
+/// once-only `Init` ones left out.
+fn fresh(m: Module, ctx: &PlanCtx) -> Vec<(Phase, Box<dyn Stage>)> {
+    let c = super::compat::plan(m, ctx).unwrap_or_else(|| m.plan(ctx));
+    c.stages.into_iter().filter(|(ph, _)| *ph != Phase::Init).collect()
+}
+
+/// What became of one mapped routine, for `check` and summary.json.
+struct Note {
+    name: String,
+    status: &'static str,
+    why: String,
+    json: serde_json::Value,
+}
+
+impl Legacy {
+    /// Puts the mapped routines into the plan in place of the stages they stand for; returns the
+    /// text `blastsph check` prints and the summary's `legacy` object.
+    pub fn edit_plan(
+        self: &Arc<Self>,
+        ctx: &PlanCtx,
+        entries: &mut Vec<Entry>,
+        modules: &mut BTreeMap<Module, ModulePlan>,
+    ) -> (String, serde_json::Value) {
+        let info = self.lib.info();
+        let mut notes: Vec<Note> = Vec::new();
+        let bound: Vec<Vec<String>> =
+            info.routines.iter().map(|r| r.bindings.iter().map(|b| b.name.clone()).collect()).collect();
+        for (ri, r) in info.routines.iter().enumerate() {
+            let mut note = |status: &'static str, why: String, json: serde_json::Value| {
+                notes.push(Note { name: r.name.clone(), status, why, json })
+            };
+            if r.modules.iter().any(|m| m == "setup") {
+                note("setup", "makes the initial particles (called once, before the first step)".into(), json!({}));
+                continue;
+            }
+            if r.modules.iter().any(|m| m == "output") {
+                note("not run", "an output routine: blastsph writes particles.h5".into(), json!({}));
+                continue;
+            }
+            if self.setup_only {
+                note("not run", "set-up only (the ledger's Rust runs)".into(), json!({}));
+                continue;
+            }
+            let mods: Vec<Module> = r.modules.iter().filter_map(|m| Module::parse(m)).collect();
+            if mods.contains(&Module::Integrator) || mods.len() > 3 {
+                note(
+                    "not run",
+                    format!(
+                        "a driver spanning {}: --legacy runs the routines it calls (map those); compare its program with `run --legacy`",
+                        r.modules.join(",")
+                    ),
+                    json!({}),
+                );
+                continue;
+            }
+            let argf: Vec<Field> = bound[ri].iter().filter_map(|n| bind::field_of(n)).collect();
+            let satisfied = |s: &dyn Stage| s.reads().iter().all(|f| argf.contains(f) || IMPLIED.contains(f));
+            let mut covered: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
+            let mut helpers: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
+            for &m in &mods {
+                for (ph, s) in fresh(m, ctx) {
+                    if !s.writes().iter().all(|f| argf.contains(f)) {
+                        continue;
+                    }
+                    // inputs not among the arguments: made inside the routine by a helper stage
+                    let mut need: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
+                    let mut ok = true;
+                    for f in s.reads().iter().filter(|f| !argf.contains(f) && !IMPLIED.contains(f)) {
+                        let h = Module::ALL
+                            .iter()
+                            .flat_map(|&hm| fresh(hm, ctx))
+                            .find(|(_, h)| h.writes() == [*f] && satisfied(h.as_ref()));
+                        match h {
+                            Some(h) => need.push(h),
+                            None => ok = false,
+                        }
+                    }
+                    if ok {
+                        for h in need {
+                            if !helpers.iter().any(|x| x.1.name() == h.1.name()) {
+                                helpers.push(h);
+                            }
+                        }
+                        covered.push((ph, s));
+                    }
+                }
+            }
+            let active = mods.iter().any(|m| modules.get(m).is_some_and(|p| p.active));
+            let mut writes: Vec<Field> = Vec::new();
+            let alone = covered.is_empty();
+            if alone {
+                let shared_scratch = bound[ri].iter().any(|n| {
+                    bind::is_scratch(n) && bound.iter().enumerate().any(|(o, names)| o != ri && names.contains(n))
+                });
+                let term = bound[ri].iter().any(|n| n == "dvxdt" || n == "dedt");
+                if !active || !(term || shared_scratch) {
+                    let why = if !active {
+                        format!("the case does not run {}", r.modules.join(","))
+                    } else {
+                        let stages: Vec<String> =
+                            mods.iter().flat_map(|&m| fresh(m, ctx)).map(|(_, s)| s.name().to_string()).collect();
+                        format!(
+                            "it computes none of the case's {} stages ({}) from its arguments",
+                            r.modules.join(","),
+                            stages.join(", ")
+                        )
+                    };
+                    note("not run", why, json!({}));
+                    continue;
+                }
+                if bound[ri].iter().any(|n| n == "dvxdt") {
+                    writes.push(Field::Acc);
+                }
+                if bound[ri].iter().any(|n| n == "dedt") {
+                    writes.push(Field::Dde);
+                }
+            }
+            for (_, s) in &covered {
+                for &f in s.writes() {
+                    if !writes.contains(&f) {
+                        writes.push(f);
+                    }
+                }
+            }
+            let mut reads: Vec<Field> = Vec::new();
+            for (_, s) in covered.iter().chain(&helpers) {
+                for &f in s.reads() {
+                    if !reads.contains(&f) && !writes.contains(&f) {
+                        reads.push(f);
+                    }
+                }
+            }
+            if alone {
+                reads = argf.iter().copied().filter(|f| !writes.contains(f)).collect();
+            }
+            // the phase, and where the stages it stands for were
+            let phase = covered
+                .iter()
+                .map(|(ph, _)| *ph)
+                .min()
+                .or_else(|| mods.iter().flat_map(|&m| fresh(m, ctx)).map(|(ph, _)| ph).min())
+                .unwrap_or(Phase::Rates);
+            let mut at: Option<usize> = None;
+            for (_, s) in &covered {
+                if let Some(k) = entries.iter().position(|e| {
+                    e.phase != Phase::Init && e.stage.module() == s.module() && e.stage.name() == s.name()
+                }) {
+                    entries.remove(k);
+                    at = Some(at.map_or(k, |a: usize| a.min(k)));
+                }
+            }
+            let module = covered.first().map_or(mods[0], |(_, s)| s.module());
+            let terms = covered.iter().map(|(_, s)| s.terms()).find(|t| *t != Terms::default()).unwrap_or_else(|| {
+                let k = ri as u8;
+                Terms {
+                    acc: writes.contains(&Field::Acc).then_some(10 + k),
+                    de: writes.contains(&Field::Dde).then_some(10 + k),
+                }
+            });
+            let twins: Vec<String> = helpers.iter().chain(&covered).map(|(_, s)| s.name().to_string()).collect();
+            let label = if self.flags.is_empty() {
+                "no --compat".to_string()
+            } else {
+                format!("compat {}", self.flags.label())
+            };
+            // the items of the routine's modules and of the twins it is compared with (the
+            // book's sum_density computes W(0) with the kernel: kernel items)
+            let mut twin_mods: Vec<Module> = mods.clone();
+            twin_mods.extend(helpers.iter().chain(&covered).map(|(_, s)| s.module()));
+            let off: Vec<&str> = Item::all()
+                .filter(|&i| {
+                    !self.flags.has(i) && twin_mods.iter().any(|m| i.modules().split(',').any(|x| x == m.name()))
+                })
+                .map(Item::name)
+                .collect();
+            let hint =
+                if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
+            let tol = Tolerance {
+                ulp: 0,
+                why: Box::leak(
+                    format!(
+                        "legacy {} against {} ({label}){hint}",
+                        r.name,
+                        if alone { "nothing".into() } else { twins.join(" + ") }
+                    )
+                    .into_boxed_str(),
+                ),
+            };
+            let why_alone: Option<&'static str> = alone.then(|| {
+                &*Box::leak(
+                    format!("legacy {}: no Rust twin in this case; runs alone, not compared", r.name).into_boxed_str(),
+                )
+            });
+            let chain: Vec<Box<dyn Stage>> = helpers.into_iter().chain(covered).map(|(_, s)| s).collect();
+            let stage = LegacyStage {
+                lg: Arc::clone(self),
+                routine: ri,
+                name: Box::leak(format!("legacy.{}", r.name).into_boxed_str()),
+                module,
+                chain,
+                reads,
+                writes: writes.clone(),
+                terms,
+                slots: Slots::default(),
+                tol,
+                alone: why_alone,
+                replay: Mutex::new(None),
+            };
+            let entry = Entry { phase, stage: Box::new(stage), backend: Backend::Fortran, seconds: 0.0 };
+            match at {
+                Some(k) => entries.insert(k, entry),
+                None => entries.push(entry),
+            }
+            for m in &mods {
+                if let Some(mp) = modules.get_mut(m)
+                    && !alone
+                {
+                    mp.why = format!("legacy {} [{}]; {}", r.name, self.dir.display(), mp.why);
+                }
+            }
+            let ph = format!("{phase:?}").to_lowercase();
+            let what = if alone {
+                "runs alone (no Rust twin here, not compared)".to_string()
+            } else {
+                format!("stands for {}", twins.join(" + "))
+            };
+            note(
+                if alone { "alone" } else { "run" },
+                format!("{what}; phase {ph}"),
+                json!({ "stands_for": twins, "phase": ph, "writes": writes.iter().map(|f| f.name()).collect::<Vec<_>>() }),
+            );
+        }
+        order_as_book(entries);
+        let mut text = format!(
+            "legacy routines ({}, dim {}, maxn {}, max_interaction {}; they run in {}):\n",
+            self.dir.display(),
+            info.dim,
+            info.maxn,
+            info.max_interaction,
+            self.cwd.display()
+        );
+        let mut routines = serde_json::Map::new();
+        for n in &notes {
+            text += &format!("  {:<14} {:<8} {}\n", n.name, n.status, n.why);
+            let mut j = n.json.clone();
+            j["status"] = json!(n.status);
+            j["why"] = json!(n.why);
+            routines.insert(n.name.clone(), j);
+        }
+        let summary = json!({ "dir": self.dir.display().to_string(), "cwd": self.cwd.display().to_string(), "routines": routines });
+        (text, summary)
+    }
+}
+
+/// Legacy stages of the book's `single_step` keep its order: one that comes earlier in the book
+/// but sits in a later phase moves just before the other (the physical `viscosity`, whose `eta`
+/// `int_force` reads).
+fn order_as_book(entries: &mut Vec<Entry>) {
+    let seq = |e: &Entry| -> Option<usize> {
+        (e.stage.counterpart() != Counterpart::Fortran)
+            .then(|| e.stage.name().strip_prefix("legacy."))
+            .flatten()
+            .and_then(|n| BOOK_ORDER.iter().position(|b| *b == n))
+    };
+    loop {
+        let mut moved = false;
+        'outer: for a in 0..entries.len() {
+            let Some(sa) = seq(&entries[a]) else { continue };
+            for b in 0..entries.len() {
+                let Some(sb) = seq(&entries[b]) else { continue };
+                if sa < sb && entries[a].phase > entries[b].phase {
+                    let target = entries[b].phase;
+                    let mut e = entries.remove(a);
+                    e.phase = target;
+                    entries.insert(if b < a { b } else { b - 1 }, e);
+                    moved = true;
+                    break 'outer;
+                }
+            }
+        }
+        if !moved {
+            break;
+        }
+    }
+}
