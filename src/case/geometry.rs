@@ -45,8 +45,8 @@ pub fn check(case: &Case, init: &Initial) -> Result<()> {
                 "{}: a particle at {} m lies behind wall[{s}] ({} to {} m; a wall's inner side faces the particles' centroid): the region crosses the wall or lies outside it",
                 region_of(i),
                 at(&init.x[d * i..d * i + d]),
-                at(&case.walls[s].from_m),
-                at(&case.walls[s].to_m)
+                case.walls.get(s).map_or("[0, -inf]".to_string(), |w| at(&w.from_m)),
+                case.walls.get(s).map_or("[0, +inf] (the axis)".to_string(), |w| at(&w.to_m))
             )));
         }
     }
