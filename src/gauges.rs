@@ -9,8 +9,8 @@
 //!   particle generated first wins (lowest id: regions in file order, then lattice order, lowest
 //!   z, then y, then x). The choice is then the same after an exact rescaling of the case.
 //! - `point` (Eulerian): the fixed point, values by the Shepard-normalised SPH interpolation
-//!   f(x) = Σ_j V_j f_j W(|x − x_j|, h_j) / Σ_j V_j W(|x − x_j|, h_j), V_j = m_j/ρ_j, over the real
-//!   particles of every material (thesis (2-7), normalised so a point near a free surface or an
+//!   f(x) = Σ_j V_j f_j W(|x − x_j|, h_j) / Σ_j V_j W(|x − x_j|, h_j), V_j = m_j/ρ_j (axisymmetric:
+//!   the area m_j/(2π r_j ρ_j) in the r-z plane), over the real particles of every material (thesis (2-7), normalised so a point near a free surface or an
 //!   interface is not under-read). A point with no particle within reach (in a void) records
 //!   nothing for that step (an empty field in gauges.csv).
 //!
@@ -223,6 +223,7 @@ impl Gauges {
                 let x0 = &self.cfg[k].point_m;
                 let kind = sim.cfg.kernel;
                 let reach = kind.support();
+                let rz = sim.case.axisymmetric();
                 let mut sum: Vec<f64> = Vec::new();
                 let mut wsum = 0.0;
                 let mut dx = [0.0; 3];
@@ -236,7 +237,13 @@ impl Gauges {
                     if r2 >= (reach * h) * (reach * h) {
                         continue;
                     }
-                    let w = (p.mass[j] / p.rho[j]) * kernel_w(dim, kind, r2.sqrt(), &dx[..dim], h);
+                    // the particle's volume; axisymmetric: its area in the r-z plane, m/(2π r ρ)
+                    let vol = if rz {
+                        p.mass[j] / (2.0 * std::f64::consts::PI * p.x[dim * j].abs().max(0.25 * h) * p.rho[j])
+                    } else {
+                        p.mass[j] / p.rho[j]
+                    };
+                    let w = vol * kernel_w(dim, kind, r2.sqrt(), &dx[..dim], h);
                     if w <= 0.0 {
                         continue;
                     }

@@ -385,8 +385,12 @@ pub struct Frame {
     pub time: f64,
     pub x: Vec<f64>,
     pub y: Vec<f64>,
+    /// Zeros below 3D.
+    pub z: Vec<f64>,
     pub vx: Vec<f64>,
     pub vy: Vec<f64>,
+    /// Zeros below 3D.
+    pub vz: Vec<f64>,
     pub rho: Vec<f64>,
     pub p: Vec<f64>,
     pub e: Vec<f64>,
@@ -480,8 +484,10 @@ fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
         time: g.attr("TimeValue").and_then(|a| a.read_scalar::<f64>()).map_err(h5err)?,
         x: rd("x")?,
         y: rd("y")?,
+        z: rd("z")?,
         vx: rd("vx")?,
         vy: rd("vy")?,
+        vz: rd("vz")?,
         rho: rd("rho")?,
         p: rd("p")?,
         e: rd("e")?,

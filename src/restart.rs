@@ -204,10 +204,12 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     })?;
     sim.restore_state(&blob).map_err(|e| input(format!("resume {shown}: {e}")))?;
 
-    // the files, cut back to the checkpoint
+    // everything checked before anything is written: a refused resume leaves the folder as it was
     let gpath = dir.join("gauges.csv");
     let gbytes = meta["gauges_csv_bytes"].as_u64().unwrap_or(0);
-    if !sim.case.gauges.is_empty() {
+    let gfile = if sim.case.gauges.is_empty() {
+        None
+    } else {
         let f = crate::rundir::open_rw(&gpath)?;
         let len = f.metadata().map(|m| m.len()).unwrap_or(0);
         if len < gbytes {
@@ -215,10 +217,8 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
                 "resume {shown}: gauges.csv holds {len} bytes, fewer than the {gbytes} of the checkpoint (damaged)"
             )));
         }
-        f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
-    }
-    let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
-    let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
+        Some(f)
+    };
     let n = sim.p.nreal;
     let peaks = Peaks { ppv: blob.f64("run.peaks.ppv")?, p_peak: blob.f64("run.peaks.p_peak")? };
     if peaks.ppv.len() != n || peaks.p_peak.len() != n {
@@ -232,6 +232,14 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let mut resumes: Vec<(u64, f64)> =
         blob.u64("run.resumes.step")?.into_iter().zip(blob.f64("run.resumes.t")?).collect();
     resumes.push((sim.nstep, sim.t));
+    let last_written = blob.count("run.last_written")?;
+    let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
+    // the files, cut back to the checkpoint (a run killed later may have written more):
+    // particles.h5 first, since it is checked as it is opened
+    let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
+    if let Some(f) = gfile {
+        f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+    }
     let case_toml_sha = sha256_hex(text.as_bytes());
     if o.end_time.is_some() {
         crate::rundir::write_atomic(&case_path, text.as_bytes())?;
@@ -252,7 +260,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         e0: Energy { kinetic, internal, elastic, total },
         m0,
         next_out,
-        last_written: blob.count("run.last_written")?,
+        last_written,
         wall_before,
         case_sha: meta["case_sha256"].as_str().unwrap_or("").to_string(),
         case_toml_sha,

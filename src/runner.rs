@@ -95,7 +95,19 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
         Found::Missing | Found::Empty => false,
         Found::Run { case_toml: Some(t), checkpoint: true } if t == as_run && !opts.force => {
             // its own restart: the same case, stopped or killed after a checkpoint
-            eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
+            let status = std::fs::read(dir.join("summary.json"))
+                .ok()
+                .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+                .and_then(|v| v["status"].as_str().map(String::from));
+            if matches!(status.as_deref(), Some("ok" | "unstable")) {
+                return Err(input(format!(
+                    "--out {shown}: holds this run, finished (status {}): --force runs it again, `blastsph resume {shown} --end-time S` extends it",
+                    status.unwrap_or_default()
+                )));
+            }
+            if !opts.quiet {
+                eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
+            }
             let ro = crate::restart::ResumeOptions::of_run(opts);
             return crate::restart::resume(&dir, &ro);
         }

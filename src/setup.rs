@@ -101,7 +101,45 @@ pub(crate) fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
             let (o, c) = (rc.origin_m.as_ref().unwrap(), rc.count.as_ref().unwrap());
             (0..d).all(|a| p[a] >= o[a] - 0.5 * rc.spacing_m && p[a] < o[a] + (c[a] as f64 - 0.5) * rc.spacing_m)
         }
+        Shape::Cylinder | Shape::Sphere => {
+            let (c, r) = (rc.center_m.as_ref().unwrap(), rc.radius_m.unwrap());
+            let clip = match (&rc.lo_m, &rc.hi_m) {
+                (Some(lo), Some(hi)) => (0..d).all(|a| p[a] >= lo[a] && p[a] < hi[a]),
+                _ => true,
+            };
+            let round = if rc.shape == Shape::Sphere {
+                (0..d).map(|a| (p[a] - c[a]) * (p[a] - c[a])).sum::<f64>() < r * r
+            } else {
+                let (dx, dy) = (p[0] - c[0], p[1] - c[1]);
+                dx * dx + dy * dy < r * r && p[2] >= c[2] && p[2] < c[2] + rc.height_m.unwrap()
+            };
+            clip && round
+        }
     }
+}
+
+/// The bounding box of a cylinder or sphere region, clipped to its `lo_m`..`hi_m` when given,
+/// and the origin of its lattice (the clip box's lower corner, else the bounding box's).
+fn round_box(rc: &crate::case::RegionCfg, d: usize) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let (c, r) = (rc.center_m.as_ref().unwrap(), rc.radius_m.unwrap());
+    let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+    for a in 0..d {
+        lo[a] = c[a] - r;
+        hi[a] = c[a] + r;
+    }
+    if rc.shape == Shape::Cylinder {
+        lo[2] = c[2];
+        hi[2] = c[2] + rc.height_m.unwrap();
+    }
+    let mut org = lo;
+    if let (Some(l), Some(h)) = (&rc.lo_m, &rc.hi_m) {
+        for a in 0..d {
+            org[a] = l[a];
+            lo[a] = lo[a].max(l[a]);
+            hi[a] = hi[a].min(h[a]);
+        }
+    }
+    (org, lo, hi)
 }
 
 fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
@@ -145,6 +183,22 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
             c[..d].copy_from_slice(&c0[..d]);
             (o, c)
         }
+        Shape::Cylinder | Shape::Sphere => {
+            // the cell-centred lattice from the origin, over the (clipped) bounding box
+            let (org, _, hi) = round_box(rc, d);
+            let mut o = [0.0; 3];
+            let mut c = [1usize; 3];
+            for a in 0..d {
+                o[a] = org[a] + 0.5 * dx;
+                c[a] = ((hi[a] - org[a]) / dx + 1e-9).floor().max(0.0) as usize;
+            }
+            (o, c)
+        }
+    };
+    let keep = |p: &[f64; 3]| -> bool {
+        let shaped = matches!(rc.shape, Shape::Polygon | Shape::Cylinder | Shape::Sphere);
+        // axisymmetric: x is the radius, r >= 0
+        (!shaped || inside(case, r, p)) && !(case.axisymmetric() && p[0] < 0.0)
     };
     // bounded by the size check; the product is checked all the same
     let cap = cnt[0].checked_mul(cnt[1]).and_then(|c| c.checked_mul(cnt[2])).unwrap_or(0);
@@ -160,7 +214,7 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
                 for a in 0..d {
                     p[a] = org[a] + idx[a] as f64 * dx;
                 }
-                if rc.shape == Shape::Polygon && !inside(case, r, &p) {
+                if !keep(&p) {
                     continue;
                 }
                 pts.push(p);
@@ -233,6 +287,8 @@ fn generate(case: &Case) -> Result<Initial> {
         let mass = rc.mass_kg.unwrap_or(rho * rc.spacing_m.powi(d as i32));
         let h = rc.h_m.unwrap_or(case.sph.h_over_dx * rc.spacing_m);
         init.dx_min = init.dx_min.min(rc.spacing_m);
+        // axisymmetric: each particle is a ring of mass 2π r ρ Δx² (kg)
+        let ring = |p: &[f64; 3]| 2.0 * std::f64::consts::PI * p[0] * (rho * rc.spacing_m * rc.spacing_m);
         for p in pts {
             init.x.extend_from_slice(&p[..d]);
             match &rc.velocity_ms {
@@ -242,7 +298,7 @@ fn generate(case: &Case) -> Result<Initial> {
             init.rho.push(rho);
             init.e.push(e);
             init.h.push(h);
-            init.mass.push(mass);
+            init.mass.push(if case.axisymmetric() { ring(p) } else { mass });
             init.mat.push(m as i32);
             init.region.push(r as u32);
         }
@@ -252,7 +308,9 @@ fn generate(case: &Case) -> Result<Initial> {
 }
 
 /// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and
-/// end-node flags (an end that is the start of another wall is not counted twice).
+/// end-node flags (an end that is the start of another wall is not counted twice); 3D walls
+/// ([`plane_walls`]); in axisymmetric geometry the axis r = 0 as a mirror (reflective ghosts),
+/// after the case's walls, when mirrors are wanted.
 pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segments {
     let d = case.dim;
     let n = x.len() / d;
@@ -264,6 +322,10 @@ pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segm
     }
     let mut segs = Segments::default();
     let walls: Vec<_> = case.walls.iter().filter(|w| keep(w.kind)).collect();
+    if d == 3 {
+        plane_walls(&walls, cen, &mut segs);
+        return segs;
+    }
     for w in &walls {
         let a = &w.from_m;
         let b = &w.to_m;
@@ -285,7 +347,84 @@ pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segm
         let shared = walls.iter().any(|o| o.from_m.iter().zip(b).all(|(p, q)| (p - q).abs() < 1e-12));
         segs.endnode.push(if d == 1 || !shared { 1 } else { 0 });
     }
+    if case.axisymmetric() && keep(WallKind::Mirror) && n > 0 {
+        // the axis: a segment along x = 0 far beyond anything the particles can reach
+        let (lo, hi) =
+            (0..n).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| (a.min(x[1 + 2 * i]), b.max(x[1 + 2 * i])));
+        let reach = 1e3 * (hi - lo).max(1.0);
+        segs.seg.extend_from_slice(&[0.0, lo - reach, 0.0, hi + reach, 1.0, 0.0]);
+        segs.endnode.push(1);
+    }
     segs
+}
+
+/// The corners of a 3D wall: from_m, the corner after the first edge, and to_m.
+fn corners(w: &crate::case::WallCfg) -> [[f64; 3]; 3] {
+    let (a, b) = ([w.from_m[0], w.from_m[1], w.from_m[2]], [w.to_m[0], w.to_m[1], w.to_m[2]]);
+    let e = match &w.edge_m {
+        Some(e) => [e[0], e[1], e[2]],
+        None => {
+            // axis-aligned: the first edge along the first of the two axes in the wall's plane
+            let ax = (0..3).find(|&k| a[k] != b[k]).unwrap_or(0);
+            let mut e = a;
+            e[ax] = b[ax];
+            e
+        }
+    };
+    [a, e, b]
+}
+
+/// 3D walls as `seg(12, nseg)`: corner a, edge vectors u = e − a and v = b − e, the unit normal
+/// ±u×v towards the centroid `cen`; the edge mask of each wall: an edge that lies on an earlier
+/// wall is that wall's (its nodes are not counted twice).
+fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segments) {
+    let frames: Vec<[[f64; 3]; 4]> = walls
+        .iter()
+        .map(|w| {
+            let [a, e, b] = corners(w);
+            let u = [e[0] - a[0], e[1] - a[1], e[2] - a[2]];
+            let v = [b[0] - e[0], b[1] - e[1], b[2] - e[2]];
+            let c = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+            let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+            let side = (0..3).map(|k| (cen[k] - a[k]) * c[k]).sum::<f64>();
+            let sgn = if side >= 0.0 { 1.0 } else { -1.0 };
+            [a, u, v, [sgn * c[0] / l, sgn * c[1] / l, sgn * c[2] / l]]
+        })
+        .collect();
+    // is point p on wall t (in its plane, within its extent)?
+    let on = |t: usize, p: [f64; 3]| -> bool {
+        let [a, u, v, n] = frames[t];
+        let r = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        let (uu, vv) = (dot(u, u), dot(v, v));
+        let tol = 1e-9 * (uu.sqrt() + vv.sqrt());
+        dot(r, n).abs() <= tol
+            && (-tol..=uu + tol * uu.sqrt()).contains(&dot(r, u))
+            && (-tol..=vv + tol * vv.sqrt()).contains(&dot(r, v))
+    };
+    for (s, &[a, u, v, n]) in frames.iter().enumerate() {
+        segs.seg.extend_from_slice(&a);
+        segs.seg.extend_from_slice(&u);
+        segs.seg.extend_from_slice(&v);
+        segs.seg.extend_from_slice(&n);
+        let at = |su: f64, sv: f64| {
+            [a[0] + su * u[0] + sv * v[0], a[1] + su * u[1] + sv * v[1], a[2] + su * u[2] + sv * v[2]]
+        };
+        // the four edges as (mask bit, its two ends): far along u, far along v, near u, near v
+        let edges = [
+            (1, at(1.0, 0.0), at(1.0, 1.0)),
+            (2, at(0.0, 1.0), at(1.0, 1.0)),
+            (4, at(0.0, 0.0), at(0.0, 1.0)),
+            (8, at(0.0, 0.0), at(1.0, 0.0)),
+        ];
+        let mut mask = 0;
+        for (bit, p, q) in edges {
+            if !(0..s).any(|t| on(t, p) && on(t, q)) {
+                mask |= bit;
+            }
+        }
+        segs.endnode.push(mask);
+    }
 }
 
 /// Is the charge lit by a programmed burn?

@@ -101,6 +101,10 @@ pub struct Work {
     pub gseg: Vec<i32>,
     /// The step the CFL rule proposes (s), as a one-value array (so the dual run compares it).
     pub dt_cfl: Vec<f64>,
+    /// Axisymmetric geometry: 1/r* (1/m) and the planar mass m/(2πr*) (kg/m) of every particle;
+    /// empty in plane geometry.
+    pub rinv: Vec<f64>,
+    pub pmass: Vec<f64>,
 }
 
 /// Where a step stands: the time a stage evaluates at and the steps around it (s).
@@ -167,6 +171,8 @@ pub enum Field {
     Gsrc,
     Gseg,
     DtCfl,
+    Rinv,
+    Pmass,
 }
 
 /// A field's array, borrowed.
@@ -208,7 +214,8 @@ impl Field {
             X | V | Av | VMin | Dv => (Per::Particle, dim),
             Tau | Eps | Dtau | TauMin => (Per::Particle, NSTR),
             Rot => (Per::Particle, 3),
-            Gseg => (Per::Particle, 2),
+            // the walls of each mirror: images of up to two walls (three in 3D)
+            Gseg => (Per::Particle, if dim == 3 { 3 } else { 2 }),
             Dwdx => (Per::Pair, dim),
             W | PairI | PairJ => (Per::Pair, 1),
             Acc => (Per::Term, dim),
@@ -256,6 +263,8 @@ impl Field {
             VMin => &w.v_min,
             TauMin => &w.tau_min,
             DtCfl => &w.dt_cfl,
+            Rinv => &w.rinv,
+            Pmass => &w.pmass,
         })
     }
 
@@ -305,6 +314,8 @@ impl Field {
             VMin => &mut w.v_min,
             TauMin => &mut w.tau_min,
             DtCfl => &mut w.dt_cfl,
+            Rinv => &mut w.rinv,
+            Pmass => &mut w.pmass,
         })
     }
 

@@ -255,7 +255,9 @@ fn dual_every_module_on_a_synthetic_case() {
             out.to_str().unwrap(),
         ]);
         let modules = check_report(&out.join("dual_report.json"), 15);
-        assert_eq!(modules, names(Module::ALL), "modules compared ({nnps})");
+        // every module but the axisymmetric geometry's hoop terms (a plane case; tests/rz3d.rs)
+        let plane: Vec<Module> = Module::ALL.iter().copied().filter(|m| *m != Module::Geometry).collect();
+        assert_eq!(modules, names(&plane), "modules compared ({nnps})");
     }
 }
 

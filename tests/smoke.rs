@@ -1,4 +1,4 @@
-//! Every case in cases/ (and cases/hard/) runs a few steps with the Fortran backend and stays
+//! Every case in cases/ (and cases/hard/, cases/verify/) runs a few steps with the Fortran backend and stays
 //! finite with its mass exact, and the Rust backend gives the same bits. (The dual runs over the blast scenes are in tests/dual.rs.)
 
 use blastsph::case;
@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 fn case_files() -> Vec<PathBuf> {
     let mut v = Vec::new();
-    for dir in ["cases", "cases/hard"] {
+    for dir in ["cases", "cases/hard", "cases/verify"] {
         let d = Path::new(env!("CARGO_MANIFEST_DIR")).join(dir);
         if let Ok(rd) = std::fs::read_dir(&d) {
             for e in rd.flatten() {

@@ -79,8 +79,8 @@ void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
 void sph_strength_rates(int dim, int ntotal, int n, int npair, const int *pair_i,
                         const int *pair_j, const double *dwdx, const double *mass,
                         const double *rho, const double *v, const int *mat, int nmat,
-                        const double *mpar, const double *tau, double *eps, double *rot,
-                        double *dtau, double *dedt);
+                        const double *mpar, const double *tau, int nr, const double *rinv,
+                        double *eps, double *rot, double *dtau, double *dedt);
 void sph_strength_yield(int n, const int *mat, int nmat, const double *mpar, const double *p,
                         double *tau);
 
@@ -89,7 +89,8 @@ void sph_penalty_force(int dim, int ntotal, int npair, const int *pair_i, const 
                        const double *x, const double *h, const double *mass, const int *mat,
                        int nmat, const int *group, double pbar, int n1, int n2, double *dvdt);
 
-/* boundary (sph_boundary.f90); seg(3*dim, nseg): start, end, inward unit normal */
+/* boundary (sph_boundary.f90); seg(nsv, nseg), nsv = 3*dim + 3*(dim/3): 1D, 2D start, end,
+ * inward unit normal; 3D corner, edge vectors u and v, inward unit normal. gseg(2 + dim/3, ng). */
 void sph_boundary_wall_force(int dim, int n, const double *x, int nseg, const double *seg,
                              const int *endnode, double spacing, double r0, double dcoef,
                              int n1, int n2, double *dvdt);
@@ -103,9 +104,18 @@ void sph_boundary_mirror_fill(int dim, int ntotal, int n, int ng, const int *gsr
                               double *tau);
 void sph_boundary_mirror_copy(int ntotal, int n, int ng, const int *gsrc, double *f);
 
+/* geometry (sph_geometry.f90): the axisymmetric (RZ) ring quantities and hoop terms */
+void sph_geometry_ring(int dim, int ntotal, const double *x, const double *h, const double *mass,
+                       double *rinv, double *pmass);
+void sph_geometry_hoop(int dim, int ntotal, int n, const double *v, const double *rho,
+                       const double *p, const double *rinv, int ntau, const double *tau,
+                       double *dvdt, double *dedt);
+void sph_geometry_continuity(int dim, int ntotal, int n, const double *v, const double *rho,
+                             const double *rinv, double *drho);
+
 /* smoothing (sph_smoothing.f90) */
 void sph_smoothing_density(int dim, int n, const double *rho, const double *h0,
-                           const double *rho0, double *h);
+                           const double *rho0, int nr, const double *rinv, double *h);
 void sph_smoothing_rate(int dim, int n, const double *rho, const double *h, const double *drho,
                         double *dhdt);
 void sph_smoothing_advance(int n, double dt, double theta, const double *dhdt, double *h);

@@ -6,6 +6,9 @@
 !   Jaumann rate       dtau/dt = 2G (epsdot - tr(epsdot)/3 I) + tau R^T + R tau
 !   deviatoric work    de_i/dt += tau_i : epsdot_i / rho_i
 !  Plane strain (2D): the out-of-plane rates are zero, tau_zz is kept.
+!  Axisymmetric (nr > 0, dim = 2, x = r, y = z): zz is the hoop (theta)
+!  direction, epsdot_tt = v_r/r = v(1) rinv (rinv = 1/r*, sph_geometry);
+!  mass is then the planar mass m/(2 pi r) of sph_geometry_ring.
 !  Drucker-Prager return (yield): Y = 3 alpha_phi p + k (p > 0 in
 !  compression); Y <= 0 -> tau = 0 (tension cut-off); sqrt(J2) > Y ->
 !  tau scaled by Y/sqrt(J2), J2 = tau:tau/2.
@@ -24,11 +27,11 @@ module sph_strength
 contains
 
   subroutine sph_strength_rates(dim, ntotal, n, npair, pair_i, pair_j, dwdx, mass, rho, v, mat, &
-      nmat, mpar, tau, eps, rot, dtau, dedt) bind(C, name="sph_strength_rates")
-    integer(c_int), value :: dim, ntotal, n, npair, nmat
+      nmat, mpar, tau, nr, rinv, eps, rot, dtau, dedt) bind(C, name="sph_strength_rates")
+    integer(c_int), value :: dim, ntotal, n, npair, nmat, nr
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair), mat(ntotal)
     real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), v(dim, ntotal), &
-                                  mpar(npar, nmat), tau(nstr, ntotal)
+                                  mpar(npar, nmat), tau(nstr, ntotal), rinv(max(nr, 1))
     real(c_double), intent(out) :: eps(nstr, ntotal), rot(3, ntotal), dtau(nstr, n), dedt(n)
     real(c_double), allocatable :: gl(:, :, :)
     real(c_double) :: dva, mi, mj, e3(3, 3), r3(3, 3), t3(3, 3), tr, g, s
@@ -59,6 +62,8 @@ contains
           r3(a, b) = 0.5d0*(gl(a, b, i) - gl(b, a, i))
         end do
       end do
+      ! axisymmetric: the hoop strain rate v_r/r
+      if (nr > 0) e3(3, 3) = v(1, i)*rinv(i)
       eps(1, i) = e3(1, 1)
       eps(2, i) = e3(2, 2)
       eps(3, i) = e3(3, 3)

@@ -8,12 +8,15 @@
 //!   references between tables), with one-line errors naming the key;
 //! - [`size`]: the particle count and the memory a case needs, estimated before anything is
 //!   generated, and the limit it must stay under;
+//! - [`dims`]: what depends on the dimension and the geometry: round shapes (cylinder, sphere),
+//!   3D walls (planes), the axisymmetric geometry (RZ);
 //! - [`geometry`]: the checks that need the generated particles (regions behind a wall or outside
 //!   the domain, a detonation point outside every charge, a gauge outside the material).
 //!
 //! Loading is [`load`] (the file, read with a size limit) then [`parse`] (overrides, serde,
 //! validation).
 
+mod dims;
 pub mod geometry;
 mod sets;
 pub mod size;
@@ -132,5 +135,10 @@ impl Case {
 
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.materials.iter().position(|m| m.name == name)
+    }
+
+    /// True for `geometry = "axisymmetric"`.
+    pub fn axisymmetric(&self) -> bool {
+        self.geometry == Geometry::Axisymmetric
     }
 }

@@ -35,7 +35,11 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
     }
     let parts: Vec<&str> = key.split('.').collect();
     let mut cur: &mut Item = doc.as_item_mut();
+    // inside an inline table or an array (`eos = { c_ms = 1440.0 }`) a comment cannot follow the
+    // value: it is replaced unmarked (case.toml's header lists every override)
+    let mut inline = false;
     for part in parts {
+        inline |= matches!(&*cur, Item::Value(_));
         let array_len = match &*cur {
             Item::ArrayOfTables(a) => Some(a.len()),
             Item::Value(toml_edit::Value::Array(a)) => Some(a.len()),
@@ -71,7 +75,12 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
         was.decor_mut().clear();
         let prefix = old.decor().prefix().and_then(|p| p.as_str()).unwrap_or(" ").to_string();
         parsed.decor_mut().set_prefix(prefix);
-        parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", shown(was.to_string().trim())));
+        if inline {
+            let suffix = old.decor().suffix().and_then(|p| p.as_str()).unwrap_or("").to_string();
+            parsed.decor_mut().set_suffix(suffix);
+        } else {
+            parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", shown(was.to_string().trim())));
+        }
     } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
         return Err(input(format!("--set {ks}: replaces a table with a value")));
     }
@@ -83,4 +92,27 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
 pub(super) fn shown(s: &str) -> String {
     let one: String = s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
     if one.chars().count() > 120 { format!("{}…", one.chars().take(120).collect::<String>()) } else { one }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A value inside an inline table (an EOS's constants) is replaced without a comment, which
+    /// TOML does not allow there; a value of a table gets its `# set by --set` mark.
+    #[test]
+    fn a_value_inside_an_inline_table_is_replaced_and_the_text_still_parses() {
+        let t =
+            "[[material]]\nname = \"s\"\neos = { kind = \"soil\", c_ms = 1440.0, s = [1, 2] }\n[time]\nend_s = 1.0\n";
+        let sets: Vec<String> = ["material.s.eos.c_ms=1500.0", "material.s.eos.s.1=3", "time.end_s=2.0"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let out = apply_sets(t, &sets).unwrap();
+        let v: toml::Table = out.parse().unwrap_or_else(|e| panic!("{out}\n{e}"));
+        assert_eq!(v["material"][0]["eos"]["c_ms"].as_float(), Some(1500.0));
+        assert_eq!(v["material"][0]["eos"]["s"][1].as_integer(), Some(3));
+        assert_eq!(v["time"]["end_s"].as_float(), Some(2.0));
+        assert!(out.contains("end_s = 2.0  # set by --set (was 1.0)"), "{out}");
+    }
 }

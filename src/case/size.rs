@@ -66,6 +66,23 @@ fn lattice_count(case: &Case, r: usize) -> (f64, f64) {
                 n *= c as f64;
             }
         }
+        Shape::Cylinder | Shape::Sphere => {
+            // the (clipped) bounding box: an upper bound of the points kept
+            if let (Some(c), Some(rad)) = (&rc.center_m, rc.radius_m) {
+                for a in 0..d.min(c.len()) {
+                    let (mut lo, mut hi) = (c[a] - rad, c[a] + rad);
+                    if rc.shape == Shape::Cylinder && a == 2 {
+                        (lo, hi) = (c[2], c[2] + rc.height_m.unwrap_or(0.0));
+                    }
+                    if let (Some(l), Some(h)) = (&rc.lo_m, &rc.hi_m)
+                        && a < l.len().min(h.len())
+                    {
+                        (lo, hi) = (lo.max(l[a]), hi.min(h[a]));
+                    }
+                    n *= if hi > lo { axis(lo, hi) } else { 0.0 };
+                }
+            }
+        }
     }
     (n, tests)
 }

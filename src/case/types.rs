@@ -14,6 +14,9 @@ pub struct Case {
     pub description: String,
     /// Space dimension: 1, 2 (plane strain) or 3.
     pub dim: usize,
+    /// "plane" (default) or "axisymmetric" (dim = 2: x is the radius r ≥ 0, y the axis).
+    #[serde(default)]
+    pub geometry: Geometry,
     pub time: TimeCfg,
     #[serde(default)]
     pub sph: SphCfg,
@@ -41,6 +44,17 @@ pub struct Case {
     /// Compatibility items of the Rust twins (`--compat`; docs/migration.md A.6).
     #[serde(default)]
     pub compat: crate::migration::compat::CompatCfg,
+}
+
+/// The geometry of a 2D case (docs/theory.md, axisymmetric SPH).
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum Geometry {
+    /// Cartesian: plane strain in 2D (masses per metre of depth).
+    #[default]
+    Plane,
+    /// Axisymmetric (RZ), dim = 2: x = r ≥ 0, y = z along the axis; a particle is a ring (kg).
+    Axisymmetric,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -436,6 +450,11 @@ pub enum Shape {
     Polygon,
     /// `count` particles per axis at `origin_m + k × spacing_m` (Liu's shock tube).
     Lattice,
+    /// A cylinder (3D) with its axis along z: `center_m` the centre of its base, `radius_m`,
+    /// `height_m`; cell-centred lattice (from `lo_m` when given, which with `hi_m` also clips it).
+    Cylinder,
+    /// A sphere (a disc in 2D): `center_m`, `radius_m`; lattice and clipping as for a cylinder.
+    Sphere,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -449,6 +468,12 @@ pub struct RegionCfg {
     pub vertices_m: Option<Vec<Vec<f64>>>,
     pub origin_m: Option<Vec<f64>>,
     pub count: Option<Vec<usize>>,
+    /// Cylinder: centre of the base (m); sphere: the centre.
+    pub center_m: Option<Vec<f64>>,
+    /// Cylinder, sphere: radius (m).
+    pub radius_m: Option<f64>,
+    /// Cylinder: height (m), along z.
+    pub height_m: Option<f64>,
     /// Initial particle spacing Δx (m).
     pub spacing_m: f64,
     /// Initial density (kg/m³); default: the material's ρ0.
@@ -482,8 +507,11 @@ pub enum WallKind {
 pub struct WallCfg {
     /// Start point (m).
     pub from_m: Vec<f64>,
-    /// End point (m); equal to from_m in 1D.
+    /// End point (m); equal to from_m in 1D; in 3D the corner opposite `from_m`.
     pub to_m: Vec<f64>,
+    /// 3D: the corner next to `from_m` along the wall's first edge (a parallelogram from_m,
+    /// edge_m, to_m, from_m + to_m − edge_m); absent = an axis-aligned rectangle.
+    pub edge_m: Option<Vec<f64>>,
     #[serde(default = "default_wall_kind")]
     pub kind: WallKind,
 }

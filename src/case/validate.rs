@@ -38,8 +38,18 @@ pub const MAX_OUTPUTS: f64 = 1e6;
 pub const MAX_GAUGES: usize = 1000;
 /// Vertices of one polygon.
 pub const MAX_VERTICES: usize = 4096;
-/// h / Δx of a region (or `sph.h_over_dx`).
+/// h / Δx of `sph.h_over_dx`, and the lower bound of a region's h / Δx.
 pub const H_OVER_DX: (f64, f64) = (0.1, 10.0);
+/// The largest h / Δx of a region in `d` dimensions: a particle has about (4 h/Δx)^d
+/// neighbours within 2h, so the bound keeps that count below some 10⁴ (400 in 1D at 100,
+/// 6 400 in 2D at 20, 64 000 in 3D at 10: the 3D bound is `sph.h_over_dx`'s).
+pub fn h_over_dx_max(d: usize) -> f64 {
+    match d {
+        1 => 100.0,
+        2 => 20.0,
+        _ => H_OVER_DX.1,
+    }
+}
 /// The spacing relative to the largest coordinate of its region: below this, neighbouring
 /// lattice points are not distinct in double precision.
 pub const SPACING_REL: f64 = 1e-9;
@@ -244,7 +254,7 @@ impl Case {
                 }
             }
         }
-        Ok(())
+        super::dims::geometry(self, v)
     }
 
     fn validate_time(&self, v: &mut Checker) -> Result<()> {
@@ -470,6 +480,11 @@ impl Case {
                     }
                     coords(&far);
                 }
+                Shape::Cylinder | Shape::Sphere => {
+                    super::dims::round_shape(v, &at, &at.label, r, d)?;
+                    let (c, rad) = (r.center_m.as_deref().unwrap_or(&[]), r.radius_m.unwrap_or(0.0));
+                    coords(&c.iter().map(|x| x.abs() + rad + r.height_m.unwrap_or(0.0)).collect::<Vec<_>>());
+                }
             }
             if r.spacing_m < SPACING_REL * reach {
                 return Err(input(format!(
@@ -513,12 +528,12 @@ impl Case {
             if let Some(h) = r.h_m {
                 v.num(&at, "h_m", h, Range::above(0.0, X_MAX))?;
                 let ratio = h / r.spacing_m;
-                if !(H_OVER_DX.0..=H_OVER_DX.1).contains(&ratio) {
+                if !(H_OVER_DX.0..=h_over_dx_max(d)).contains(&ratio) {
                     return Err(input(format!(
-                        "{} = {h:e}: {ratio:.3e} spacings (h / spacing_m must be from {} to {})",
+                        "{} = {h:e}: {ratio:.3e} spacings (h / spacing_m must be from {} to {} in {d}D)",
                         at.key("h_m"),
                         H_OVER_DX.0,
-                        H_OVER_DX.1
+                        h_over_dx_max(d)
                     )));
                 }
             }
@@ -542,7 +557,9 @@ impl Case {
             v.vec(&at, "to_m", &w.to_m, d, Range::abs(X_MAX))?;
             v.any(&at, "kind");
             if d == 3 {
-                return Err(input(format!("wall[{k}]: walls are segments (1D, 2D); 3D walls are not supported yet")));
+                super::dims::plane_wall(v, k, w)?;
+            } else if w.edge_m.is_some() {
+                return Err(input(format!("wall[{k}].edge_m: only 3D walls (planes) have one")));
             }
             if d == 2 && w.from_m == w.to_m {
                 return Err(input(format!("wall[{k}]: from_m and to_m coincide")));

@@ -303,6 +303,7 @@ pub const MODULES: &[&str] = &[
     "xsph",
     "smoothing",
     "integrator",
+    "geometry",
     "setup",
     "output",
 ];

@@ -83,6 +83,7 @@ registry! {
     penalty: Penalty => "penalty force between materials (4-53, 4-54)",
     xsph: Xsph => "averaged velocity (XSPH)",
     smoothing: Smoothing => "smoothing-length evolution (2-15, 2-16)",
+    geometry: Geometry => "axisymmetric (RZ): ring masses m/(2 pi r), hoop terms",
     integrator: Integrator => "leapfrog, rate sums, CFL step (2-17..2-27)",
 }
 

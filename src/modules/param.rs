@@ -47,8 +47,16 @@ impl MatTable {
     }
 }
 
-/// Wall segments as the boundary routines take them: `seg(3*dim, nseg)` (start, end, inward
-/// unit normal) and the end-node flag of each.
+/// Values per wall in `Segments::seg`: 3·dim in 1D and 2D (start, end, inward unit normal), 12 in
+/// 3D (a corner, the two edge vectors, the inward unit normal): the Fortran's
+/// `3*dim + 3*(dim/3)`. The normal is always the last `dim` values.
+pub fn seg_len(dim: usize) -> usize {
+    3 * dim + 3 * (dim / 3)
+}
+
+/// Wall segments as the boundary routines take them: `seg(nsv, nseg)` ([`seg_len`]) and the
+/// end-node flag of each (1D, 2D: the end node is the wall's; 3D: the mask of the edges it owns,
+/// 1 the far edge along the first edge vector, 2 along the second, 4 and 8 the near ones).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Segments {
     pub seg: Vec<f64>,
@@ -62,8 +70,9 @@ impl Segments {
     pub fn is_empty(&self) -> bool {
         self.endnode.is_empty()
     }
-    /// Segment `s` (start, end, normal; `dim` values each).
+    /// Segment `s` ([`seg_len`] values).
     pub fn get(&self, dim: usize, s: usize) -> &[f64] {
-        &self.seg[3 * dim * s..3 * dim * (s + 1)]
+        let l = seg_len(dim);
+        &self.seg[l * s..l * (s + 1)]
     }
 }

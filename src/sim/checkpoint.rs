@@ -358,6 +358,8 @@ impl Sim {
             gsrc,
             gseg,
             dt_cfl,
+            rinv,
+            pmass,
         } = w;
         b.put("w.pairs.i", Item::I32(pairs.i.clone()));
         b.put("w.pairs.j", Item::I32(pairs.j.clone()));
@@ -380,6 +382,8 @@ impl Sim {
             ("w.v_min", v_min),
             ("w.tau_min", tau_min),
             ("w.dt_cfl", dt_cfl),
+            ("w.rinv", rinv),
+            ("w.pmass", pmass),
         ] {
             b.put_f64(name, a);
         }
@@ -518,6 +522,8 @@ impl Sim {
             gsrc,
             gseg,
             dt_cfl,
+            rinv,
+            pmass,
         } = w;
         let (pi, pj) = (b.i32("w.pairs.i")?, b.i32("w.pairs.j")?);
         sized("w.pairs.j", pj.len(), pi.len())?;
@@ -544,6 +550,8 @@ impl Sim {
             ("w.v_min", v_min),
             ("w.tau_min", tau_min),
             ("w.dt_cfl", dt_cfl),
+            ("w.rinv", rinv),
+            ("w.pmass", pmass),
         ] {
             *a = b.f64(name)?;
         }

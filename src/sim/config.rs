@@ -6,8 +6,8 @@ use crate::case::{Case, KernelKind, NnpsKind, StepRule};
 use crate::modules::boundary;
 use crate::modules::param::{MatTable, Segments};
 
-/// A wall segment's frame: unit tangent, length (m), unit normal.
-pub type Frame = ([f64; 3], f64, [f64; 3]);
+/// A wall's frame: unit tangent(s), length(s) (m), unit normal.
+pub type Frame = boundary::WallFrame;
 
 #[derive(Debug, Clone)]
 pub struct Config {

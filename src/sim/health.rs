@@ -73,19 +73,19 @@ impl Part {
     }
 }
 
-/// How far (m) the point `x` lies behind the line of the wall segment `sg` (from, then the
-/// normal at `2 dim`) whose frame is `fr`, if it is behind it and within the segment's extent
-/// along it.
+/// How far (m) the point `x` lies behind the line (plane, in 3D) of the wall `sg` (its first
+/// point, then its frame `fr`), if it is behind it and within the wall's extent along it.
 #[inline]
 pub fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
-    let (ut, el, nrm) = fr;
-    let (mut dn, mut tp) = (0.0, 0.0);
+    let (mut dn, mut tp, mut tp2) = (0.0, 0.0, 0.0);
     for d in 0..dim {
         let r = x[d] - sg[d];
-        dn += r * nrm[d];
-        tp += r * ut[d];
+        dn += r * fr.nrm[d];
+        tp += r * fr.t[0][d];
+        tp2 += r * fr.t[1][d];
     }
-    (tp >= 0.0 && tp <= *el && dn < 0.0).then_some(-dn)
+    let along = tp >= 0.0 && tp <= fr.el[0] && (dim < 3 || (tp2 >= 0.0 && tp2 <= fr.el[1]));
+    (along && dn < 0.0).then_some(-dn)
 }
 
 /// What is wrong with particle `i`: the first bad quantity in the order x, v (by component), ρ,

@@ -4,7 +4,7 @@
 
 use super::{MirrorCopy, MirrorFill, MirrorMake, WallForce};
 use crate::modules::ffi_util::{chk, chk_idx, mptr_or, n32, ptr_or};
-use crate::modules::param::NSTR;
+use crate::modules::param::{NSTR, seg_len};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -16,10 +16,10 @@ pub(super) fn wall_force(a: &mut WallForce) {
     let n = a.dvdt.len() / dim;
     let segs = a.segs;
     chk("x", a.x.len(), dim * n);
-    chk("seg", segs.seg.len(), 3 * dim * segs.len());
+    chk("seg", segs.seg.len(), seg_len(dim) * segs.len());
     let (dummy, di) = (0.0, 0i32);
     let c = a.coef;
-    // SAFETY: x and dvdt hold dim × n values, seg 3·dim × nseg (checked above); with no segment
+    // SAFETY: x and dvdt hold dim × n values, seg nsv × nseg (checked above); with no segment
     // the routine reads nothing and one-value dummies stand for seg and endnode.
     unsafe {
         sys::sph_boundary_wall_force(
@@ -46,14 +46,15 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
     let n = a.h.len();
     let segs = a.segs;
     chk("x", a.x.len(), dim * n);
-    chk("seg", segs.seg.len(), 3 * dim * segs.len());
+    chk("seg", segs.seg.len(), seg_len(dim) * segs.len());
+    let ngen = 2 + dim / 3;
     let mut cap = a.gsrc.capacity().max(64);
     loop {
         a.gsrc.resize(cap, 0);
-        a.gseg.resize(2 * cap, 0);
+        a.gseg.resize(ngen * cap, 0);
         let mut ng = 0i32;
-        // SAFETY: x holds dim × n values, h n, seg 3·dim × nseg (checked above); gsrc and gseg
-        // hold cap and 2 cap values, and the routine stores at most maxg = cap mirrors.
+        // SAFETY: x holds dim × n values, h n, seg nsv × nseg (checked above); gsrc and gseg
+        // hold cap and ngen·cap values, and the routine stores at most maxg = cap mirrors.
         unsafe {
             sys::sph_boundary_mirror_make(
                 n32(dim),
@@ -72,7 +73,7 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         let ng = ng as usize;
         if ng <= cap {
             a.gsrc.truncate(ng);
-            a.gseg.truncate(2 * ng);
+            a.gseg.truncate(ngen * ng);
             return;
         }
         cap = ng + ng / 4;
@@ -83,12 +84,13 @@ pub(super) fn mirror_fill(a: &mut MirrorFill) {
     let (dim, n, segs) = (a.dim, a.n, a.segs);
     let ng = a.gsrc.len();
     let nt = n + ng;
-    chk("gseg", a.gseg.len(), 2 * ng);
-    chk("seg", segs.seg.len(), 3 * dim * segs.len());
+    let ngen = 2 + dim / 3;
+    chk("gseg", a.gseg.len(), ngen * ng);
+    chk("seg", segs.seg.len(), seg_len(dim) * segs.len());
     chk_idx("gsrc", a.gsrc, n);
     assert!(
-        a.gseg[..2 * ng].iter().all(|&s| s >= -1 && s < segs.len() as i32)
-            && a.gseg[..2 * ng].chunks(2).all(|c| c[0] >= 0),
+        a.gseg[..ngen * ng].iter().all(|&s| s >= -1 && s < segs.len() as i32)
+            && a.gseg[..ngen * ng].chunks(ngen).all(|c| c[0] >= 0),
         "legacy call: `gseg` names a wall that does not exist"
     );
     chk("x", a.x.len(), dim * nt);

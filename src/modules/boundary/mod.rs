@@ -1,6 +1,9 @@
 //! Boundaries (thesis 4-6-1, after Liu's virt_part and ext_force). Fortran twin: `sph_boundary.f90`.
 //!
-//! Walls are segments `seg(3·dim, nseg)`: start a, end b, inward unit normal n (a point in 1D).
+//! Walls are segments `seg(3·dim, nseg)`: start a, end b, inward unit normal n (a point in 1D);
+//! in 3D plane walls `seg(12, nseg)`: a corner a, edge vectors u and v, the inward unit normal
+//! (parallelograms; the type I nodes a + k1 Δs1 û + k2 Δs2 v̂, the mirrors in a band κh in front
+//! of the plane within its extent, images of images in up to three walls for the corners).
 //! Type I: wall particles at a + k·ds·t (k = 0..nk, the end node only where `endnode`), and the
 //! force per unit mass D[(r0/r)^{n1} − (r0/r)^{n2}] x_ij/r² (m/s²) on a real particle within r0.
 //! Type II: mirror images of the real particles within κh of a wall (and images of those in a
@@ -13,6 +16,7 @@ mod parity;
 mod rust;
 
 pub(crate) use rust::frame;
+pub use rust::WallFrame;
 
 use super::param::Segments;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Terms, Twin};

@@ -1,6 +1,6 @@
 //! Parity of the boundaries: the wall force, and the mirrors (list, fill in free and no slip,
-//! with and without τ, copy), for a 1D column and 2D boxes, one turned so no normal is along an
-//! axis.
+//! with and without τ, copy), for a 1D column, 2D boxes and 3D cubes (walls as planes), one of
+//! each turned so no normal is along an axis.
 
 use super::{MirrorCopy, MirrorFill, MirrorMake, WallCoef, WallForce};
 use crate::modules::param::{NSTR, Segments};
@@ -32,6 +32,46 @@ fn walled_box(side: usize, angle: f64, seed: u64) -> (Cloud, Segments) {
         segs.endnode.push(i32::from(s % 2 == 0));
     }
     (filled(&mut g, 2, n, dx, x, 0.1, 0.2), segs)
+}
+
+/// A cube of `side³` particles (spacing dx, jittered) in the corner of three walls x = 0, y = 0,
+/// z = 0 and a fourth x = l (3D walls: `seg(12, nseg)`, a corner, two edge vectors, the inward
+/// normal; the edge masks drop the edges an earlier wall owns), turned by `angle` about z and
+/// then about x so no normal is along an axis.
+fn walled_cube(side: usize, angle: f64, seed: u64) -> (Cloud, Segments) {
+    let mut g = Rng::new(seed);
+    let dx = 0.01;
+    let l = side as f64 * dx;
+    let (cs, sn) = (angle.cos(), angle.sin());
+    let rot = |p: [f64; 3]| {
+        let q = [cs * p[0] - sn * p[1], sn * p[0] + cs * p[1], p[2]];
+        [q[0], cs * q[1] - sn * q[2], sn * q[1] + cs * q[2]]
+    };
+    let n = side * side * side;
+    let mut x = Vec::with_capacity(3 * n);
+    for k in 0..n {
+        let (a, b, c) = ((k % side) as f64, ((k / side) % side) as f64, (k / (side * side)) as f64);
+        let j = |t: f64, g: &mut Rng| (t + 0.5 + g.range(-0.35, 0.35)) * dx;
+        let p = [j(a, &mut g), j(b, &mut g), j(c, &mut g)];
+        x.extend_from_slice(&rot(p));
+    }
+    // ([corner, u, v, normal], edge mask)
+    type Wall = ([[f64; 3]; 4], i32);
+    let walls: [Wall; 4] = [
+        ([[0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, 1.0]], 15),
+        ([[0.0, 0.0, 0.0], [l, 0.0, 0.0], [0.0, 0.0, l], [0.0, 1.0, 0.0]], 7),
+        ([[0.0, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [1.0, 0.0, 0.0]], 3),
+        ([[l, 0.0, 0.0], [0.0, l, 0.0], [0.0, 0.0, l], [-1.0, 0.0, 0.0]], 3),
+    ];
+    let mut segs = Segments::default();
+    for ([a, u, v, nrm], mask) in walls {
+        segs.seg.extend_from_slice(&rot(a));
+        segs.seg.extend_from_slice(&rot(u));
+        segs.seg.extend_from_slice(&rot(v));
+        segs.seg.extend_from_slice(&rot(nrm));
+        segs.endnode.push(mask);
+    }
+    (filled(&mut g, 3, n, dx, x, 0.1, 0.2), segs)
 }
 
 /// A 1D column between two point walls.
@@ -72,6 +112,10 @@ fn walled_cases() -> Vec<(String, Cloud, Segments)> {
     v.push(("2D box".to_string(), c, s));
     let (c, s) = walled_box(16, 0.37, 123);
     v.push(("2D turned box".to_string(), c, s));
+    let (c, s) = walled_cube(8, 0.0, 124);
+    v.push(("3D cube".to_string(), c, s));
+    let (c, s) = walled_cube(8, 0.37, 125);
+    v.push(("3D turned cube".to_string(), c, s));
     v
 }
 
@@ -111,6 +155,10 @@ fn boundary_mirrors_make_fill_copy() {
         if dim == 2 {
             let second = (0..ng).filter(|&g| gf[2 * g + 1] >= 0).count();
             assert!(second > 0, "{name}: no second-generation (corner) mirror");
+        }
+        if dim == 3 {
+            let third = (0..ng).filter(|&g| gf[3 * g + 2] >= 0).count();
+            assert!(third > 0, "{name}: no third-generation (corner of three walls) mirror");
         }
         let nt = n + ng;
         // real part copied from the cloud, mirror part a sentinel

@@ -57,8 +57,10 @@ impl Twin for Rate<'_> {
     }
 }
 
-/// Summation density of every particle, mirrors included.
-pub struct SumStage;
+/// Summation density of every particle, mirrors included (axisymmetric: of the planar masses).
+pub struct SumStage {
+    rz: bool,
+}
 
 impl Stage for SumStage {
     fn module(&self) -> Module {
@@ -68,20 +70,27 @@ impl Stage for SumStage {
         "density.summation"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::W, Field::W0, Field::Mass]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::W, Field::W0, Field::Pmass]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::W, Field::W0, Field::Mass]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Rho]
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let nt = p.ntotal;
-        Summation { pairs: &w.pairs, w: &w.w, w0: &w.w0, mass: &p.mass[..nt], rho: &mut p.rho[..nt] }.run(b);
+        let mass = if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] };
+        Summation { pairs: &w.pairs, w: &w.w, w0: &w.w0, mass, rho: &mut p.rho[..nt] }.run(b);
     }
 }
 
 /// The continuity rate of every particle.
 pub struct RateStage {
     volume: bool,
+    /// Axisymmetric: the plane rate of the planar masses (the hoop term is the geometry module's).
+    rz: bool,
 }
 
 impl Stage for RateStage {
@@ -92,10 +101,11 @@ impl Stage for RateStage {
         if self.volume { "density.rate_vol" } else { "density.rate" }
     }
     fn reads(&self) -> &[Field] {
-        if self.volume {
-            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::V]
-        } else {
-            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::V]
+        match (self.volume, self.rz) {
+            (true, false) => &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::V],
+            (false, false) => &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::V],
+            (true, true) => &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::Rho, Field::V],
+            (false, true) => &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::V],
         }
     }
     fn writes(&self) -> &[Field] {
@@ -107,7 +117,8 @@ impl Stage for RateStage {
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt) = (p.dim, p.ntotal);
         let (pairs, dwdx) = (&w.pairs, &w.dwdx);
-        let (mass, rho, v) = (&p.mass[..nt], &p.rho[..nt], &p.v[..dim * nt]);
+        let mass = if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] };
+        let (rho, v) = (&p.rho[..nt], &p.v[..dim * nt]);
         Rate { dim, volume: self.volume, pairs, dwdx, mass, rho, v, drho: &mut w.drho }.run(b);
     }
 }
@@ -116,16 +127,17 @@ impl Stage for RateStage {
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let sph = &ctx.case.sph;
     let volume = sph.continuity_form == ContinuityForm::Volume;
+    let rz = ctx.case.axisymmetric();
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
     let why = match sph.density {
         DensityKind::Summation => {
-            stages.push((Phase::Density, Box::new(SumStage)));
+            stages.push((Phase::Density, Box::new(SumStage { rz })));
             "summation".to_string()
         }
         DensityKind::Continuity => format!("continuity, {:?} form", sph.continuity_form).to_lowercase(),
     };
     if sph.density == DensityKind::Continuity || sph.smoothing == SmoothingKind::Rate {
-        stages.push((Phase::DensityRate, Box::new(RateStage { volume })));
+        stages.push((Phase::DensityRate, Box::new(RateStage { volume, rz })));
     }
     Contribution::run(why, stages)
 }

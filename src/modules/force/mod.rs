@@ -43,6 +43,8 @@ impl Twin for Internal<'_> {
 /// The pressure (and stress) terms of the rate sums.
 pub struct ForceStage {
     slots: Slots,
+    /// Axisymmetric: the pair sums of the planar masses.
+    rz: bool,
 }
 
 impl Stage for ForceStage {
@@ -53,7 +55,11 @@ impl Stage for ForceStage {
         "force.internal"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::P, Field::V, Field::Tau]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::Rho, Field::P, Field::V, Field::Tau]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::P, Field::V, Field::Tau]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Acc, Field::Dde]
@@ -67,7 +73,7 @@ impl Stage for ForceStage {
             dim,
             pairs: &w.pairs,
             dwdx: &w.dwdx,
-            mass: &p.mass[..nt],
+            mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
             rho: &p.rho[..nt],
             p: &p.p[..nt],
             v: &p.v[..dim * nt],
@@ -88,5 +94,6 @@ impl Stage for ForceStage {
 /// Every case has the internal force.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let why = if crate::setup::has_strength(ctx.case) { "sigma = -p I + tau" } else { "pressure only" };
-    Contribution::run(why, vec![(Phase::Rates, Box::new(ForceStage { slots: Slots::default() }))])
+    let rz = ctx.case.axisymmetric();
+    Contribution::run(why, vec![(Phase::Rates, Box::new(ForceStage { slots: Slots::default(), rz }))])
 }

@@ -49,6 +49,8 @@ pub struct PenaltyStage {
     mt: MatTable,
     coef: Coef,
     slots: Slots,
+    /// Axisymmetric: the force per unit length of a ring, divided by the planar mass.
+    rz: bool,
 }
 
 impl Stage for PenaltyStage {
@@ -59,7 +61,11 @@ impl Stage for PenaltyStage {
         "penalty.force"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::X, Field::H, Field::Mass, Field::Mat]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::X, Field::H, Field::Pmass, Field::Mat]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::X, Field::H, Field::Mass, Field::Mat]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Acc]
@@ -69,7 +75,8 @@ impl Stage for PenaltyStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt) = (p.dim, p.ntotal);
-        let (x, h, mass, mat) = (&p.x[..dim * nt], &p.h[..nt], &p.mass[..nt], &p.mat[..nt]);
+        let mass = if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] };
+        let (x, h, mat) = (&p.x[..dim * nt], &p.h[..nt], &p.mat[..nt]);
         let dvdt = &mut w.acc[self.slots.acc_range(dim * nt)];
         Force { dim, pairs: &w.pairs, x, h, mass, mat, mt: &self.mt, coef: self.coef, dvdt }.run(b);
     }
@@ -95,6 +102,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
                     mt: ctx.mt.clone(),
                     coef: Coef { pbar: p.pbar, n1: p.n1, n2: p.n2 },
                     slots: Slots::default(),
+                    rz: case.axisymmetric(),
                 }),
             )],
         ),

@@ -1,6 +1,10 @@
 //! Smoothing-length evolution (thesis (2-15), (2-16); Liu's h_upgrade):
 //! from density h_i = h0_i (ρ0_i/ρ_i)^{1/d}; rate dh_i/dt = −(h_i/(ρ_i d)) Dρ_i/Dt (m/s), with
-//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Fortran twin: `sph_smoothing.f90`.
+//! Dρ_i/Dt the continuity sum; h_i ← h_i + θ Δt dh_i/dt. Axisymmetric (RZ) geometry: h follows
+//! the particle spacing in the r-z plane, so the rate reads the plane part of Dρ/Dt (the geometry
+//! module adds the hoop term −ρ v_r/r after it) and h from density is h0 (η0/η)^{1/2}, η = ρ r
+//! (∝ the planar density of the ring masses), with ρ0 r0 kept in `rho0`. Fortran twin:
+//! `sph_smoothing.f90`.
 //! Tier: 0 ULP in 1D and 2D (division, √), and in 3D (`pow`, the same C library on both sides).
 
 mod ffi;
@@ -17,7 +21,10 @@ pub struct FromDensity<'a> {
     pub dim: usize,
     pub rho: &'a [f64],
     pub h0: &'a [f64],
+    /// ρ0 (kg/m³); axisymmetric: ρ0 r0 (kg/m²).
     pub rho0: &'a [f64],
+    /// Axisymmetric: 1/r* (1/m) of the geometry module; empty in plane geometry.
+    pub rinv: &'a [f64],
     pub h: &'a mut [f64],
 }
 
@@ -75,6 +82,8 @@ enum Which {
 /// A stage of the smoothing module (real particles only).
 pub struct SmoothingStage {
     which: Which,
+    /// Axisymmetric geometry.
+    rz: bool,
 }
 
 impl Stage for SmoothingStage {
@@ -90,6 +99,7 @@ impl Stage for SmoothingStage {
     }
     fn reads(&self) -> &[Field] {
         match self.which {
+            Which::FromDensity if self.rz => &[Field::Rho, Field::Rinv],
             Which::FromDensity => &[Field::Rho],
             Which::Rate => &[Field::Rho, Field::H, Field::Drho],
             Which::Advance(_) => &[Field::Dhdt],
@@ -103,8 +113,19 @@ impl Stage for SmoothingStage {
     }
     fn register(&self, p: &mut Particles) {
         if let Which::FromDensity = self.which {
-            p.h0 = p.h[..p.nreal].to_vec();
-            p.rho0 = p.rho[..p.nreal].to_vec();
+            let n = p.nreal;
+            p.h0 = p.h[..n].to_vec();
+            p.rho0 = p.rho[..n].to_vec();
+            if self.rz {
+                // η0 = ρ0 r0*, r* = max(|r|, h/4) as the geometry module takes it
+                for i in 0..n {
+                    let mut rs = p.x[2 * i].abs();
+                    if rs < 0.25 * p.h[i] {
+                        rs = 0.25 * p.h[i];
+                    }
+                    p.rho0[i] *= rs;
+                }
+            }
         }
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
@@ -116,7 +137,8 @@ impl Stage for SmoothingStage {
         let (dim, n) = (p.dim, p.nreal);
         match self.which {
             Which::FromDensity => {
-                FromDensity { dim, rho: &p.rho[..n], h0: &p.h0, rho0: &p.rho0, h: &mut p.h[..n] }.run(b)
+                let rinv: &[f64] = if self.rz { &w.rinv[..n] } else { &[] };
+                FromDensity { dim, rho: &p.rho[..n], h0: &p.h0, rho0: &p.rho0, rinv, h: &mut p.h[..n] }.run(b)
             }
             Which::Rate => Rate { dim, rho: &p.rho[..n], h: &p.h[..n], drho: &w.drho[..n], dhdt: &mut w.dhdt }.run(b),
             Which::Advance(theta) => Advance { dt: k.dt, theta, dhdt: &w.dhdt, h: &mut p.h[..n] }.run(b),
@@ -131,7 +153,8 @@ impl Stage for SmoothingStage {
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let sph = &ctx.case.sph;
     let why = format!("{:?}", sph.smoothing).to_lowercase();
-    let st = |which| Box::new(SmoothingStage { which }) as Box<dyn Stage>;
+    let rz = ctx.case.axisymmetric();
+    let st = |which| Box::new(SmoothingStage { which, rz }) as Box<dyn Stage>;
     match sph.smoothing {
         SmoothingKind::Constant => Contribution::skip(why),
         SmoothingKind::Density => Contribution::run(why, vec![(Phase::Smooth, st(Which::FromDensity))]),

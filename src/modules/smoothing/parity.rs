@@ -13,10 +13,19 @@ fn smoothing_from_density_rate_advance() {
     let h = g.vec(n, 0.005, 0.03);
     let drho = g.vec(n, -5e6, 5e6);
     let dhdt = g.vec(n, -20.0, 20.0);
+    let rinv = g.vec(n, 1.0, 500.0);
     for dim in 1..=3 {
         parity(&format!("smoothing::from_density {dim}D"), 0, ["h"], [sentinel(n)], |b, [hh]| {
-            run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, h: hh }, b)
+            run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &rho0, rinv: &[], h: hh }, b)
         });
+        if dim == 2 {
+            // axisymmetric: rho0 holds ρ0 r0
+            let eta0: Vec<f64> = rho0.iter().zip(&rinv).map(|(r, ri)| r / ri).collect();
+            let [hr] = parity("smoothing::from_density RZ", 0, ["h"], [sentinel(n)], |b, [hh]| {
+                run(FromDensity { dim, rho: &rho, h0: &h0, rho0: &eta0, rinv: &rinv, h: hh }, b)
+            });
+            nonzero("smoothing::from_density RZ", &hr);
+        }
         parity(&format!("smoothing::rate {dim}D"), 0, ["dhdt"], [sentinel(n)], |b, [o]| {
             run(Rate { dim, rho: &rho, h: &h, drho: &drho, dhdt: o }, b)
         });

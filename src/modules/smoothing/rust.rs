@@ -4,9 +4,14 @@ use super::{Advance, FromDensity, Rate};
 use crate::modules::par_rows;
 
 pub(super) fn from_density(a: &mut FromDensity) {
-    let FromDensity { dim, rho, h0, rho0, h } = a;
+    let FromDensity { dim, rho, h0, rho0, rinv, h } = a;
     let dim = *dim;
     par_rows(h, 1, |i, hi| {
+        if let Some(ri) = rinv.get(i) {
+            // axisymmetric: η0 = ρ0 r0 in rho0, h follows the spacing in the r-z plane
+            hi[0] = h0[i] * (rho0[i] * ri / rho[i]).sqrt();
+            return;
+        }
         hi[0] = match dim {
             1 => h0[i] * (rho0[i] / rho[i]),
             2 => h0[i] * (rho0[i] / rho[i]).sqrt(),

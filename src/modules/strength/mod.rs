@@ -2,8 +2,10 @@
 //! L_i^{αβ} = Σ_j (m_j/ρ_j)(v_j^α − v_i^α) ∂W_ij/∂x_i^β (1/s); ε̇ = (L + Lᵀ)/2, R = (L − Lᵀ)/2;
 //! Jaumann dτ/dt = 2G(ε̇ − ⅓ tr ε̇ I) + τ Rᵀ + R τ (Pa/s); deviatoric work τ:ε̇/ρ (J/kg/s).
 //! Drucker–Prager return: Y = 3 α_φ p + k; Y ≤ 0 → τ = 0 (tension cut-off); √J2 > Y → τ ← τ Y/√J2.
-//! Plane strain: out-of-plane rates zero, τ_zz kept. Stress order xx, yy, zz, xy, xz, yz.
-//! Fortran twin: `sph_strength.f90`.
+//! Plane strain: out-of-plane rates zero, τ_zz kept. Axisymmetric (RZ, x = r, y = z): zz is the
+//! hoop direction θ, ε̇_θθ = v_r/r (`rinv` = 1/r* of the geometry module) enters the Jaumann rate,
+//! the trace and the work, and the pair sums take the planar mass m/(2πr). Stress order xx, yy,
+//! zz, xy, xz, yz. Fortran twin: `sph_strength.f90`.
 
 mod ffi;
 #[cfg(test)]
@@ -29,6 +31,8 @@ pub struct Rates<'a> {
     pub mt: &'a MatTable,
     /// Deviatoric stress (Pa), NSTR × ntotal.
     pub tau: &'a [f64],
+    /// Axisymmetric geometry: 1/r* (1/m) of every particle, ntotal; empty in plane geometry.
+    pub rinv: &'a [f64],
     /// ε̇ (1/s), NSTR × ntotal.
     pub eps: &'a mut [f64],
     /// R (xy, xz, yz; 1/s), 3 × ntotal.
@@ -69,6 +73,8 @@ impl Twin for Yield<'_> {
 pub struct RatesStage {
     mt: MatTable,
     slots: Slots,
+    /// Axisymmetric: the planar mass and 1/r of the geometry module.
+    rz: bool,
 }
 
 impl Stage for RatesStage {
@@ -79,7 +85,11 @@ impl Stage for RatesStage {
         "strength.rates"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::V, Field::Mat, Field::Tau]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::Rho, Field::V, Field::Mat, Field::Tau, Field::Rinv]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::V, Field::Mat, Field::Tau]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Eps, Field::Rot, Field::Dtau, Field::Dde]
@@ -97,17 +107,20 @@ impl Stage for RatesStage {
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, n, nt) = (p.dim, p.nreal, p.ntotal);
         let de = self.slots.de_range(nt);
+        let (mass, rinv): (&[f64], &[f64]) =
+            if self.rz { (&w.pmass[..nt], &w.rinv[..nt]) } else { (&p.mass[..nt], &[]) };
         Rates {
             dim,
             nreal: n,
             pairs: &w.pairs,
             dwdx: &w.dwdx,
-            mass: &p.mass[..nt],
+            mass,
             rho: &p.rho[..nt],
             v: &p.v[..dim * nt],
             mat: &p.mat[..nt],
             mt: &self.mt,
             tau: &p.tau,
+            rinv,
             eps: &mut w.eps,
             rot: &mut w.rot,
             dtau: &mut w.dtau,
@@ -153,10 +166,11 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         return Contribution::skip("fluids only: no stress arrays");
     }
     let mt = ctx.mt.clone();
+    let rz = ctx.case.axisymmetric();
     Contribution::run(
-        "materials with strength present",
+        if rz { "materials with strength present; hoop strain rate v_r/r" } else { "materials with strength present" },
         vec![
-            (Phase::Rates, Box::new(RatesStage { mt: mt.clone(), slots: Slots::default() })),
+            (Phase::Rates, Box::new(RatesStage { mt: mt.clone(), slots: Slots::default(), rz })),
             (Phase::Correct, Box::new(YieldStage { mt })),
         ],
     )

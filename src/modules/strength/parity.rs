@@ -27,18 +27,27 @@ fn strength_rates_mixed_materials() {
         let (_, dwdx) = kernel_values(&cl, &pl);
         let (nt, n) = (cl.nt, cl.nreal);
         assert!(cl.mat[..n].contains(&1), "no G = 0 particle");
-        let tag = format!("strength::rates {dim}D seed {seed}");
-        let outs = [sentinel(NSTR * nt), sentinel(3 * nt), sentinel(NSTR * n), sentinel(n)];
-        let [_, _, dtau, _] = parity(&tag, 0, ["eps", "rot", "dtau", "dedt"], outs, |b, [eps, rot, dtau, dedt]| {
-            let (mass, rho, v, mat, tau) = (&cl.mass, &cl.rho, &cl.v, &cl.mat, &cl.tau);
-            let pairs = &pl;
-            run(Rates { dim, nreal: n, pairs, dwdx: &dwdx, mass, rho, v, mat, mt: &mt, tau, eps, rot, dtau, dedt }, b)
-        });
-        nonzero(&tag, &dtau);
-        // G = 0: no stress rate
-        for i in 0..n {
-            if cl.mat[i] == 1 {
-                assert!(dtau[NSTR * i..NSTR * i + NSTR].iter().all(|v| *v == 0.0));
+        // plane, and in 2D also axisymmetric (1/r of every particle: the hoop strain rate)
+        let rz: Vec<f64> = (0..nt).map(|i| 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i])).collect();
+        for rinv in if dim == 2 { vec![&[][..], &rz[..]] } else { vec![&[][..]] } {
+            let tag = format!("strength::rates {dim}D seed {seed} rz {}", !rinv.is_empty());
+            let outs = [sentinel(NSTR * nt), sentinel(3 * nt), sentinel(NSTR * n), sentinel(n)];
+            let [eps, _, dtau, _] = parity(&tag, 0, ["eps", "rot", "dtau", "dedt"], outs, |b, [eps, rot, dtau, dedt]| {
+                let (mass, rho, v, mat, tau) = (&cl.mass, &cl.rho, &cl.v, &cl.mat, &cl.tau);
+                let pairs = &pl;
+                run(Rates { dim, nreal: n, pairs, dwdx: &dwdx, mass, rho, v, mat, mt: &mt, tau, rinv, eps, rot, dtau, dedt }, b)
+            });
+            nonzero(&tag, &dtau);
+            // G = 0: no stress rate
+            for i in 0..n {
+                if cl.mat[i] == 1 {
+                    assert!(dtau[NSTR * i..NSTR * i + NSTR].iter().all(|v| *v == 0.0));
+                }
+            }
+            // the hoop strain rate is v_r/r in RZ, zero in plane strain
+            for i in 0..nt {
+                let want = if rinv.is_empty() { 0.0 } else { cl.v[dim * i] * rinv[i] };
+                assert_eq!(eps[2 + NSTR * i], if dim == 3 { eps[2 + NSTR * i] } else { want }, "{tag}: eps_zz of {i}");
             }
         }
     }

@@ -11,7 +11,7 @@ use crate::modules::{by_dim, par_rows, par_rows2};
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
 pub(super) fn rates(a: &mut Rates) {
-    let Rates { dim, nreal, pairs: pl, dwdx, mass, rho, v, mat, mt, tau, eps, rot, dtau, dedt } = a;
+    let Rates { dim, nreal, pairs: pl, dwdx, mass, rho, v, mat, mt, tau, rinv, eps, rot, dtau, dedt } = a;
     let (dim, nreal) = (*dim, *nreal);
     let nt = mass.len();
     let shear = (SPH_MP_SHEAR - 1) as usize;
@@ -19,7 +19,7 @@ pub(super) fn rates(a: &mut Rates) {
     buf.part.resize(nt, 0.0);
     par_rows(&mut buf.part[..nt], 1, |a, r| r[0] = mass[a] / rho[a]);
     let vol: &[f64] = &buf.part;
-    by_dim!(dim, 0, velocity_gradient(pl, dwdx, vol, v, &mut eps[..NSTR * nt], &mut rot[..3 * nt]));
+    by_dim!(dim, 0, velocity_gradient(pl, dwdx, vol, v, rinv, &mut eps[..NSTR * nt], &mut rot[..3 * nt]));
     let eps: &[f64] = eps;
     let rot: &[f64] = rot;
     par_rows2(&mut dtau[..NSTR * nreal], NSTR, &mut dedt[..nreal], 1, |i, dt, de| {
@@ -66,12 +66,14 @@ pub(super) fn rates(a: &mut Rates) {
     });
 }
 
-/// ε̇ and R of every particle from L = Σ_j (m_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij, gathered in pair order.
+/// ε̇ and R of every particle from L = Σ_j (m_j/ρ_j)(v_j − v_i) ⊗ ∇_i W_ij, gathered in pair order;
+/// with `rinv` (axisymmetric), ε̇_θθ = v_r/r.
 fn velocity_gradient<const D: usize, const W: usize>(
     pl: &PairList,
     dwdx: &[f64],
     vol: &[f64],
     v: &[f64],
+    rinv: &[f64],
     eps: &mut [f64],
     rot: &mut [f64],
 ) {
@@ -98,6 +100,10 @@ fn velocity_gradient<const D: usize, const W: usize>(
                 e3[al][be] = 0.5 * (gl[al][be] + gl[be][al]);
                 r3[al][be] = 0.5 * (gl[al][be] - gl[be][al]);
             }
+        }
+        if let Some(ri) = rinv.get(a) {
+            // axisymmetric: the hoop strain rate v_r/r
+            e3[2][2] = va[0] * ri;
         }
         eps.copy_from_slice(&[e3[0][0], e3[1][1], e3[2][2], e3[0][1], e3[0][2], e3[1][2]]);
         rot.copy_from_slice(&[r3[0][1], r3[0][2], r3[1][2]]);

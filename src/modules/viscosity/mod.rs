@@ -54,6 +54,8 @@ impl Twin for Monaghan<'_> {
 pub struct ViscosityStage {
     coef: Coef,
     slots: Slots,
+    /// Axisymmetric: the pair sums of the planar masses.
+    rz: bool,
 }
 
 impl Stage for ViscosityStage {
@@ -64,7 +66,11 @@ impl Stage for ViscosityStage {
         "viscosity.monaghan"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::H, Field::Rho, Field::C, Field::Mass]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::H, Field::Rho, Field::C, Field::Pmass]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::H, Field::Rho, Field::C, Field::Mass]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Acc, Field::Dde]
@@ -83,7 +89,7 @@ impl Stage for ViscosityStage {
             h: &p.h[..nt],
             rho: &p.rho[..nt],
             c: &p.c[..nt],
-            mass: &p.mass[..nt],
+            mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
             coef: self.coef,
             dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
             dedt: &mut w.dde[self.slots.de_range(nt)],
@@ -104,7 +110,8 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let why = format!("alpha = {}, beta = {}", v.alpha, v.beta);
     if v.alpha > 0.0 || v.beta > 0.0 {
         let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
-        Contribution::run(why, vec![(Phase::Rates, Box::new(ViscosityStage { coef, slots: Slots::default() }))])
+        let rz = ctx.case.axisymmetric();
+        Contribution::run(why, vec![(Phase::Rates, Box::new(ViscosityStage { coef, slots: Slots::default(), rz }))])
     } else {
         Contribution::skip(why)
     }

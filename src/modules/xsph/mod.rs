@@ -38,6 +38,8 @@ impl Twin for Average<'_> {
 /// The XSPH velocity correction.
 pub struct XsphStage {
     eps: f64,
+    /// Axisymmetric: the planar masses.
+    rz: bool,
 }
 
 impl Stage for XsphStage {
@@ -48,7 +50,11 @@ impl Stage for XsphStage {
         "xsph.average"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::W, Field::Mass, Field::Rho, Field::V]
+        if self.rz {
+            &[Field::PairI, Field::PairJ, Field::W, Field::Pmass, Field::Rho, Field::V]
+        } else {
+            &[Field::PairI, Field::PairJ, Field::W, Field::Mass, Field::Rho, Field::V]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Av]
@@ -58,7 +64,8 @@ impl Stage for XsphStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt) = (p.dim, p.ntotal);
-        let (mass, rho, v) = (&p.mass[..nt], &p.rho[..nt], &p.v[..dim * nt]);
+        let mass = if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] };
+        let (rho, v) = (&p.rho[..nt], &p.v[..dim * nt]);
         Average { dim, pairs: &w.pairs, w: &w.w, mass, rho, v, eps: self.eps, av: &mut w.av }.run(b);
     }
 }
@@ -68,7 +75,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let eps = ctx.case.sph.xsph_eps;
     let why = format!("eps = {eps}");
     if eps > 0.0 {
-        Contribution::run(why, vec![(Phase::Rates, Box::new(XsphStage { eps }))])
+        Contribution::run(why, vec![(Phase::Rates, Box::new(XsphStage { eps, rz: ctx.case.axisymmetric() }))])
     } else {
         Contribution::skip(why)
     }

@@ -1,0 +1,132 @@
+//! Validation of what depends on the dimension and the geometry: the axisymmetric (RZ) geometry,
+//! the round shapes (cylinder, sphere) and the 3D walls (planes). One-line errors naming the key.
+
+use super::types::*;
+use super::validate::{At, Checker, Range, X_MAX};
+use crate::error::{Result, input};
+
+/// A `cylinder` or `sphere` region: its centre, radius (and height) and optional clip box.
+pub(super) fn round_shape(v: &mut Checker, at: &At, label: &str, r: &RegionCfg, d: usize) -> Result<()> {
+    let what = if r.shape == Shape::Cylinder { "cylinder" } else { "sphere" };
+    if r.shape == Shape::Cylinder && d != 3 {
+        return Err(input(format!(
+            "{label}: shape = \"cylinder\" needs dim = 3 (in 2D a cylinder's section is a box, plane or axisymmetric)"
+        )));
+    }
+    if d < 2 {
+        return Err(input(format!("{label}: shape = \"sphere\" needs dim = 2 or 3")));
+    }
+    let c = r.center_m.as_ref().ok_or_else(|| input(format!("{label}.center_m: required for shape = \"{what}\"")))?;
+    v.vec(at, "center_m", c, d, Range::abs(X_MAX))?;
+    let rad = r.radius_m.ok_or_else(|| input(format!("{label}.radius_m: required for shape = \"{what}\"")))?;
+    v.num(at, "radius_m", rad, Range::above(0.0, X_MAX))?;
+    if r.shape == Shape::Cylinder {
+        let h = r.height_m.ok_or_else(|| input(format!("{label}.height_m: required for shape = \"cylinder\"")))?;
+        v.num(at, "height_m", h, Range::above(0.0, X_MAX))?;
+    } else if r.height_m.is_some() {
+        return Err(input(format!("{label}.height_m: only a cylinder has a height")));
+    }
+    match (&r.lo_m, &r.hi_m) {
+        (None, None) => Ok(()),
+        (Some(lo), Some(hi)) => {
+            v.vec(at, "lo_m", lo, d, Range::abs(X_MAX))?;
+            v.vec(at, "hi_m", hi, d, Range::abs(X_MAX))?;
+            match (0..d).find(|&a| hi[a] <= lo[a]) {
+                Some(a) => Err(input(format!("{label}: hi_m[{a}] = {} must exceed lo_m[{a}] = {}", hi[a], lo[a]))),
+                None => Ok(()),
+            }
+        }
+        _ => Err(input(format!("{label}: the clip box of a {what} needs both lo_m and hi_m"))),
+    }
+}
+
+/// A 3D wall: an axis-aligned rectangle (`from_m`, `to_m` opposite corners in a plane x, y or z =
+/// const), or with `edge_m` a parallelogram.
+pub(super) fn plane_wall(v: &mut Checker, k: usize, w: &WallCfg) -> Result<()> {
+    let (a, b) = (&w.from_m, &w.to_m);
+    let at = At::top("wall");
+    match &w.edge_m {
+        Some(e) => {
+            v.vec(&at, "edge_m", e, 3, Range::abs(X_MAX))?;
+            let u: Vec<f64> = (0..3).map(|d| e[d] - a[d]).collect();
+            let q: Vec<f64> = (0..3).map(|d| b[d] - e[d]).collect();
+            let n = [u[1] * q[2] - u[2] * q[1], u[2] * q[0] - u[0] * q[2], u[0] * q[1] - u[1] * q[0]];
+            let len = |x: &[f64]| x.iter().map(|c| c * c).sum::<f64>().sqrt();
+            if len(&u) == 0.0 || len(&q) == 0.0 || len(&n) <= 1e-9 * len(&u) * len(&q) {
+                return Err(input(format!(
+                    "wall[{k}]: from_m, edge_m and to_m must be three corners of a parallelogram (two edges that are not parallel)"
+                )));
+            }
+            Ok(())
+        }
+        None => {
+            let same = (0..3).filter(|&d| a[d] == b[d]).count();
+            if same != 1 {
+                return Err(input(format!(
+                    "wall[{k}]: a 3D wall without edge_m is an axis-aligned rectangle: from_m and to_m are opposite corners and differ in exactly two coordinates"
+                )));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The checks of `geometry = "axisymmetric"`.
+pub(super) fn geometry(c: &Case, v: &mut Checker) -> Result<()> {
+    v.any(&At::top(""), "geometry");
+    if !c.axisymmetric() {
+        return Ok(());
+    }
+    if c.dim != 2 {
+        return Err(input(format!("geometry = \"axisymmetric\" needs dim = 2 (x = r, y = z), got dim = {}", c.dim)));
+    }
+    let neg = |key: String, x: f64| -> Result<()> {
+        if x < 0.0 {
+            Err(input(format!("{key} = {x}: in axisymmetric geometry x is the radius r >= 0")))
+        } else {
+            Ok(())
+        }
+    };
+    for (k, r) in c.regions.iter().enumerate() {
+        let key = format!("region[{k}] ({})", r.name);
+        match r.shape {
+            Shape::Box => neg(format!("{key}.lo_m[0]"), r.lo_m.as_ref().map_or(0.0, |v| v[0]))?,
+            Shape::Lattice => neg(format!("{key}.origin_m[0]"), r.origin_m.as_ref().map_or(0.0, |v| v[0]))?,
+            Shape::Polygon => {
+                for (q, p) in r.vertices_m.iter().flatten().enumerate() {
+                    neg(format!("{key}.vertices_m[{q}][0]"), p[0])?;
+                }
+            }
+            // the points of a sphere with x < 0 are not generated
+            Shape::Cylinder | Shape::Sphere => {}
+        }
+        if r.mass_kg.is_some() {
+            return Err(input(format!(
+                "{key}.mass_kg: not in axisymmetric geometry (each particle is a ring of mass 2 pi r rho dx^2)"
+            )));
+        }
+    }
+    if let Some(g) = &c.physics.gravity_ms2
+        && g[0] != 0.0
+    {
+        return Err(input("physics.gravity_ms2: in axisymmetric geometry gravity is along the axis: [0, g_z]"));
+    }
+    for (k, w) in c.walls.iter().enumerate() {
+        neg(format!("wall[{k}].from_m[0]"), w.from_m[0])?;
+        neg(format!("wall[{k}].to_m[0]"), w.to_m[0])?;
+        if w.from_m[0] == 0.0 && w.to_m[0] == 0.0 {
+            return Err(input(format!(
+                "wall[{k}]: lies on the axis r = 0, which is a mirror already in axisymmetric geometry"
+            )));
+        }
+    }
+    if let Some(d) = &c.detonation
+        && let Some(p) = &d.point_m
+    {
+        neg("detonation.point_m[0]".into(), p[0])?;
+    }
+    for (k, g) in c.gauges.iter().enumerate() {
+        neg(format!("gauge[{k}].point_m[0]"), g.point_m[0])?;
+    }
+    Ok(())
+}

@@ -1,0 +1,47 @@
+//! Parity of the axisymmetric geometry: the ring quantities (both branches of r* = max(|r|, h/4),
+//! mirrors at r < 0), the hoop terms with and without a deviatoric stress, the continuity term.
+
+use super::{Continuity, Hoop, Ring};
+use crate::modules::testkit::*;
+
+#[test]
+fn geometry_ring_hoop_continuity() {
+    for seed in 0..6u64 {
+        let cl = cloud(2, side(2), 131_000 + seed);
+        let nt = cl.nt;
+        let tag = format!("geometry 2D seed {seed}");
+        let [rinv, pmass] = parity(&format!("{tag} ring"), 0, ["rinv", "pmass"], [sentinel(nt), sentinel(nt)], |b, [rinv, pmass]| {
+            run(Ring { dim: 2, x: &cl.x, h: &cl.h, mass: &cl.mass, rinv, pmass }, b)
+        });
+        nonzero(&tag, &pmass);
+        // both branches of r*: particles nearer the axis than h/4, and farther
+        let floored = (0..nt).filter(|&i| cl.x[2 * i].abs() < 0.25 * cl.h[i]).count();
+        assert!(floored > 0 && floored < nt, "{tag}: r* = h/4 for {floored} of {nt} particles");
+        assert!(rinv.iter().all(|r| r.is_finite() && *r > 0.0), "{tag}: 1/r*");
+        let n = cl.nreal;
+        for strength in [false, true] {
+            let tau: &[f64] = if strength { &cl.tau } else { &[] };
+            let [acc, de] = parity(
+                &format!("{tag} hoop (strength {strength})"),
+                0,
+                ["dvdt", "dedt"],
+                [sentinel(2 * n), sentinel(n)],
+                |b, [dvdt, dedt]| {
+                    let (v, rho, p, rinv) = (&cl.v, &cl.rho, &cl.p, &rinv);
+                    run(Hoop { dim: 2, v, rho, p, rinv, tau, dvdt, dedt }, b)
+                },
+            );
+            nonzero(&tag, &de);
+            if strength {
+                nonzero(&tag, &acc);
+            } else {
+                assert!(acc.iter().all(|a| *a == 0.0), "{tag}: a fluid has no hoop acceleration");
+            }
+        }
+        let drho0: Vec<f64> = cl.e[..n].to_vec();
+        let [drho] = parity(&format!("{tag} continuity"), 0, ["drho"], [drho0.clone()], |b, [drho]| {
+            run(Continuity { dim: 2, v: &cl.v, rho: &cl.rho, rinv: &rinv, drho }, b)
+        });
+        assert!(drho != drho0, "{tag}: the continuity term changed nothing");
+    }
+}

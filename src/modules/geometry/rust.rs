@@ -1,0 +1,46 @@
+//! The Rust twin of the axisymmetric geometry: elementwise, the Fortran's expressions in its
+//! order (`if (rs < rmin) rs = rmin` as a comparison, not `f64::max`), 0 ULP.
+
+use super::{Continuity, Hoop, Ring};
+use crate::modules::param::NSTR;
+use crate::modules::{par_rows, par_rows2};
+use std::f64::consts::PI;
+
+pub(super) fn ring(a: &mut Ring) {
+    let Ring { dim, x, h, mass, rinv, pmass } = a;
+    let (dim, x, h, mass) = (*dim, *x, *h, *mass);
+    let nt = mass.len();
+    par_rows2(&mut rinv[..nt], 1, &mut pmass[..nt], 1, |i, ri, pm| {
+        let mut rs = x[dim * i].abs();
+        let rmin = 0.25 * h[i];
+        if rs < rmin {
+            rs = rmin;
+        }
+        ri[0] = 1.0 / rs;
+        pm[0] = mass[i] / (2.0 * PI * rs);
+    });
+}
+
+pub(super) fn hoop(a: &mut Hoop) {
+    let Hoop { dim, v, rho, p, rinv, tau, dvdt, dedt } = a;
+    let (dim, v, rho, p, rinv, tau) = (*dim, *v, *rho, *p, *rinv, *tau);
+    let n = dedt.len();
+    par_rows2(&mut dvdt[..dim * n], dim, &mut dedt[..n], 1, |i, acc, de| {
+        de[0] = -(p[i] / rho[i]) * (v[dim * i] * rinv[i]);
+        if tau.is_empty() {
+            acc[0] = 0.0;
+            acc[1] = 0.0;
+        } else {
+            let t = &tau[NSTR * i..NSTR * i + NSTR];
+            acc[0] = (t[0] - t[2]) / rho[i] * rinv[i];
+            acc[1] = t[3] / rho[i] * rinv[i];
+        }
+    });
+}
+
+pub(super) fn continuity(a: &mut Continuity) {
+    let Continuity { dim, v, rho, rinv, drho } = a;
+    let (dim, v, rho, rinv) = (*dim, *v, *rho, *rinv);
+    let n = drho.len();
+    par_rows(&mut drho[..n], 1, |i, d| d[0] -= rho[i] * (v[dim * i] * rinv[i]));
+}
