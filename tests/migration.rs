@@ -1059,3 +1059,43 @@ fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
     });
     refused(&d, &["exclude", "nosuch.f", "matches no file"]);
 }
+
+/// A search that returns the same pairs in another order and the other way round
+/// (`tests/legacy_extra/rev_find.f`, mapped in place of direct_find): the dual run compares the
+/// pair lists as sets, lines the Rust side's w and ∇W up with the legacy order (∇W negated for a
+/// reversed pair), reports the order difference, and everything stays at 0 ULP.
+#[test]
+fn a_pair_list_in_another_order_is_compared_as_a_set() {
+    let d = variant("rev_find", |t| t.replace("name = \"direct_find\"", "name = \"rev_find\""));
+    std::fs::copy(root().join("tests/legacy_extra/rev_find.f"), d.join("rev_find.f")).unwrap();
+    let lg = d.join("build");
+    build(&d.join("legacy.toml"), &lg).expect("the variant builds");
+    let out = d.join("dual");
+    let so = blastsph_ok(
+        &[
+            "dual",
+            "shock_tube",
+            "--legacy",
+            lg.to_str().unwrap(),
+            "--compat",
+            "liu-book",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        0,
+    );
+    assert!(so.contains("pairs as sets: 40 steps in another order"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for f in ["pair_i", "pair_j", "w", "dwdx"] {
+        let x = row(&rows, "legacy.rev_find", f);
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
+    }
+    let o = &row(&rows, "legacy.rev_find", "pair_i")["pair_order"];
+    let compared = row(&rows, "legacy.rev_find", "pair_i")["compared"].as_u64().unwrap();
+    assert_eq!(o["reversed"].as_u64(), Some(compared), "every pair reversed: {o}");
+    assert!(o["moved"].as_u64().unwrap() > compared / 2, "{o}");
+    assert_eq!((o["only_counterpart"].as_u64(), o["only_rust"].as_u64()), (Some(0), Some(0)), "{o}");
+    for (stage, field) in [("legacy.sum_density", "rho"), ("legacy.int_force", "acc"), ("legacy.art_visc", "dde")] {
+        assert_eq!(row(&rows, stage, field)["max_ulp"], 0, "{stage} {field}");
+    }
+}

@@ -83,11 +83,12 @@ impl Stage for ForceCompat {
 
 /// The book's energy rate, when `force_energy` is on and the case has no strength.
 pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
-    if !f.has(Item::ForceEnergy) || crate::setup::has_strength(ctx.case) {
+    // the book is planar: an axisymmetric case keeps blastsph's twin
+    if !f.has(Item::ForceEnergy) || crate::setup::has_strength(ctx.case) || ctx.case.axisymmetric() {
         return None;
     }
     let why: &'static str = Box::leak(format!("force: {}", f.label()).into_boxed_str());
-    let stage = ForceCompat { normal: ForceStage { slots: Slots::default(), rz: ctx.case.axisymmetric(), asym: false }, why };
+    let stage = ForceCompat { normal: ForceStage { slots: Slots::default(), rz: false, asym: false }, why };
     Some(Contribution::run(
         format!("pressure only [compat {}]", f.label()),
         vec![(Phase::Rates, Box::new(stage) as Box<dyn Stage>)],

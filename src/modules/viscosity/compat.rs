@@ -121,7 +121,8 @@ impl Stage for ViscosityCompat {
 
 /// The book's viscosity, when `visc_mu` or `visc_energy` is on (and the case has a viscosity).
 pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
-    if !(f.has(Item::ViscMu) || f.has(Item::ViscEnergy)) {
+    // the book is planar: an axisymmetric case keeps blastsph's twin
+    if !(f.has(Item::ViscMu) || f.has(Item::ViscEnergy)) || ctx.case.axisymmetric() {
         return None;
     }
     let normal = super::plan(ctx);
@@ -131,7 +132,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     let v = &ctx.case.viscosity;
     let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
     let why: &'static str = Box::leak(format!("viscosity: {}", f.label()).into_boxed_str());
-    let st = ViscosityCompat { normal: ViscosityStage { coef, slots: Slots::default(), rz: ctx.case.axisymmetric() }, f, why };
+    let st = ViscosityCompat { normal: ViscosityStage { coef, slots: Slots::default(), rz: false }, f, why };
     Some(Contribution::run(
         format!("{} [compat {}]", normal.why, f.label()),
         vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)],

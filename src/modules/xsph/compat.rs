@@ -63,10 +63,11 @@ impl Stage for XsphCompat {
 /// The book's XSPH term, when `xsph_expr` is on (and the case has XSPH).
 pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     let eps = ctx.case.sph.xsph_eps;
-    if !f.has(Item::XsphExpr) || eps <= 0.0 {
+    // the book is planar: an axisymmetric case keeps blastsph's twin
+    if !f.has(Item::XsphExpr) || eps <= 0.0 || ctx.case.axisymmetric() {
         return None;
     }
     let why: &'static str = Box::leak(format!("xsph: {}", f.label()).into_boxed_str());
-    let st = XsphCompat { normal: XsphStage { eps, rz: ctx.case.axisymmetric() }, why };
+    let st = XsphCompat { normal: XsphStage { eps, rz: false }, why };
     Some(Contribution::run(format!("eps = {eps} [compat {}]", f.label()), vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)]))
 }
