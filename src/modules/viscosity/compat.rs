@@ -125,14 +125,19 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if !(f.has(Item::ViscMu) || f.has(Item::ViscEnergy)) || ctx.case.axisymmetric() {
         return None;
     }
+    // the book's routine gives no max|μ|: a CFL step that reads it keeps blastsph's twin
+    let v = &ctx.case.viscosity;
+    let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
+    let stage = ViscosityStage::of_case(coef, ctx.case, false);
+    if stage.signal {
+        return None;
+    }
     let normal = super::plan(ctx);
     if normal.stages.is_empty() {
         return None;
     }
-    let v = &ctx.case.viscosity;
-    let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
     let why: &'static str = Box::leak(format!("viscosity: {}", f.label()).into_boxed_str());
-    let st = ViscosityCompat { normal: ViscosityStage { coef, slots: Slots::default(), rz: false }, f, why };
+    let st = ViscosityCompat { normal: stage, f, why };
     Some(Contribution::run(
         format!("{} [compat {}]", normal.why, f.label()),
         vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)],

@@ -60,6 +60,17 @@ pub struct ViscosityStage {
     slots: Slots,
     /// Axisymmetric: the pair sums of the planar masses.
     rz: bool,
+    /// The CFL step reads max|μ| (`time.viscous_step`): only then is `mumax` an output of the
+    /// stage (compared by the dual run, and required of a legacy routine that stands for it).
+    signal: bool,
+}
+
+impl ViscosityStage {
+    /// The stage of a case (the plan's settings of [`plan`]).
+    pub fn of_case(coef: Coef, case: &crate::case::Case, rz: bool) -> Self {
+        let signal = case.time.step == crate::case::StepRule::Cfl && case.time.viscous_step;
+        ViscosityStage { coef, slots: Slots::default(), rz, signal }
+    }
 }
 
 impl Stage for ViscosityStage {
@@ -77,7 +88,7 @@ impl Stage for ViscosityStage {
         }
     }
     fn writes(&self) -> &[Field] {
-        &[Field::Acc, Field::Dde, Field::Mumax]
+        if self.signal { &[Field::Acc, Field::Dde, Field::Mumax] } else { &[Field::Acc, Field::Dde] }
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
         self.slots.size(w, p.dim, p.ntotal);
@@ -117,7 +128,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     if v.alpha > 0.0 || v.beta > 0.0 {
         let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
         let rz = ctx.case.axisymmetric();
-        Contribution::run(why, vec![(Phase::Rates, Box::new(ViscosityStage { coef, slots: Slots::default(), rz }))])
+        Contribution::run(why, vec![(Phase::Rates, Box::new(ViscosityStage::of_case(coef, ctx.case, rz)))])
     } else {
         Contribution::skip(why)
     }
