@@ -1099,3 +1099,20 @@ fn a_pair_list_in_another_order_is_compared_as_a_set() {
         assert_eq!(row(&rows, stage, field)["max_ulp"], 0, "{stage} {field}");
     }
 }
+
+/// A legacy routine that adds rate terms but cannot stand for its module's Rust stage (here the
+/// CFL step reads max|μ|, which the book's art_visc does not give) is not run beside that stage:
+/// running both would count the viscosity twice.
+#[test]
+fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
+    let d = shared().to_str().unwrap();
+    let base = ["check", "shock_tube", "--legacy", d, "--compat", "liu-book"];
+    let so = blastsph_ok(&base, 0);
+    assert!(so.contains("legacy.art_visc"), "{so}");
+    let cfl = [&base[..], &["--set", "time.step=cfl", "--set", "time.viscous_step=true"]].concat();
+    let so = blastsph_ok(&cfl, 0);
+    let line = so.lines().find(|l| l.trim_start().starts_with("art_visc")).unwrap_or_default();
+    assert!(line.contains("not run") && line.contains("twice"), "{so}");
+    assert!(!so.contains("legacy.art_visc"), "{so}");
+    assert!(so.contains("energy rate = legacy.int_force + viscosity.monaghan\n"), "{so}");
+}

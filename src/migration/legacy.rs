@@ -525,6 +525,23 @@ impl Legacy {
                     note("not run", why, json!({}));
                     continue;
                 }
+                // a routine that adds rate terms beside a Rust stage of its own module that it
+                // cannot stand for (that stage writes something the routine does not give) would
+                // count the same physics twice: the Rust stage runs, the routine does not
+                let left: Vec<&str> = entries
+                    .iter()
+                    .filter(|e| e.phase != Phase::Init && mods.contains(&e.stage.module()))
+                    .map(|e| e.stage.name())
+                    .collect();
+                if term && !left.is_empty() {
+                    let why = format!(
+                        "it adds rate terms of {} but cannot stand for {} (which writes more than the routine gives); running both would count that physics twice",
+                        r.modules.join(","),
+                        left.join(", ")
+                    );
+                    note("not run", why, json!({}));
+                    continue;
+                }
                 if bound[ri].iter().any(|n| n == "dvxdt") {
                     writes.push(Field::Acc);
                 }
