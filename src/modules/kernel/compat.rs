@@ -4,7 +4,7 @@
 //! single precision) and `global_h` (link_list's one h: the first particle's). No Fortran twin in
 //! blastsph's core: the dual run compares it with the user's legacy `kernel` (`dual --legacy`).
 
-use super::{KernelKind, w_dw};
+use super::{KernelKind, PairsStage, w_dw};
 use crate::migration::compat::{Flags, Item, single};
 use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows, par_rows2};
 use crate::state::{Clock, Field, Particles, Work};
@@ -107,6 +107,8 @@ pub fn book(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, f: Flags, 
 /// the first component, h = (h_i + h_j)/2 (with `global_h`, the first particle's h), as the book's
 /// searches hand them to its kernel.
 pub struct PairsCompat {
+    /// blastsph's stage: what it reads, writes and sizes is the same.
+    normal: PairsStage,
     kind: KernelKind,
     f: Flags,
     why: &'static str,
@@ -120,15 +122,13 @@ impl Stage for PairsCompat {
         "kernel.pairs"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::X, Field::H]
+        self.normal.reads()
     }
     fn writes(&self) -> &[Field] {
-        &[Field::W, Field::Dwdx]
+        self.normal.writes()
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
-        let np = w.pairs.len();
-        w.w.resize(np, 0.0);
-        w.dwdx.resize(p.dim * np, 0.0);
+        self.normal.prepare(p, w)
     }
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt, kind, f) = (p.dim, p.ntotal, self.kind, self.f);
@@ -206,7 +206,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
             if s.name() == "kernel.self" {
                 (ph, Box::new(SelfCompat { kind, f, why }))
             } else {
-                (ph, Box::new(PairsCompat { kind, f, why }))
+                (ph, Box::new(PairsCompat { normal: PairsStage { kind }, kind, f, why }))
             }
         })
         .collect();
