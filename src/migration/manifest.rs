@@ -299,11 +299,12 @@ pub fn load(path: &Path) -> Result<Manifest> {
             })?,
         };
         let mut modules = Vec::new();
+        let known = vocab::modules();
         for m in r.module.split(',').map(str::trim) {
-            if !vocab::MODULES.contains(&m) {
+            if !known.contains(&m) {
                 return Err(err(
                     &format!("{key}.module"),
-                    format!("\"{m}\" is not a blastsph module ({})", vocab::MODULES.join(", ")),
+                    format!("\"{m}\" is not a blastsph module ({})", known.join(", ")),
                 ));
             }
             if !modules.iter().any(|x: &String| x == m) {
