@@ -1,0 +1,219 @@
+//! Helpers of the legacy-code tests (tests/migration.rs: the build and the loader;
+//! tests/legacy_run.rs: run, dual and ledger): the fixture, one shared build, the binary.
+#![allow(dead_code)]
+
+pub use blastsph::migration::{LegacyLib, build};
+pub use std::path::{Path, PathBuf};
+pub use std::process::{Command, Output, Stdio};
+pub use std::sync::OnceLock;
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn fixture() -> PathBuf {
+    root().join("tests/legacy")
+}
+
+pub fn scratch(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("migration").join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("scratch folder");
+    d
+}
+
+/// One build of the fixture for the tests of this file that call routines.
+pub fn shared() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = scratch("shared");
+        build(&fixture().join("legacy.toml"), &d).expect("the fixture builds");
+        d
+    })
+}
+
+pub fn lib() -> LegacyLib {
+    LegacyLib::open(shared()).expect("the fixture's library loads")
+}
+
+pub fn blastsph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).current_dir(root()).output().expect("blastsph runs")
+}
+
+/// A deterministic generator of inputs (xorshift64*), values in [0, 1).
+pub struct Rng(pub u64);
+impl Rng {
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The fixture's cubic spline in 1D (kernel.f, skf = 1) with gfortran's reading of it: the literal
+/// `2./3.` is a default-real (f32) constant; `q**3` is (q*q)*q; the operations in source order.
+pub fn cubic(r: f64, dx: f64, h: f64) -> (f64, f64) {
+    let q = r / h;
+    let fac = 1.0 / h;
+    if (0.0..=1.0).contains(&q) {
+        let w = fac * ((2.0f32 / 3.0f32) as f64 - q * q + q * q * q / 2.0);
+        let g = fac * (-2.0 + 1.5 * q) / (h * h) * dx;
+        (w, g)
+    } else if q > 1.0 && q <= 2.0 {
+        let a = 2.0 - q;
+        let w = fac / 6.0 * (a * a * a);
+        let g = -(fac / 6.0 * 3.0 * (a * a) / h * (dx / r));
+        (w, g)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// Particles on a line with jitter and per-particle h (1D, as the fixture's dim).
+pub fn cloud(n: usize, seed: u64) -> (Vec<f64>, Vec<f64>) {
+    let mut g = Rng(seed);
+    let x: Vec<f64> = (0..n).map(|i| 0.01 * i as f64 + 0.004 * (g.next() - 0.5)).collect();
+    let h: Vec<f64> = (0..n).map(|_| 0.012 + 0.006 * g.next()).collect();
+    (x, h)
+}
+
+/// The pairs the fixture's direct_find forms (i < j, sqrt(r²) < 2 h_ij), 0-based, in its order.
+pub fn pairs_of(x: &[f64], h: &[f64]) -> (Vec<i32>, Vec<i32>) {
+    let (mut pi, mut pj) = (Vec::new(), Vec::new());
+    for i in 0..x.len() {
+        for j in i + 1..x.len() {
+            let d = x[i] - x[j];
+            let hij = (h[i] + h[j]) / 2.0;
+            if (d * d).sqrt() < 2.0 * hij {
+                pi.push(i as i32);
+                pj.push(j as i32);
+            }
+        }
+    }
+    (pi, pj)
+}
+
+pub fn same_bits(what: &str, got: &[f64], want: &[f64]) {
+    assert_eq!(got.len(), want.len(), "{what}: lengths");
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert_eq!(g.to_bits(), w.to_bits(), "{what}[{k}]: legacy {g:e}, formula {w:e}");
+    }
+}
+
+/// A copy of the fixture in a scratch folder, with `edit` applied to its manifest text.
+pub fn variant(name: &str, edit: impl Fn(&str) -> String) -> PathBuf {
+    let d = scratch(name);
+    for e in std::fs::read_dir(fixture()).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+    }
+    let m = d.join("legacy.toml");
+    let text = std::fs::read_to_string(&m).unwrap();
+    std::fs::write(&m, edit(&text)).unwrap();
+    d
+}
+
+/// `legacy build` refuses: status 2, one line on stderr naming every needle, no panic.
+pub fn refused(dir: &Path, needles: &[&str]) -> String {
+    let out = dir.join("build");
+    let o = blastsph(&["legacy", "build", dir.join("legacy.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(2), "exit status; stderr: {se}");
+    assert_eq!(se.lines().count(), 1, "one line: {se}");
+    assert!(!se.contains("panicked"), "{se}");
+    for n in needles {
+        assert!(se.contains(n), "the error must name `{n}`: {se}");
+    }
+    se
+}
+
+/// `blastsph ARGS`, which must exit with `code`; returns stdout.
+pub fn blastsph_ok(args: &[&str], code: i32) -> String {
+    let o = blastsph(args);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(code), "blastsph {args:?}\nstdout: {so}\nstderr: {se}");
+    so.into_owned()
+}
+
+pub fn report_rows(path: &Path) -> (serde_json::Value, Vec<serde_json::Value>) {
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).expect("report")).expect("json");
+    let rows = r["rows"].as_array().expect("rows").clone();
+    (r, rows)
+}
+
+/// The routines of the fixture that the shock tube runs, each with the fields it writes.
+pub const MAPPED: &[(&str, &[&str])] = &[
+    ("legacy.direct_find", &["pair_i", "pair_j", "w", "dwdx"]),
+    ("legacy.kernel", &["w", "dwdx"]),
+    ("legacy.sum_density", &["rho"]),
+    ("legacy.p_gas", &["p", "c"]),
+    ("legacy.int_force", &["p", "c", "acc", "dde"]),
+    ("legacy.art_visc", &["acc", "dde"]),
+];
+
+pub fn row<'a>(rows: &'a [serde_json::Value], stage: &str, field: &str) -> &'a serde_json::Value {
+    rows.iter()
+        .find(|r| r["stage"] == stage && r["field"] == field)
+        .unwrap_or_else(|| panic!("no row {stage} {field} in the report"))
+}
+
+/// The fixture's own program to the end of the shock tube: its final state (17 digits), once.
+pub fn program_final_state() -> &'static [Vec<f64>] {
+    static ROWS: OnceLock<Vec<Vec<f64>>> = OnceLock::new();
+    ROWS.get_or_init(program_rows)
+}
+
+pub fn program_rows() -> Vec<Vec<f64>> {
+    let work = scratch("program_run_2");
+    let mut child = Command::new(shared().join("program"))
+        .current_dir(&work)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the fixture's program starts");
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+    }
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(work.join("final_state.dat")).expect("final_state.dat");
+    text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect()
+}
+
+/// `run CASE --legacy BUILD --compat liu-book` ends in the state of the fixture's own program, bit
+/// for bit; returns the last frame.
+pub fn assert_run_ends_as_the_program(build: &Path, name: &str) -> blastsph::output::Frame {
+    let rows = program_final_state();
+    let out = scratch(name);
+    let so = blastsph_ok(
+        &[
+            "run",
+            "shock_tube",
+            "--legacy",
+            build.to_str().unwrap(),
+            "--compat",
+            "liu-book",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+        0,
+    );
+    assert!(so.contains("400 particles, 40 steps"), "{so}");
+    let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
+    let f = frames.last().unwrap();
+    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    assert_eq!(f.x.len(), rows.len());
+    // columns: number, type, x, vx, mass, rho, p, u, hsml
+    for i in 0..rows.len() {
+        let k = f.id[i] as usize;
+        let r = &rows[k];
+        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
+        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
+        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", k + 1);
+    }
+    f.clone()
+}

@@ -1,0 +1,238 @@
+//! Bring your own legacy code, part 2 (docs/migration.md A.6): the fixture run by blastsph
+//! (`run --legacy`), dual-checked routine by routine against the Rust twins (`dual --legacy`,
+//! with and without `--compat liu-book`), and the ledger.
+
+mod legacy_kit;
+use legacy_kit::*;
+
+#[test]
+fn dual_legacy_with_the_liu_book_profile_is_at_zero_ulp_for_every_mapped_routine() {
+    let out = scratch("dual_book");
+    let so = blastsph_ok(
+        &[
+            "dual",
+            "shock_tube",
+            "--legacy",
+            shared().to_str().unwrap(),
+            "--compat",
+            "liu-book",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        0,
+    );
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (r, rows) = report_rows(&out.join("dual_report.json"));
+    assert_eq!(r["steps"], 40);
+    for (stage, fields) in MAPPED {
+        for f in *fields {
+            let x = row(&rows, stage, f);
+            assert_eq!(x["counterpart"], "legacy", "{x}");
+            assert!(x["compared"].as_u64().unwrap() >= 400 * 40, "{stage} {f}: {x}");
+            assert_eq!(x["max_ulp"], 0, "{stage} {f}: {x}");
+            assert_eq!(x["out_of_tolerance"], 0, "{stage} {f}: {x}");
+        }
+    }
+    // what each routine was compared with (the chain of Rust twins) and what was not run
+    let lg = &r["legacy"]["routines"];
+    assert_eq!(lg["direct_find"]["stands_for"], serde_json::json!(["nnps.search", "kernel.pairs"]));
+    assert_eq!(lg["int_force"]["stands_for"], serde_json::json!(["eos.eval", "force.internal"]));
+    assert_eq!(lg["sum_density"]["stands_for"], serde_json::json!(["kernel.self", "density.summation"]));
+    assert_eq!(lg["input"]["status"], "setup");
+    assert_eq!(lg["av_vel"]["status"], "not run");
+}
+
+#[test]
+fn dual_legacy_without_the_profile_names_each_difference() {
+    let out = scratch("dual_plain");
+    let so =
+        blastsph_ok(&["dual", "shock_tube", "--legacy", shared().to_str().unwrap(), "--out", out.to_str().unwrap()], 4);
+    assert!(so.contains("MODULES OUT OF TOLERANCE"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    // the same pairs in the same order (the fixture's direct_find and blastsph's direct search)
+    assert_eq!(row(&rows, "legacy.direct_find", "pair_i")["out_of_tolerance"], 0);
+    assert_eq!(row(&rows, "legacy.direct_find", "pair_j")["out_of_tolerance"], 0);
+    // the book's sound speed sqrt((gamma-1) e) against sqrt(gamma (gamma-1) e): c differs from
+    // the first evaluation, by the factor sqrt(gamma) less the single-precision gamma
+    let c = row(&rows, "legacy.p_gas", "c");
+    assert!(c["out_of_tolerance"].as_u64().unwrap() > 0, "{c}");
+    let (lf, rs) =
+        (c["first_divergence"]["fortran"].as_f64().unwrap(), c["first_divergence"]["rust"].as_f64().unwrap());
+    assert!((rs / lf - 1.4f64.sqrt()).abs() < 1e-6, "c: legacy {lf}, rust {rs}");
+    assert!(c["tolerance_why"].as_str().unwrap().contains("sound_speed"), "{c}");
+    // the kernel's single-precision 2/3 and the viscosity's order: named, item by item
+    for (stage, field, item) in [
+        ("legacy.kernel", "w", "kernel"),
+        ("legacy.sum_density", "rho", "literals"),
+        ("legacy.art_visc", "dde", "visc_energy"),
+        ("legacy.int_force", "dde", "force_energy"),
+    ] {
+        let x = row(&rows, stage, field);
+        assert!(x["out_of_tolerance"].as_u64().unwrap() > 0, "{stage} {field}: {x}");
+        assert!(x["tolerance_why"].as_str().unwrap().contains(item), "{stage} {field} must name {item}: {x}");
+    }
+}
+
+#[test]
+fn run_legacy_ends_in_the_state_of_the_codes_own_program_bit_for_bit() {
+    let f = assert_run_ends_as_the_program(shared(), "run_book");
+    // without the profile blastsph's own integrator and twins run around the user's routines:
+    // a different end state (the sound speed alone moves rho by 1e-3 and more)
+    let out2 = scratch("run_plain");
+    blastsph_ok(
+        &["run", "shock_tube", "--legacy", shared().to_str().unwrap(), "--out", out2.to_str().unwrap(), "--quiet"],
+        0,
+    );
+    let g = blastsph::output::read_frames(&out2.join("particles.h5")).unwrap().pop().unwrap();
+    assert_ne!(g.rho, f.rho);
+}
+
+#[test]
+fn the_ledger_attributes_each_difference_to_its_item() {
+    let out = scratch("ledger");
+    let so = blastsph_ok(
+        &["legacy", "ledger", "shock_tube", "--legacy", shared().to_str().unwrap(), "--out", out.to_str().unwrap()],
+        0,
+    );
+    assert!(so.contains("end in the same state, bit for bit"), "{so}");
+    let (r, rows) = report_rows(&out.join("ledger.json"));
+    assert_eq!(r["profile"], "liu-book");
+    let get = |run: &str| rows.iter().find(|x| x["run"] == run).unwrap_or_else(|| panic!("no row {run}: {so}"));
+    let num = |run: &str, k: &str| get(run)[k].as_f64().unwrap();
+    // the user's routines and the profile's Rust twins: the same end state
+    assert_eq!(get("legacy")["particles_differing"], 0);
+    assert_eq!(get("profile")["particles_differing"], 0);
+    assert_eq!(get("legacy")["steps"], 40);
+    // the items this case exercises move the end state; the largest is the sound speed
+    for item in ["-literals", "-sound_speed", "-kernel", "-force_energy", "-visc_energy"] {
+        assert!(num(item, "max_abs_rho") > 0.0 || num(item, "max_abs_e") > 0.0, "{item}: {so}");
+    }
+    assert!(num("-sound_speed", "max_abs_rho") > 1e-3, "{so}");
+    for item in ["-literals", "-kernel", "-force_energy", "-visc_energy"] {
+        assert!(num(item, "max_abs_rho") < 1e-6, "{item}: {so}");
+    }
+    // items of what the case does not run (virtual particles, XSPH, the quintic kernel): no effect
+    for item in ["-virtual_pairs", "-xsph_velocity", "-quintic_gradient"] {
+        assert_eq!(get(item)["particles_differing"], 0, "{item}: {so}");
+    }
+    // the case's own error: the book code's sound speed lowers its L1(rho) (REFERENCES.md 0.01553)
+    let l1 = |run: &str| get(run)["l1"][0].as_f64().unwrap();
+    assert!((l1("profile") - 0.01553).abs() < 2e-4, "{so}");
+    assert!(l1("-sound_speed") > l1("profile"), "{so}");
+}
+
+#[test]
+fn bad_legacy_runs_are_refused_with_one_line() {
+    let one_line = |args: &[&str], needles: &[&str]| {
+        let o = blastsph(args);
+        let se = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {se}");
+        assert_eq!(se.lines().count(), 1, "{se}");
+        for n in needles {
+            assert!(se.contains(n), "must name {n}: {se}");
+        }
+    };
+    let lg = shared().to_str().unwrap();
+    // a folder that is no build
+    let empty = scratch("no_build");
+    one_line(&["check", "shock_tube", "--legacy", empty.to_str().unwrap()], &[empty.to_str().unwrap()]);
+    // a case of another dimension than the build's param.inc
+    one_line(&["check", "underwater_box", "--legacy", lg], &["dim = 1", "dim = 2"]);
+    // an unknown compat item or profile
+    one_line(&["check", "shock_tube", "--legacy", lg, "--compat", "liu-book,-sound_sped"], &["sound_sped"]);
+    // more particles than maxn
+    one_line(
+        &["check", "shock_tube", "--legacy", lg, "--set", "region.right.count=[700]"],
+        &["maxn = 1000", "1020 particles"],
+    );
+}
+
+/// A source that needs another compiler's module (the book's `time_print.f` uses `dfport`):
+/// refused as a compile error, built once the manifest excludes it.
+#[test]
+fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
+    let d = variant("dfport", |t| t.to_string());
+    std::fs::write(
+        d.join("time_print.f"),
+        "      subroutine time_print\n      use dfport\n      implicit none\n      end\n",
+    )
+    .unwrap();
+    refused(&d, &["time_print.f", "build.log"]);
+    let d = variant("dfport_excluded", |t| {
+        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"time_print.f\"]")
+    });
+    std::fs::write(
+        d.join("time_print.f"),
+        "      subroutine time_print\n      use dfport\n      implicit none\n      end\n",
+    )
+    .unwrap();
+    let o = blastsph(&[
+        "legacy",
+        "build",
+        d.join("legacy.toml").to_str().unwrap(),
+        "--out",
+        d.join("build").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let d = variant("exclude_nothing", |t| {
+        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")
+    });
+    refused(&d, &["exclude", "nosuch.f", "matches no file"]);
+}
+
+/// A search that returns the same pairs in another order and the other way round
+/// (`tests/legacy_extra/rev_find.f`, mapped in place of direct_find): the dual run compares the
+/// pair lists as sets, lines the Rust side's w and ∇W up with the legacy order (∇W negated for a
+/// reversed pair), reports the order difference, and everything stays at 0 ULP.
+#[test]
+fn a_pair_list_in_another_order_is_compared_as_a_set() {
+    let d = variant("rev_find", |t| t.replace("name = \"direct_find\"", "name = \"rev_find\""));
+    std::fs::copy(root().join("tests/legacy_extra/rev_find.f"), d.join("rev_find.f")).unwrap();
+    let lg = d.join("build");
+    build(&d.join("legacy.toml"), &lg).expect("the variant builds");
+    let out = d.join("dual");
+    let so = blastsph_ok(
+        &[
+            "dual",
+            "shock_tube",
+            "--legacy",
+            lg.to_str().unwrap(),
+            "--compat",
+            "liu-book",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        0,
+    );
+    assert!(so.contains("pairs as sets: 40 steps in another order"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for f in ["pair_i", "pair_j", "w", "dwdx"] {
+        let x = row(&rows, "legacy.rev_find", f);
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
+    }
+    let o = &row(&rows, "legacy.rev_find", "pair_i")["pair_order"];
+    let compared = row(&rows, "legacy.rev_find", "pair_i")["compared"].as_u64().unwrap();
+    assert_eq!(o["reversed"].as_u64(), Some(compared), "every pair reversed: {o}");
+    assert!(o["moved"].as_u64().unwrap() > compared / 2, "{o}");
+    assert_eq!((o["only_counterpart"].as_u64(), o["only_rust"].as_u64()), (Some(0), Some(0)), "{o}");
+    for (stage, field) in [("legacy.sum_density", "rho"), ("legacy.int_force", "acc"), ("legacy.art_visc", "dde")] {
+        assert_eq!(row(&rows, stage, field)["max_ulp"], 0, "{stage} {field}");
+    }
+}
+
+/// A legacy routine that adds rate terms but cannot stand for its module's Rust stage (here the
+/// CFL step reads max|μ|, which the book's art_visc does not give) is not run beside that stage:
+/// running both would count the viscosity twice.
+#[test]
+fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
+    let d = shared().to_str().unwrap();
+    let base = ["check", "shock_tube", "--legacy", d, "--compat", "liu-book"];
+    let so = blastsph_ok(&base, 0);
+    assert!(so.contains("legacy.art_visc"), "{so}");
+    let cfl = [&base[..], &["--set", "time.step=cfl", "--set", "time.viscous_step=true"]].concat();
+    let so = blastsph_ok(&cfl, 0);
+    let line = so.lines().find(|l| l.trim_start().starts_with("art_visc")).unwrap_or_default();
+    assert!(line.contains("not run") && line.contains("twice"), "{so}");
+    assert!(!so.contains("legacy.art_visc"), "{so}");
+    assert!(so.contains("energy rate = legacy.int_force + viscosity.monaghan\n"), "{so}");
+}
