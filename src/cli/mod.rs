@@ -1,13 +1,15 @@
 //! The command line (DESIGN.md contracts): `run`, `dual`, `check`, `report`.
 
 use crate::case;
-use crate::dual::Comparator;
 use crate::error::{Result, SphError, input};
 use crate::modules::Backend;
 use crate::runner::{self, RunOptions};
 use crate::sim::{Overrides, Sim};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
+
+mod runs;
+pub use runs::{check_text, dual_run, free_run};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -649,165 +651,4 @@ fn dispatch(cli: Cli) -> Result<i32> {
             }
         }
     }
-}
-
-/// The text of `blastsph check`: the case, the time rule, and the plan (modules and the
-/// ordered stages of a step).
-pub fn check_text(sim: &Sim) -> String {
-    let c = &sim.case;
-    let mut s = format!("case {}: dim {}, {} particles", c.name(), c.dim, sim.p.nreal);
-    let mut by_mat = vec![0usize; c.materials.len()];
-    for &m in &sim.p.mat[..sim.p.nreal] {
-        by_mat[m as usize] += 1;
-    }
-    let parts: Vec<String> = c.materials.iter().zip(&by_mat).map(|(m, k)| format!("{} {k}", m.name)).collect();
-    s += &format!(" ({})\n", parts.join(", "));
-    s += &format!(
-        "time: end {:e} s, {:?} step{}, output every {:e} s\n",
-        c.time.end_s,
-        c.time.step,
-        match c.time.step {
-            case::StepRule::Fixed => format!(" dt = {:e} s", c.time.dt_s.unwrap_or(0.0)),
-            case::StepRule::Cfl => format!(" C = {}", c.time.cfl),
-        },
-        c.time.output_interval_s
-    );
-    let det = c
-        .detonation
-        .as_ref()
-        .filter(|d| d.mode == case::BurnMode::Programmed)
-        .map(|d| {
-            format!(
-                ", burn: ramp {} h, beta burn {}, lighting at {} D",
-                d.width_h,
-                if d.beta_burn { "on" } else { "off" },
-                d.lighting_speed_factor
-            )
-        })
-        .unwrap_or_default();
-    s += &format!(
-        "numerics: {} density{}, energy {}, h {}{}, e floor {}, viscous step {}{}{}\n",
-        format!("{:?}", c.sph.density).to_lowercase(),
-        if c.sph.density == case::DensityKind::Continuity {
-            format!(" ({:?} form)", c.sph.continuity_form).to_lowercase()
-        } else {
-            String::new()
-        },
-        format!("{:?}", c.sph.energy_form).to_lowercase(),
-        format!("{:?}", c.sph.smoothing).to_lowercase(),
-        c.sph.h_max_ratio.map(|r| format!(" (h <= {r} h0 max)")).unwrap_or_default(),
-        if c.sph.e_floor { "on" } else { "off" },
-        if c.time.viscous_step { "on" } else { "off" },
-        if c.conductivity.alpha > 0.0 {
-            format!(", conductivity alpha_u = {} ({:?})", c.conductivity.alpha, c.conductivity.signal).to_lowercase()
-        } else {
-            String::new()
-        },
-        det
-    );
-    for w in crate::advice::warnings(c) {
-        s += &format!("warning: {w}\n");
-    }
-    s + &sim.plan.text()
-}
-
-/// `blastsph dual`: returns exit 0 when every module is within tolerance, 4 otherwise.
-pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<i32> {
-    let mut sim = Sim::new(c, ov)?;
-    sim.enable_dual(Comparator::new(sim.cfg.dim));
-    let mut done = 0;
-    let mut diag = None;
-    // a fixed step: the number of steps `run` takes, round(end/dt)
-    let fixed =
-        (sim.cfg.step == case::StepRule::Fixed).then(|| (sim.cfg.end / sim.cfg.dt_fixed).round().max(1.0) as u64);
-    while done < steps
-        && match fixed {
-            Some(n) => sim.nstep < n,
-            None => sim.t < sim.cfg.end * (1.0 - 1e-12),
-        }
-    {
-        if let Err(e) = sim.step() {
-            diag = Some(e.to_string());
-            break;
-        }
-        done += 1;
-    }
-    let cmp = sim.cmp.take().unwrap_or_default();
-    print!("{}", cmp.table());
-    let ok = cmp.ok();
-    let uncompared = cmp.uncompared();
-    let rep = serde_json::json!({
-        "case": sim.case.name(),
-        "steps": done,
-        "time": sim.t,
-        "within_tolerance": ok,
-        "diagnostic": diag,
-        "not_compared": uncompared,
-        "legacy": sim.plan.legacy,
-        "rows": cmp.rows(),
-    });
-    let path = dir.join("dual_report.json");
-    crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
-    let not = if uncompared.is_empty() {
-        String::new()
-    } else {
-        format!(
-            "; {} stages not compared ({}: compat variants without a Fortran twin, compared through --legacy; legacy routines without a Rust twin)",
-            uncompared.len(),
-            uncompared.join(", ")
-        )
-    };
-    println!(
-        "{} steps compared; {}{}; report {}",
-        done,
-        match (ok, not.is_empty()) {
-            (true, true) => "every module within tolerance",
-            (true, false) => "every compared stage within tolerance",
-            _ => "MODULES OUT OF TOLERANCE",
-        },
-        not,
-        path.display()
-    );
-    Ok(if ok { 0 } else { 4 })
-}
-
-/// Free-running mode: separation of an all-Fortran and an all-Rust run over time.
-pub fn free_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<String> {
-    let mut ovf = ov.clone();
-    ovf.backend = Some(Backend::Fortran);
-    let mut ovr = ov.clone();
-    ovr.backend = Some(Backend::Rust);
-    let mut a = Sim::new(c.clone(), &ovf)?;
-    let mut b = Sim::new(c, &ovr)?;
-    let mut rows = Vec::new();
-    let mut first_diff: Option<u64> = None;
-    for _ in 0..steps {
-        if a.t >= a.cfg.end * (1.0 - 1e-12) {
-            break;
-        }
-        a.step()?;
-        b.step()?;
-        let n = a.p.nreal;
-        let dim = a.cfg.dim;
-        let dx = (0..dim * n).map(|l| (a.p.x[l] - b.p.x[l]).abs()).fold(0.0, f64::max);
-        let drho = (0..n).map(|i| ((a.p.rho[i] - b.p.rho[i]) / a.p.rho[i]).abs()).fold(0.0, f64::max);
-        let dv = (0..dim * n).map(|l| (a.p.v[l] - b.p.v[l]).abs()).fold(0.0, f64::max);
-        let bitwise = a.p.x == b.p.x && a.p.v == b.p.v && a.p.rho == b.p.rho && a.p.e == b.p.e && a.t == b.t;
-        if !bitwise && first_diff.is_none() {
-            first_diff = Some(a.nstep);
-        }
-        rows.push(serde_json::json!({"step": a.nstep, "t_fortran": a.t, "t_rust": b.t, "max_dx_m": dx, "max_drho_rel": drho, "max_dv_ms": dv, "bitwise_equal": bitwise}));
-    }
-    let rep =
-        serde_json::json!({"case": a.case.name(), "steps": a.nstep, "first_difference_step": first_diff, "rows": rows});
-    let path = dir.join("dual_free.json");
-    crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
-    Ok(match first_diff {
-        None => format!(
-            "free run: {} steps, Fortran and Rust states bitwise identical at every step; {}",
-            a.nstep,
-            path.display()
-        ),
-        Some(s) => format!("free run: {} steps, first difference at step {s}; {}", a.nstep, path.display()),
-    })
 }
