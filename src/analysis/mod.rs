@@ -9,4 +9,5 @@ pub mod crater;
 pub mod noh;
 pub mod riemann;
 pub mod sedov;
+#[cfg(feature = "io")]
 pub mod verify;

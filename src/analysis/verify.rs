@@ -500,6 +500,7 @@ fn detonation(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>)
 }
 
 /// `blastsph report` for a verification case: prints the measures and writes `profiles.png`.
+#[cfg(feature = "plot")]
 pub fn report(dir: &std::path::Path, case: &Case, frames: &[Frame]) -> Result<Value> {
     let (v, prof) = measure(case, frames)?;
     let skip = ["history"];
