@@ -157,3 +157,16 @@ pub(crate) fn ipow(x: f64, n: i32) -> f64 {
     }
     y
 }
+
+/// Fortran's `min(a, b)` as gfortran evaluates it for non-NaN arguments: `a` unless `b` is
+/// smaller (the Rust twins use it wherever their Fortran twin writes `min`).
+#[inline]
+pub(crate) fn fmin(a: f64, b: f64) -> f64 {
+    if b < a { b } else { a }
+}
+
+/// Fortran's `max(a, b)` for non-NaN arguments: `a` unless `b` is larger.
+#[inline]
+pub(crate) fn fmax(a: f64, b: f64) -> f64 {
+    if b > a { b } else { a }
+}

@@ -1,7 +1,7 @@
 //! The Rust twin of the detonation: same operations in the same order, elementwise.
 
 use super::{Burn, Light};
-use crate::modules::par_rows;
+use crate::modules::{fmax, fmin, par_rows};
 use crate::modules::param::{NPAR, SPH_EOS_JWL};
 
 use super::ETA_CJ;
@@ -35,21 +35,12 @@ pub(super) fn burn(a: &mut Burn) {
             if t >= tlight[i] { 1.0 } else { 0.0 }
         } else {
             let r = (t - tlight[i]) * col[DET] / (width * h[i]);
-            let r = if r > 0.0 { r } else { 0.0 };
-            if r < 1.0 { r } else { 1.0 }
+            fmin(1.0, fmax(0.0, r))
         };
         l[0] = if col[ETA_CJ] > 1.0 {
             // Fortran's max(burn, lam, min(1, fb)): the largest, left to right
             let fb = (1.0 - col[0] / rho[i]) / (1.0 - 1.0 / col[ETA_CJ]);
-            let fb = if fb < 1.0 { fb } else { 1.0 };
-            let mut m = l[0];
-            if lp > m {
-                m = lp;
-            }
-            if fb > m {
-                m = fb;
-            }
-            m
+            fmax(fmax(l[0], lp), fmin(1.0, fb))
         } else {
             lp
         };

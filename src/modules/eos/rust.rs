@@ -1,7 +1,7 @@
 //! The Rust twin of the EOS: same operations in the same order as `sph_eos.f90`.
 
 use super::Eval;
-use crate::modules::par_rows2;
+use crate::modules::{fmax, par_rows2};
 use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
 
 const RHO0: usize = 0;
@@ -94,12 +94,6 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
     p = fmax(p, par[PMIN]);
     let c = fmax(c2, 1.0e-4 * cref * cref).sqrt();
     (p, c)
-}
-
-/// Fortran's `max(a, b)` for non-NaN arguments: `a` unless `b` is larger.
-#[inline]
-fn fmax(a: f64, b: f64) -> f64 {
-    if b > a { b } else { a }
 }
 
 /// p and c for the first `mat.len()` particles.

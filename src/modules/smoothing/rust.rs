@@ -1,13 +1,7 @@
 //! The Rust twin of the smoothing module: same operations in the same order, elementwise.
 
 use super::{Advance, FromDensity, Rate};
-use crate::modules::par_rows;
-
-/// Fortran's `min(a, b)` for non-NaN arguments: `a` unless `b` is smaller.
-#[inline]
-fn fmin(a: f64, b: f64) -> f64 {
-    if b < a { b } else { a }
-}
+use crate::modules::{fmin, par_rows};
 
 pub(super) fn from_density(a: &mut FromDensity) {
     let FromDensity { dim, rho, h0, rho0, rinv, hmax, h } = a;
