@@ -88,30 +88,29 @@ fn pairs_of(x: &[f64], h: &[f64]) -> (PairList, Vec<f64>, Vec<f64>) {
     (pl, w, dwdx)
 }
 
-#[test]
-fn jaumann_rate_is_objective_under_rigid_rotation() {
-    let omega = 250.0; // rad/s, counter-clockwise
-    let (x, v, h, rho, mass) = lattice(9, 0.01, |px, py| (-omega * py, omega * px));
-    let n = h.len();
-    let (pl, _w, dwdx) = pairs_of(&x, &h);
-    let mt = soil_table(63.58e6, 0.25, 200.0);
+/// The strength module's rates (Fortran twin) of one soil material over `pl`: ε̇, R, dτ/dt, De/Dt.
+fn strength_rates(
+    pl: &PairList,
+    dwdx: &[f64],
+    mass: &[f64],
+    rho: &[f64],
+    v: &[f64],
+    mt: &MatTable,
+    tau: &[f64],
+) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = mass.len();
     let mat = vec![0i32; n];
-    let mut tau = vec![0.0; NSTR * n];
-    for i in 0..n {
-        tau[NSTR * i..NSTR * i + NSTR].copy_from_slice(&[2.0e5, -1.5e5, -0.5e5, 0.8e5, 0.0, 0.0]);
-    }
     let (mut eps, mut rot, mut dtau, mut de) =
         (vec![0.0; NSTR * n], vec![0.0; 3 * n], vec![0.0; NSTR * n], vec![0.0; n]);
-    let (dwdx, mass, rho, v, mat, mt, tau) = (&dwdx, &mass, &rho, &v, &mat, &mt, &tau);
     strength::Rates {
         dim: 2,
         nreal: n,
-        pairs: &pl,
+        pairs: pl,
         dwdx,
         mass,
         rho,
         v,
-        mat,
+        mat: &mat,
         mt,
         tau,
         rinv: &[],
@@ -121,6 +120,21 @@ fn jaumann_rate_is_objective_under_rigid_rotation() {
         dedt: &mut de,
     }
     .run(F);
+    (eps, rot, dtau, de)
+}
+
+#[test]
+fn jaumann_rate_is_objective_under_rigid_rotation() {
+    let omega = 250.0; // rad/s, counter-clockwise
+    let (x, v, h, rho, mass) = lattice(9, 0.01, |px, py| (-omega * py, omega * px));
+    let n = h.len();
+    let (pl, _w, dwdx) = pairs_of(&x, &h);
+    let mt = soil_table(63.58e6, 0.25, 200.0);
+    let mut tau = vec![0.0; NSTR * n];
+    for i in 0..n {
+        tau[NSTR * i..NSTR * i + NSTR].copy_from_slice(&[2.0e5, -1.5e5, -0.5e5, 0.8e5, 0.0, 0.0]);
+    }
+    let (eps, rot, dtau, de) = strength_rates(&pl, &dwdx, &mass, &rho, &v, &mt, &tau);
     let c = n / 2; // the centre particle: a full, symmetric neighbourhood
     let e = &eps[NSTR * c..NSTR * c + NSTR];
     let r = rot[3 * c];
@@ -156,29 +170,8 @@ fn strength_rates_give_2g_times_deviatoric_strain_rate() {
     let (pl, _w, dwdx) = pairs_of(&x, &h);
     let g = 63.58e6;
     let mt = soil_table(g, 0.25, 200.0);
-    let mat = vec![0i32; n];
     let tau = vec![0.0; NSTR * n];
-    let (mut eps, mut rot, mut dtau, mut de) =
-        (vec![0.0; NSTR * n], vec![0.0; 3 * n], vec![0.0; NSTR * n], vec![0.0; n]);
-    let (dwdx, mass, rho, v, mat, mt, tau) = (&dwdx, &mass, &rho, &v, &mat, &mt, &tau);
-    strength::Rates {
-        dim: 2,
-        nreal: n,
-        pairs: &pl,
-        dwdx,
-        mass,
-        rho,
-        v,
-        mat,
-        mt,
-        tau,
-        rinv: &[],
-        eps: &mut eps,
-        rot: &mut rot,
-        dtau: &mut dtau,
-        dedt: &mut de,
-    }
-    .run(F);
+    let (eps, _, dtau, _) = strength_rates(&pl, &dwdx, &mass, &rho, &v, &mt, &tau);
     let c = n / 2;
     let exy = eps[NSTR * c + 3];
     assert!((exy - 0.5 * gd).abs() < 0.05 * gd, "eps_xy = {exy}");
