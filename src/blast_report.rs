@@ -48,6 +48,9 @@ pub fn crater_history(case: &Case, frames: &[Frame]) -> Vec<(f64, std::result::R
                     inp.soil1.1.push(f.y[i]);
                 }
             }
+            if case.axisymmetric() {
+                inp = inp.through_the_axis();
+            }
             (f.time, measure_xy(&inp, ds))
         })
         .collect()

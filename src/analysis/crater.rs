@@ -294,7 +294,23 @@ pub struct CraterInput {
     pub charge0: (Vec<f64>, Vec<f64>),
 }
 
-/// Measures the crater of a 2D run from the soil particles' initial and current positions.
+impl CraterInput {
+    /// An axisymmetric (RZ) section, x = r ≥ 0, completed by its mirror image x → −x: the plane
+    /// section through the axis, whose crater width is the crater's diameter (the plane measure
+    /// of the half section alone would give its radius, read as a diameter).
+    pub fn through_the_axis(self) -> CraterInput {
+        let full = |(x, y): (Vec<f64>, Vec<f64>)| {
+            let (mut fx, mut fy) = (x.clone(), y.clone());
+            fx.extend(x.iter().map(|r| -r));
+            fy.extend(y);
+            (fx, fy)
+        };
+        CraterInput { soil0: full(self.soil0), soil1: full(self.soil1), charge0: full(self.charge0) }
+    }
+}
+
+/// Measures the crater of a 2D run from the soil particles' initial and current positions
+/// (axisymmetric runs on their section through the axis, [`CraterInput::through_the_axis`]).
 pub fn measure(sim: &Sim) -> Result<Crater, String> {
     if sim.cfg.dim != 2 {
         return Err(format!("the crater is measured in 2D only (this case has dim = {})", sim.cfg.dim));
@@ -314,6 +330,9 @@ pub fn measure(sim: &Sim) -> Result<Crater, String> {
             inp.charge0.0.push(sim.x_init[2 * i]);
             inp.charge0.1.push(sim.x_init[2 * i + 1]);
         }
+    }
+    if sim.case.axisymmetric() {
+        inp = inp.through_the_axis();
     }
     measure_xy(&inp, ds)
 }
@@ -497,6 +516,21 @@ mod tests {
         // the original ground over the pit is the ground's level beside it
         let k = c.columns_m.iter().position(|x| (x - 0.505).abs() < 1e-9).unwrap();
         assert!((c.surface0_m[k] - 0.995).abs() < 1e-9, "{}", c.surface0_m[k]);
+    }
+
+    #[test]
+    fn an_axisymmetric_section_is_measured_through_the_axis() {
+        // the half section r in [0, 0.5] of a bowl of radius 10 cm, 10 cm deep: diameter 20 cm
+        let ds = 0.01;
+        let soil0 = lattice(ds, 0.5, 1.0, &|_, _| false);
+        let soil1 = lattice(ds, 0.5, 1.0, &|r, y| r < 0.1 && y > 0.9);
+        let half = CraterInput { soil0, soil1, charge0: (Vec::new(), Vec::new()) };
+        let c = measure_xy(&half.clone().through_the_axis(), ds).unwrap();
+        assert!((c.diameter_m - 0.20).abs() < 1e-9, "diameter {}", c.diameter_m);
+        assert!((c.depth_m - 0.10).abs() < 1e-9, "depth {}", c.depth_m);
+        // the half section alone reads its radius as a width
+        let h = measure_xy(&half, ds).unwrap();
+        assert!(h.diameter_m < 0.11, "half section {}", h.diameter_m);
     }
 
     #[test]
