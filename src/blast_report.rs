@@ -124,11 +124,15 @@ fn cm1(v: f64) -> String {
     if v.is_finite() { format!("{:.1}", 100.0 * v) } else { "-".into() }
 }
 
-/// The side of each particle's square on a map: √(m/ρ) in 2D (its area), capped at twice the
+/// The side of each particle's square on a map: √(m/ρ) in 2D (its area); axisymmetric, the
+/// area of the ring's section √(m/(2π r ρ)) (m/ρ is the ring's volume); capped at twice the
 /// median so a stretched particle does not cover its neighbours.
-fn sides(f: &Frame) -> Vec<f64> {
-    let mut s: Vec<f64> =
-        (0..f.x.len()).map(|i| if f.rho[i] > 0.0 { (f.mass[i] / f.rho[i]).sqrt() } else { 0.0 }).collect();
+fn sides(f: &Frame, rz: bool) -> Vec<f64> {
+    let area = |i: usize| {
+        let a = f.mass[i] / f.rho[i];
+        if rz { a / (2.0 * std::f64::consts::PI * f.x[i].abs()) } else { a }
+    };
+    let mut s: Vec<f64> = (0..f.x.len()).map(|i| if f.rho[i] > 0.0 { area(i).sqrt() } else { 0.0 }).collect();
     let mut sorted: Vec<f64> = s.iter().copied().filter(|v| v.is_finite()).collect();
     sorted.sort_by(|a, b| a.total_cmp(b));
     let med = sorted.get(sorted.len() / 2).copied().unwrap_or(0.01);
@@ -400,7 +404,7 @@ pub fn report(
     for &k in &picks {
         let f = &frames[k];
         let tag = format!("{:05.0}us", us(f.time));
-        let side = sides(f);
+        let side = sides(f, case.axisymmetric());
         let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
         let pm = format!("snap_material_{tag}.png");
         plot::map_png(
@@ -450,7 +454,7 @@ pub fn report(
     if !fl.ppv.is_empty() {
         let by_id: HashMap<i64, f64> = fl.id.iter().zip(&fl.ppv).map(|(i, v)| (*i, *v)).collect();
         let ppv0: Vec<f64> = f0.id.iter().map(|i| by_id.get(i).copied().unwrap_or(0.0)).collect();
-        let side0 = sides(f0);
+        let side0 = sides(f0, case.axisymmetric());
         let scale = Scale::log_of(ppv0.iter().copied(), 4.0, "PPV (m/s)");
         plot::map_png(
             &dir.join("ppv_map.png"),
@@ -471,7 +475,7 @@ pub fn report(
         written.push("ppv_map.png".into());
     }
     if animate {
-        let sides_all: Vec<Vec<f64>> = frames.iter().map(sides).collect();
+        let sides_all: Vec<Vec<f64>> = frames.iter().map(|f| sides(f, case.axisymmetric())).collect();
         let pmpa_all: Vec<Vec<f64>> = frames.iter().map(|f| f.p.iter().map(|p| p / 1e6).collect()).collect();
         let maps: Vec<MapSpec> = frames
             .iter()
