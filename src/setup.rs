@@ -407,7 +407,7 @@ pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segm
 }
 
 /// The corners of a 3D wall: from_m, the corner after the first edge, and to_m.
-fn corners(w: &crate::case::WallCfg) -> [[f64; 3]; 3] {
+pub(crate) fn corners(w: &crate::case::WallCfg) -> [[f64; 3]; 3] {
     let (a, b) = ([w.from_m[0], w.from_m[1], w.from_m[2]], [w.to_m[0], w.to_m[1], w.to_m[2]]);
     let e = match &w.edge_m {
         Some(e) => [e[0], e[1], e[2]],

@@ -71,14 +71,16 @@ void sph_eos_eval(int n, int nmat, const int *mtype, const double *mpar, const i
 void sph_force_internal(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                         const double *dwdx, const double *mass, const double *rho,
                         const double *p, const double *v, int ntau, const double *tau,
-                        int eform, double *dvdt, double *dedt);
+                        int eform, int nrinv, const double *rinv, double *dvdt,
+                        double *dedt);
 
 /* viscosity (sph_viscosity.f90) */
 void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
                             const int *pair_j, const double *dwdx, const double *x,
                             const double *v, const double *h, const double *rho,
                             const double *c, const double *mass, double alpha, double beta,
-                            double etq, double *dvdt, double *dedt, double *mumax);
+                            double etq, int nrinv, const double *rinv, double *dvdt,
+                            double *dedt, double *mumax);
 
 /* conductivity (sph_conductivity.f90) */
 void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
@@ -118,9 +120,8 @@ void sph_boundary_mirror_copy(int ntotal, int n, int ng, const int *gsrc, double
 /* geometry (sph_geometry.f90): the axisymmetric (RZ) ring quantities and hoop terms */
 void sph_geometry_ring(int dim, int ntotal, const double *x, const double *h, const double *mass,
                        double *rinv, double *pmass);
-void sph_geometry_hoop(int dim, int ntotal, int n, const double *v, const double *rho,
-                       const double *p, const double *rinv, int ntau, const double *tau,
-                       double *dvdt, double *dedt);
+void sph_geometry_hoop(int dim, int ntotal, int n, const double *rho, const double *rinv,
+                       const double *tau, double *dvdt);
 void sph_geometry_continuity(int dim, int ntotal, int n, const double *v, const double *rho,
                              const double *rinv, double *drho);
 

@@ -8,6 +8,13 @@
 !  which conserves the same total energy with the momentum equation above
 !  and keeps e >= 0 where p >= 0 (docs/theory.md s.5).
 !  The deviatoric work tau:epsdot/rho is added by the strength module.
+!  Axisymmetric (nrinv = ntotal, rinv = 1/r* of sph_geometry, mass the
+!  planar masses mu): the energy terms read v_i - (r_j/r_i) v_j at the i
+!  end and (r_i/r_j) v_i - v_j at the j end in place of v_i - v_j, so
+!  that the pair's work on the rings' internal energies, m_i de_i +
+!  m_j de_j with m = 2 pi r mu, is exactly what its forces take from
+!  their kinetic energies (the total energy is conserved; the hoop part
+!  -(p/rho) v_r/r of the p dV work is in the sum; docs/theory.md s.16).
 !  ntau = 0: fluids, pressure only; ntau = ntotal: tau(6, ntotal) in the
 !  order xx, yy, zz, xy, xz, yz.
 !-----------------------------------------------------------------------
@@ -23,14 +30,14 @@ module sph_force
 contains
 
   subroutine sph_force_internal(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, p, v, &
-      ntau, tau, eform, dvdt, dedt) bind(C, name="sph_force_internal")
-    integer(c_int), value :: dim, ntotal, npair, ntau, eform
+      ntau, tau, eform, nrinv, rinv, dvdt, dedt) bind(C, name="sph_force_internal")
+    integer(c_int), value :: dim, ntotal, npair, ntau, eform, nrinv
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), p(ntotal), &
-                                  v(dim, ntotal), tau(nstr, max(ntau, 1))
+                                  v(dim, ntotal), tau(nstr, max(ntau, 1)), rinv(max(nrinv, 1))
     real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
     integer :: i, j, k, a, b
-    real(c_double) :: pr, vd, f, de, ri2, rj2, s
+    real(c_double) :: pr, vd, f, de, ri2, rj2, s, vdi, vdj, sij, sji
 
     dvdt = 0.0d0
     dedt = 0.0d0
@@ -65,7 +72,23 @@ contains
           dvdt(a, j) = dvdt(a, j) - mass(i)*f
         end do
       end if
-      if (eform == 0) then
+      if (nrinv > 0) then
+        sji = rinv(i)/rinv(j)
+        sij = rinv(j)/rinv(i)
+        vdi = 0.0d0
+        vdj = 0.0d0
+        do a = 1, dim
+          vdi = vdi + (v(a, i) - sji*v(a, j))*dwdx(a, k)
+          vdj = vdj + (sij*v(a, i) - v(a, j))*dwdx(a, k)
+        end do
+        if (eform == 0) then
+          dedt(i) = dedt(i) + mass(j)*(0.5d0*pr*vdi)
+          dedt(j) = dedt(j) + mass(i)*(0.5d0*pr*vdj)
+        else
+          dedt(i) = dedt(i) + mass(j)*((p(i)/ri2)*vdi)
+          dedt(j) = dedt(j) + mass(i)*((p(j)/rj2)*vdj)
+        end if
+      else if (eform == 0) then
         de = 0.5d0*pr*vd
         dedt(i) = dedt(i) + mass(j)*de
         dedt(j) = dedt(j) + mass(i)*de

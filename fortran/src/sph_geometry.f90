@@ -14,11 +14,14 @@
 !     strain rate  epsdot_tt = v_r / r                      (sph_strength)
 !     momentum     dv_r/dt += (tau_rr - tau_tt)/(rho r),
 !                  dv_z/dt += tau_rz/(rho r)                 (here)
-!     energy       de/dt   += -(p/rho) v_r / r               (here; the
-!                  deviatoric hoop work tau_tt v_r/(r rho) is part of
+!     energy       de/dt   += -(p/rho) v_r / r               (in the
+!                  pair sums of sph_force and sph_viscosity, which read
+!                  v_i - (r_j/r_i) v_j so that the energy is conserved;
+!                  the deviatoric hoop work tau_tt v_r/(r rho) is part of
 !                  tau:epsdot/rho in sph_strength)
 !  The pressure has no hoop term in the momentum equation (rho dv/dt =
-!  -grad p in cylindrical coordinates is the plane gradient).  Near the
+!  -grad p in cylindrical coordinates is the plane gradient), so the
+!  hoop acceleration is that of the deviatoric stress only.  Near the
 !  axis 1/r is taken as 1/r*, r* = max(|r|, h/4); the axis itself is a
 !  mirror (reflective ghosts, sph_boundary), whose images have r < 0 and
 !  the |r| of their source.  Stress order xx, yy, zz, xy = rr, zz, tt, rz.
@@ -49,25 +52,17 @@ contains
     end do
   end subroutine sph_geometry_ring
 
-  ! the hoop terms of the acceleration and the energy rate of the first n particles;
-  ! ntau = 0: no deviatoric stress (the acceleration term is zero)
-  subroutine sph_geometry_hoop(dim, ntotal, n, v, rho, p, rinv, ntau, tau, dvdt, dedt) &
+  ! the hoop acceleration of the deviatoric stress of the first n particles
+  subroutine sph_geometry_hoop(dim, ntotal, n, rho, rinv, tau, dvdt) &
       bind(C, name="sph_geometry_hoop")
-    integer(c_int), value :: dim, ntotal, n, ntau
-    real(c_double), intent(in) :: v(dim, ntotal), rho(ntotal), p(ntotal), rinv(ntotal), &
-                                  tau(nstr, max(ntau, 1))
-    real(c_double), intent(out) :: dvdt(dim, n), dedt(n)
+    integer(c_int), value :: dim, ntotal, n
+    real(c_double), intent(in) :: rho(ntotal), rinv(ntotal), tau(nstr, ntotal)
+    real(c_double), intent(out) :: dvdt(dim, n)
     integer :: i
 
     do i = 1, n
-      dedt(i) = -(p(i)/rho(i))*(v(1, i)*rinv(i))
-      if (ntau > 0) then
-        dvdt(1, i) = (tau(1, i) - tau(3, i))/rho(i)*rinv(i)
-        dvdt(2, i) = tau(4, i)/rho(i)*rinv(i)
-      else
-        dvdt(1, i) = 0.0d0
-        dvdt(2, i) = 0.0d0
-      end if
+      dvdt(1, i) = (tau(1, i) - tau(3, i))/rho(i)*rinv(i)
+      dvdt(2, i) = tau(4, i)/rho(i)*rinv(i)
     end do
   end subroutine sph_geometry_hoop
 

@@ -7,6 +7,10 @@
 !     de_i/dt += 1/2 sum_j m_j Pi_ij v_ij.grad_i W_ij
 !  and, for the time step, mumax_i = max_j |mu_ij| over the approaching
 !  pairs of particle i (0 if none): the beta term's signal speed.
+!  Axisymmetric (nrinv = ntotal, rinv = 1/r*, mass the planar masses):
+!  the energy terms read v_i - (r_j/r_i) v_j at the i end and
+!  (r_i/r_j) v_i - v_j at the j end (as in sph_force: the heating of the
+!  rings is what the pair's forces take from their kinetic energies).
 !-----------------------------------------------------------------------
 module sph_viscosity
   use iso_c_binding, only: c_int, c_double
@@ -17,15 +21,15 @@ module sph_viscosity
 contains
 
   subroutine sph_viscosity_monaghan(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, h, rho, c, &
-      mass, alpha, beta, etq, dvdt, dedt, mumax) bind(C, name="sph_viscosity_monaghan")
-    integer(c_int), value :: dim, ntotal, npair
+      mass, alpha, beta, etq, nrinv, rinv, dvdt, dedt, mumax) bind(C, name="sph_viscosity_monaghan")
+    integer(c_int), value :: dim, ntotal, npair, nrinv
     real(c_double), value :: alpha, beta, etq
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), h(ntotal), &
-                                  rho(ntotal), c(ntotal), mass(ntotal)
+                                  rho(ntotal), c(ntotal), mass(ntotal), rinv(max(nrinv, 1))
     real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal), mumax(ntotal)
     integer :: i, j, k, d
-    real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de
+    real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de, vdj, sij, sji
 
     dvdt = 0.0d0
     dedt = 0.0d0
@@ -48,15 +52,29 @@ contains
         mrho = 0.5d0*(rho(i) + rho(j))
         piv = (beta*muv - alpha*mc)*muv/mrho
         vd = 0.0d0
+        vdj = 0.0d0
+        if (nrinv > 0) then
+          sji = rinv(i)/rinv(j)
+          sij = rinv(j)/rinv(i)
+        end if
         do d = 1, dim
           f = piv*dwdx(d, k)
           dvdt(d, i) = dvdt(d, i) - mass(j)*f
           dvdt(d, j) = dvdt(d, j) + mass(i)*f
-          vd = vd + dv(d)*dwdx(d, k)
+          if (nrinv > 0) then
+            vd = vd + (v(d, i) - sji*v(d, j))*dwdx(d, k)
+            vdj = vdj + (sij*v(d, i) - v(d, j))*dwdx(d, k)
+          else
+            vd = vd + dv(d)*dwdx(d, k)
+          end if
         end do
         de = 0.5d0*piv*vd
         dedt(i) = dedt(i) + mass(j)*de
-        dedt(j) = dedt(j) + mass(i)*de
+        if (nrinv > 0) then
+          dedt(j) = dedt(j) + mass(i)*(0.5d0*piv*vdj)
+        else
+          dedt(j) = dedt(j) + mass(i)*de
+        end if
         mumax(i) = max(mumax(i), -muv)
         mumax(j) = max(mumax(j), -muv)
       end if

@@ -3,7 +3,6 @@
 //! and its Taylor wave).
 
 #[cfg(feature = "io")]
-pub mod blastwave;
 pub mod cj;
 pub mod crater;
 pub mod noh;

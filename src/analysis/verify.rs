@@ -21,7 +21,7 @@
 use crate::analysis::cj::{Jwl, TaylorWave};
 use crate::analysis::noh::{Noh, reflect};
 use crate::analysis::sedov::Sedov;
-use crate::case::{AnalysisKind, Case, EosCfg};
+use crate::case::{AnalysisKind, Case, EosCfg, WallKind};
 use crate::error::{Result, input};
 use crate::output::Frame;
 use serde_json::{Value, json};
@@ -54,6 +54,8 @@ pub fn frame_of(sim: &crate::sim::Sim) -> Frame {
 /// What the problem needs from the case and its initial particles.
 struct Setup {
     dim: usize,
+    /// Geometry of the blast: 1 planar, 2 cylindrical, 3 spherical (3D, or 2D axisymmetric).
+    j: u32,
     centre: [f64; 3],
     gamma: f64,
     /// Density and energy of the ambient gas (the region with the most particles).
@@ -83,11 +85,41 @@ fn setup_of(case: &Case) -> Result<Setup> {
     if let Some(c) = &case.analysis.center_m {
         centre[..d].copy_from_slice(&c[..d]);
     }
-    let energy = case
-        .analysis
-        .energy_j
-        .unwrap_or_else(|| (0..init.mass.len()).map(|i| init.mass[i] * (init.e[i] - e_amb)).sum::<f64>());
-    Ok(Setup { dim: d, centre, gamma, rho0, e_amb, u0, dx: init.dx_min, energy })
+    let energy = case.analysis.energy_j.unwrap_or_else(|| {
+        mirror_factor(case, &centre) * (0..init.mass.len()).map(|i| init.mass[i] * (init.e[i] - e_amb)).sum::<f64>()
+    });
+    let j = if case.axisymmetric() { 3 } else { d as u32 };
+    Ok(Setup { dim: d, j, centre, gamma, rho0, e_amb, u0, dx: init.dx_min, energy })
+}
+
+/// 2^k for the k mirror walls (symmetry planes) through the centre: a half, quarter or eighth of
+/// a blast holds that fraction of its energy. The axis of an axisymmetric run is not a wall (its
+/// rings already hold the whole revolution).
+fn mirror_factor(case: &Case, c: &[f64; 3]) -> f64 {
+    let d = case.dim;
+    let mut f = 1.0;
+    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
+        let dist = match d {
+            1 => (w.from_m[0] - c[0]).abs(),
+            2 => {
+                let (a, b) = ([w.from_m[0], w.from_m[1]], [w.to_m[0], w.to_m[1]]);
+                let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+                ((ux * (c[1] - a[1]) - uy * (c[0] - a[0])) / ux.hypot(uy)).abs()
+            }
+            _ => {
+                let [a, e, b] = crate::setup::corners(w);
+                let u = [e[0] - a[0], e[1] - a[1], e[2] - a[2]];
+                let v = [b[0] - e[0], b[1] - e[1], b[2] - e[2]];
+                let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+                let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                ((0..3).map(|k| (c[k] - a[k]) * n[k]).sum::<f64>() / l).abs()
+            }
+        };
+        if dist <= 1e-9 * (1.0 + c.iter().map(|v| v.abs()).fold(0.0, f64::max)) {
+            f *= 2.0;
+        }
+    }
+    f
 }
 
 fn radius(s: &Setup, f: &Frame, i: usize) -> f64 {
@@ -96,7 +128,8 @@ fn radius(s: &Setup, f: &Frame, i: usize) -> f64 {
         return dx.abs();
     }
     let dy = f.y[i] - s.centre[1];
-    (dx * dx + dy * dy).sqrt()
+    let dz = if s.dim == 3 { f.z[i] - s.centre[2] } else { 0.0 };
+    (dx * dx + dy * dy + dz * dz).sqrt()
 }
 
 /// Binned mean density against distance: (bin centre, mean ρ, count).
@@ -167,6 +200,9 @@ fn radial_v(s: &Setup, f: &Frame, i: usize, r: f64) -> f64 {
     if s.dim > 1 {
         u += f.vy[i] * (f.y[i] - s.centre[1]);
     }
+    if s.dim == 3 {
+        u += f.vz[i] * (f.z[i] - s.centre[2]);
+    }
     u / r
 }
 
@@ -185,7 +221,7 @@ pub fn measure(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>
 
 fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
     let s = setup_of(case)?;
-    let sol = Sedov::new(s.dim as u32, s.gamma).ok_or_else(|| input("sedov: no similarity solution"))?;
+    let sol = Sedov::new(s.j, s.gamma).ok_or_else(|| input("sedov: no similarity solution"))?;
     let t = f.time;
     let rex = sol.radius(s.energy, s.rho0, t);
     let jump = sol.jump();
@@ -214,7 +250,7 @@ fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
         .collect();
     let v = json!({
         "kind": "sedov",
-        "geometry_j": s.dim,
+        "geometry_j": s.j,
         "gamma": s.gamma,
         "xi0": sol.xi0,
         "energy": s.energy,
@@ -243,7 +279,7 @@ fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
 
 fn noh(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
     let s = setup_of(case)?;
-    let sol = Noh { j: s.dim as u32, gamma: s.gamma, rho0: s.rho0, u0: s.u0 };
+    let sol = Noh { j: s.j, gamma: s.gamma, rho0: s.rho0, u0: s.u0 };
     let t = f.time;
     let sh = sol.shocked();
     let rex = sol.radius(t);
@@ -292,7 +328,7 @@ fn noh(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
         .collect();
     let v = json!({
         "kind": "noh",
-        "geometry_j": s.dim,
+        "geometry_j": s.j,
         "gamma": s.gamma,
         "rho0": s.rho0,
         "u0": s.u0,

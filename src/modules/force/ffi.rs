@@ -22,9 +22,12 @@ pub(super) fn internal(a: &mut Internal) {
     chk_pairs(&pl.i, &pl.j, nt);
     let ntau = if a.tau.is_empty() { 0 } else { nt };
     chk("tau", a.tau.len(), NSTR * ntau);
+    let nrinv = if a.rinv.is_empty() { 0 } else { nt };
+    chk("rinv", a.rinv.len(), nrinv);
     let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare, pair indices are in
-    // 0..ntotal (checked above), and tau is a one-value dummy when ntau = 0 (extent max(ntau, 1)).
+    // 0..ntotal (checked above), and tau (ntau = 0) and rinv (nrinv = 0) are one-value dummies
+    // when empty (extents max(n, 1)).
     unsafe {
         sys::sph_force_internal(
             n32(dim),
@@ -40,6 +43,8 @@ pub(super) fn internal(a: &mut Internal) {
             n32(ntau),
             ptr_or(a.tau, &dummy),
             i32::from(a.asym),
+            n32(nrinv),
+            ptr_or(a.rinv, &dummy),
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
         )

@@ -5,7 +5,12 @@
 //! (`sph.energy_form = "asymmetric"`) De_i/Dt = Σ_j m_j (p_i/ρ_i²) v_ij·∇_i W_ij: each particle does
 //! its own p dV work; the total energy is conserved with the same momentum equation, and e stays
 //! ≥ 0 where p ≥ 0 (theory.md §5).
-//! The deviatoric work τ:ε̇/ρ comes from the strength module. Fortran twin: `sph_force.f90`.
+//! The deviatoric work τ:ε̇/ρ comes from the strength module.
+//! Axisymmetric (RZ, m the planar masses μ = m/(2πr*), `rinv` = 1/r*): the energy terms read
+//! v_i − (r_j/r_i) v_j at the i end and (r_i/r_j) v_i − v_j at the j end in place of v_ij, so that
+//! each pair's work on the rings' internal energies (ring mass 2πr μ) is exactly what its forces
+//! take from the rings' kinetic energies: the total energy is conserved, and the sum holds the
+//! hoop part −(p/ρ) v_r/r of the p dV work (theory.md §16). Fortran twin: `sph_force.f90`.
 
 mod ffi;
 #[cfg(test)]
@@ -30,6 +35,8 @@ pub struct Internal<'a> {
     pub tau: &'a [f64],
     /// The asymmetric energy form (false: the thesis's symmetric one).
     pub asym: bool,
+    /// Axisymmetric: 1/r* (1/m) per particle (ntotal); empty in plane geometry.
+    pub rinv: &'a [f64],
     /// Acceleration (m/s²), dim × ntotal.
     pub dvdt: &'a mut [f64],
     /// Energy rate (J/kg/s), ntotal.
@@ -63,7 +70,7 @@ impl Stage for ForceStage {
     }
     fn reads(&self) -> &[Field] {
         if self.rz {
-            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::Rho, Field::P, Field::V, Field::Tau]
+            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Pmass, Field::Rinv, Field::Rho, Field::P, Field::V, Field::Tau]
         } else {
             &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Rho, Field::P, Field::V, Field::Tau]
         }
@@ -86,6 +93,7 @@ impl Stage for ForceStage {
             v: &p.v[..dim * nt],
             tau: &p.tau,
             asym: self.asym,
+            rinv: if self.rz { &w.rinv[..nt] } else { &[] },
             dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
             dedt: &mut w.dde[self.slots.de_range(nt)],
         }

@@ -9,17 +9,25 @@ fn force_internal_fluid_and_with_tau() {
         let cl = cloud(dim, side(dim), seed);
         let pl = pairs(&cl, 2.0);
         let (_, dwdx) = kernel_values(&cl, &pl);
-        for (with_tau, asym) in [(false, false), (true, false), (false, true), (true, true)] {
+        // axisymmetric: 1/r* of every particle (any positive values: r* = max(|x|, h/4))
+        let rz: Vec<f64> = (0..cl.nt).map(|i| 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i])).collect();
+        let geoms: &[bool] = if dim == 2 { &[false, true] } else { &[false] };
+        for (with_tau, asym, axi) in [(false, false), (true, false), (false, true), (true, true)]
+            .into_iter()
+            .flat_map(|(t, a)| geoms.iter().map(move |&g| (t, a, g)))
+        {
             let tau: &[f64] = if with_tau { &cl.tau } else { &[] };
+            let rinv: &[f64] = if axi { &rz } else { &[] };
             let tag = format!(
-                "force::internal {dim}D seed {seed} {} {}",
+                "force::internal {dim}D seed {seed} {} {}{}",
                 if with_tau { "with tau" } else { "fluid" },
-                if asym { "asymmetric" } else { "symmetric" }
+                if asym { "asymmetric" } else { "symmetric" },
+                if axi { " axisymmetric" } else { "" }
             );
             let [acc, _] =
                 parity(&tag, 0, ["dvdt", "dedt"], [sentinel(dim * cl.nt), sentinel(cl.nt)], |b, [dvdt, dedt]| {
                     let (mass, rho, p, v) = (&cl.mass, &cl.rho, &cl.p, &cl.v);
-                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, asym, dvdt, dedt }, b)
+                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, asym, rinv, dvdt, dedt }, b)
                 });
             nonzero(&tag, &acc);
         }

@@ -15,12 +15,14 @@ use crate::modules::{by_dim, gather_signed, par_rows};
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
 pub(super) fn internal(a: &mut Internal) {
-    if a.asym { by_dim!(a.dim, 2, run(a)) } else { by_dim!(a.dim, 1, run(a)) }
+    // two energy columns (one per end) in the asymmetric form and in RZ
+    if a.asym || !a.rinv.is_empty() { by_dim!(a.dim, 2, run(a)) } else { by_dim!(a.dim, 1, run(a)) }
 }
 
 fn run<const D: usize, const W: usize>(a: &mut Internal) {
-    let Internal { pairs: pl, dwdx, mass, rho, p, v, tau, dvdt, dedt, .. } = a;
-    let (pl, dwdx, mass, rho, p, v, tau) = (*pl, *dwdx, *mass, *rho, *p, *v, *tau);
+    let Internal { pairs: pl, dwdx, mass, rho, p, v, tau, asym, rinv, dvdt, dedt, .. } = a;
+    let (pl, dwdx, mass, rho, p, v, tau, asym, rinv) = (*pl, *dwdx, *mass, *rho, *p, *v, *tau, *asym, *rinv);
+    let rz = !rinv.is_empty();
     let np = pl.len();
     let nt = mass.len();
     let strength = !tau.is_empty();
@@ -69,7 +71,22 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
                 t[al] = f;
             }
         }
-        if W == D + 1 {
+        if rz {
+            // the axisymmetric energy terms: v_i − (r_j/r_i) v_j and (r_i/r_j) v_i − v_j
+            let (sji, sij) = (rinv[i] / rinv[j], rinv[j] / rinv[i]);
+            let (mut vdi, mut vdj) = (0.0, 0.0);
+            for d in 0..D {
+                vdi += (v[d + D * i] - sji * v[d + D * j]) * g[d];
+                vdj += (sij * v[d + D * i] - v[d + D * j]) * g[d];
+            }
+            if asym {
+                t[D] = si[0] * vdi;
+                t[D + 1] = sj[0] * vdj;
+            } else {
+                t[D] = 0.5 * pr * vdi;
+                t[D + 1] = 0.5 * pr * vdj;
+            }
+        } else if W == D + 1 {
             t[D] = 0.5 * pr * vd;
         } else {
             // the asymmetric form: each end its own p/ρ² times v_ij·∇W

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::{Continuity, Hoop, Ring};
-use crate::modules::ffi_util::{chk, n32, ptr_or};
+use crate::modules::ffi_util::{chk, n32};
 use crate::modules::param::NSTR;
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -31,30 +31,23 @@ pub(super) fn ring(a: &mut Ring) {
 }
 
 pub(super) fn hoop(a: &mut Hoop) {
-    let (dim, nt, n) = (a.dim, a.rho.len(), a.dedt.len());
+    let (dim, nt) = (a.dim, a.rho.len());
+    let n = a.dvdt.len() / dim.max(1);
     assert!(dim == 2 && n <= nt, "legacy call: the hoop terms need dim = 2 and n <= ntotal");
-    chk("v", a.v.len(), dim * nt);
-    chk("p", a.p.len(), nt);
-    chk("rinv", a.rinv.len(), nt);
     chk("dvdt", a.dvdt.len(), dim * n);
-    let ntau = if a.tau.is_empty() { 0 } else { nt };
-    chk("tau", a.tau.len(), NSTR * ntau);
-    let dummy = 0.0;
-    // SAFETY: v holds dim × ntotal values, rho, p and rinv ntotal, dvdt dim × n, dedt n, tau
-    // NSTR × ntotal or (ntau = 0) a one-value dummy (checked above).
+    chk("rinv", a.rinv.len(), nt);
+    chk("tau", a.tau.len(), NSTR * nt);
+    // SAFETY: rho and rinv hold ntotal values, tau NSTR × ntotal, dvdt dim × n with n ≤ ntotal
+    // (checked above).
     unsafe {
         sys::sph_geometry_hoop(
             n32(dim),
             n32(nt),
             n32(n),
-            a.v.as_ptr(),
             a.rho.as_ptr(),
-            a.p.as_ptr(),
             a.rinv.as_ptr(),
-            n32(ntau),
-            ptr_or(a.tau, &dummy),
+            a.tau.as_ptr(),
             a.dvdt.as_mut_ptr(),
-            a.dedt.as_mut_ptr(),
         )
     }
 }

@@ -9,8 +9,10 @@
 //!   follows the plane spacing);
 //! - momentum: Dv_r/Dt += (τ_rr − τ_θθ)/(ρ r), Dv_z/Dt += τ_rz/(ρ r) (m/s²; the pressure has no
 //!   hoop term: ρ Dv/Dt = −∇p is the plane gradient in cylindrical coordinates);
-//! - energy: De/Dt += −(p/ρ) v_r/r (W/kg; the deviatoric hoop work τ_θθ v_r/(rρ) is part of the
-//!   strength module's τ:ε̇/ρ, whose ε̇_θθ = v_r/r);
+//! - energy: De/Dt += −(p/ρ) v_r/r (W/kg) is not a term of its own: the force and viscosity pair
+//!   sums read v_i − (r_j/r_i) v_j in place of v_ij, which holds it and conserves the total energy
+//!   exactly (the work of each pair's forces on the rings); the deviatoric hoop work τ_θθ v_r/(rρ)
+//!   is part of the strength module's τ:ε̇/ρ, whose ε̇_θθ = v_r/r;
 //!
 //! with 1/r taken as 1/r*, r* = max(|r|, h/4) (the axis is a mirror: reflective ghosts, whose
 //! r < 0 and |r| is their source's). Fortran twin: `sph_geometry.f90`.
@@ -36,18 +38,15 @@ pub struct Ring<'a> {
     pub pmass: &'a mut [f64],
 }
 
-/// `sph_geometry_hoop`: the hoop terms of the acceleration (m/s², dim × n) and of the energy
-/// rate (W/kg, n) of the first n = `dedt.len()` particles; `tau` empty for fluids (the
-/// acceleration term is then zero).
+/// `sph_geometry_hoop`: the hoop acceleration of the deviatoric stress (m/s², dim × n) of the
+/// first n = `dvdt.len()`/dim particles: (τ_rr − τ_θθ)/(ρ r*), τ_rz/(ρ r*).
 pub struct Hoop<'a> {
     pub dim: usize,
-    pub v: &'a [f64],
     pub rho: &'a [f64],
-    pub p: &'a [f64],
     pub rinv: &'a [f64],
+    /// Deviatoric stress, NSTR × ntotal.
     pub tau: &'a [f64],
     pub dvdt: &'a mut [f64],
-    pub dedt: &'a mut [f64],
 }
 
 /// `sph_geometry_continuity`: Dρ/Dt −= ρ v_r/r* for the first n = `drho.len()` particles.
@@ -113,7 +112,7 @@ impl Stage for RingStage {
     }
 }
 
-/// The hoop terms of the momentum and energy equations, a term of each rate sum.
+/// The hoop acceleration of the deviatoric stress, a term of the acceleration sum.
 pub struct HoopStage {
     slots: Slots,
 }
@@ -126,32 +125,28 @@ impl Stage for HoopStage {
         "geometry.hoop"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::V, Field::Rho, Field::P, Field::Rinv, Field::Tau]
+        &[Field::Rho, Field::Rinv, Field::Tau]
     }
     fn writes(&self) -> &[Field] {
-        &[Field::Acc, Field::Dde]
+        &[Field::Acc]
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
         self.slots.size(w, p.dim, p.ntotal);
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, n, nt) = (p.dim, p.nreal, p.ntotal);
-        let (ra, rd) = (self.slots.acc_range(dim * nt), self.slots.de_range(nt));
-        let tau: &[f64] = if p.tau.is_empty() { &[] } else { &p.tau[..NSTR * nt] };
+        let ra = self.slots.acc_range(dim * nt);
         Hoop {
             dim,
-            v: &p.v[..dim * nt],
             rho: &p.rho[..nt],
-            p: &p.p[..nt],
             rinv: &w.rinv[..nt],
-            tau,
+            tau: &p.tau[..NSTR * nt],
             dvdt: &mut w.acc[ra.start..ra.start + dim * n],
-            dedt: &mut w.dde[rd.start..rd.start + n],
         }
         .run(b);
     }
     fn terms(&self) -> Terms {
-        Terms { acc: Some(4), de: Some(3) }
+        Terms { acc: Some(4), de: None }
     }
     fn assign(&mut self, slots: Slots) {
         self.slots = slots;
@@ -181,14 +176,17 @@ impl Stage for ContinuityStage {
     }
 }
 
-/// Runs in axisymmetric geometry: the ring quantities after the mirrors, the hoop terms with the
-/// rates (and the continuity hoop term when ρ is integrated).
+/// Runs in axisymmetric geometry: the ring quantities after the mirrors, the hoop acceleration
+/// of the deviatoric stress with the rates (materials with strength), and the continuity hoop
+/// term when ρ is integrated.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     if !ctx.case.axisymmetric() {
         return Contribution::skip("plane geometry: no hoop terms");
     }
-    let mut stages: Vec<(Phase, Box<dyn Stage>)> =
-        vec![(Phase::Mirrors, Box::new(RingStage)), (Phase::Rates, Box::new(HoopStage { slots: Slots::default() }))];
+    let mut stages: Vec<(Phase, Box<dyn Stage>)> = vec![(Phase::Mirrors, Box::new(RingStage))];
+    if crate::setup::has_strength(ctx.case) {
+        stages.push((Phase::Rates, Box::new(HoopStage { slots: Slots::default() })));
+    }
     if ctx.case.sph.density == DensityKind::Continuity {
         stages.push((Phase::Rates, Box::new(ContinuityStage)));
     }

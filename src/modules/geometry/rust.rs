@@ -22,19 +22,13 @@ pub(super) fn ring(a: &mut Ring) {
 }
 
 pub(super) fn hoop(a: &mut Hoop) {
-    let Hoop { dim, v, rho, p, rinv, tau, dvdt, dedt } = a;
-    let (dim, v, rho, p, rinv, tau) = (*dim, *v, *rho, *p, *rinv, *tau);
-    let n = dedt.len();
-    par_rows2(&mut dvdt[..dim * n], dim, &mut dedt[..n], 1, |i, acc, de| {
-        de[0] = -(p[i] / rho[i]) * (v[dim * i] * rinv[i]);
-        if tau.is_empty() {
-            acc[0] = 0.0;
-            acc[1] = 0.0;
-        } else {
-            let t = &tau[NSTR * i..NSTR * i + NSTR];
-            acc[0] = (t[0] - t[2]) / rho[i] * rinv[i];
-            acc[1] = t[3] / rho[i] * rinv[i];
-        }
+    let Hoop { dim, rho, rinv, tau, dvdt } = a;
+    let (dim, rho, rinv, tau) = (*dim, *rho, *rinv, *tau);
+    let n = dvdt.len() / dim;
+    par_rows(&mut dvdt[..dim * n], dim, |i, acc| {
+        let t = &tau[NSTR * i..NSTR * i + NSTR];
+        acc[0] = (t[0] - t[2]) / rho[i] * rinv[i];
+        acc[1] = t[3] / rho[i] * rinv[i];
     });
 }
 

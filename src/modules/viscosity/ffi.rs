@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::Monaghan;
-use crate::modules::ffi_util::{chk, chk_pairs, n32};
+use crate::modules::ffi_util::{chk, chk_pairs, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -22,8 +22,12 @@ pub(super) fn monaghan(a: &mut Monaghan) {
         chk(name, l, nt);
     }
     chk_pairs(&pl.i, &pl.j, nt);
+    let nrinv = if a.rinv.is_empty() { 0 } else { nt };
+    chk("rinv", a.rinv.len(), nrinv);
+    let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
-    // dim × npair) and every pair index is in 0..ntotal (checked above).
+    // dim × npair), every pair index is in 0..ntotal (checked above), and rinv is a one-value
+    // dummy when nrinv = 0 (extent max(nrinv, 1)).
     unsafe {
         sys::sph_viscosity_monaghan(
             n32(dim),
@@ -41,6 +45,8 @@ pub(super) fn monaghan(a: &mut Monaghan) {
             a.coef.alpha,
             a.coef.beta,
             a.coef.etq,
+            n32(nrinv),
+            ptr_or(a.rinv, &dummy),
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
             a.mumax.as_mut_ptr(),

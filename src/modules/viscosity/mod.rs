@@ -37,6 +37,9 @@ pub struct Monaghan<'a> {
     pub c: &'a [f64],
     pub mass: &'a [f64],
     pub coef: Coef,
+    /// Axisymmetric: 1/r* (1/m) per particle (ntotal), and the energy terms of the RZ form
+    /// (`force`: v_i − (r_j/r_i) v_j at the i end); empty in plane geometry.
+    pub rinv: &'a [f64],
     /// Acceleration (m/s²), dim × ntotal.
     pub dvdt: &'a mut [f64],
     /// Energy rate (J/kg/s), ntotal.
@@ -82,7 +85,18 @@ impl Stage for ViscosityStage {
     }
     fn reads(&self) -> &[Field] {
         if self.rz {
-            &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::H, Field::Rho, Field::C, Field::Pmass]
+            &[
+                Field::PairI,
+                Field::PairJ,
+                Field::Dwdx,
+                Field::X,
+                Field::V,
+                Field::H,
+                Field::Rho,
+                Field::C,
+                Field::Pmass,
+                Field::Rinv,
+            ]
         } else {
             &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::H, Field::Rho, Field::C, Field::Mass]
         }
@@ -107,6 +121,7 @@ impl Stage for ViscosityStage {
             c: &p.c[..nt],
             mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
             coef: self.coef,
+            rinv: if self.rz { &w.rinv[..nt] } else { &[] },
             dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
             dedt: &mut w.dde[self.slots.de_range(nt)],
             mumax: &mut w.mumax[..nt],

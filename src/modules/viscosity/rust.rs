@@ -22,15 +22,18 @@ struct In<'a> {
     h: &'a [f64],
     rho: &'a [f64],
     c: &'a [f64],
+    rinv: &'a [f64],
     coef: Coef,
 }
 
 pub(super) fn monaghan(a: &mut Monaghan) {
-    by_dim!(a.dim, 1, run(a))
+    // RZ: two energy columns (the i end's and the j end's terms differ)
+    if a.rinv.is_empty() { by_dim!(a.dim, 1, run(a)) } else { by_dim!(a.dim, 2, run(a)) }
 }
 
-/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄.
-const NV: usize = 6;
+/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄, and the j end's v·∇W
+/// (RZ).
+const NV: usize = 7;
 
 /// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
 /// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a
@@ -43,22 +46,38 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
     let (r2, rest) = rest.split_at_mut(len);
     let (vd, rest) = rest.split_at_mut(len);
     let (hij, rest) = rest.split_at_mut(len);
-    let (mc, mrho) = rest.split_at_mut(len);
+    let (mc, rest) = rest.split_at_mut(len);
+    let (mrho, vdj) = rest.split_at_mut(len);
+    let rz = W == D + 2;
     for l in 0..len {
         let k = k0 + l;
         let (i, j) = (a.pi[k] as usize, a.pj[k] as usize);
         let g = &a.dwdx[D * k..D * k + D];
-        let (mut s_vr, mut s_r2, mut s_vd) = (0.0, 0.0, 0.0);
-        for d in 0..D {
-            let dv = v[d + D * i] - v[d + D * j];
-            let dx = x[d + D * i] - x[d + D * j];
-            s_vr += dv * dx;
-            s_r2 += dx * dx;
-            s_vd += dv * g[d];
+        let (mut s_vr, mut s_r2, mut s_vd, mut s_vdj) = (0.0, 0.0, 0.0, 0.0);
+        if rz {
+            // the axisymmetric energy terms: v_i − (r_j/r_i) v_j and (r_i/r_j) v_i − v_j
+            let (sji, sij) = (a.rinv[i] / a.rinv[j], a.rinv[j] / a.rinv[i]);
+            for d in 0..D {
+                let dv = v[d + D * i] - v[d + D * j];
+                let dx = x[d + D * i] - x[d + D * j];
+                s_vr += dv * dx;
+                s_r2 += dx * dx;
+                s_vd += (v[d + D * i] - sji * v[d + D * j]) * g[d];
+                s_vdj += (sij * v[d + D * i] - v[d + D * j]) * g[d];
+            }
+        } else {
+            for d in 0..D {
+                let dv = v[d + D * i] - v[d + D * j];
+                let dx = x[d + D * i] - x[d + D * j];
+                s_vr += dv * dx;
+                s_r2 += dx * dx;
+                s_vd += dv * g[d];
+            }
         }
         vr[l] = s_vr;
         r2[l] = s_r2;
         vd[l] = s_vd;
+        vdj[l] = s_vdj;
         hij[l] = 0.5 * (a.h[i] + a.h[j]);
         mc[l] = 0.5 * (a.c[i] + a.c[j]);
         mrho[l] = 0.5 * (a.rho[i] + a.rho[j]);
@@ -71,8 +90,10 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
         let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
         mu[l] = f64::from_bits((-muv).to_bits() & on);
         let de = 0.5 * piv * vd[l];
+        let dej = 0.5 * piv * vdj[l];
         hij[l] = f64::from_bits(piv.to_bits() & on);
         vd[l] = f64::from_bits(de.to_bits() & on);
+        vdj[l] = f64::from_bits(dej.to_bits() & on);
         vr[l] = f64::from_bits(on);
     }
     for l in 0..len {
@@ -82,13 +103,17 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
             t[W * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
         }
         t[W * l + D] = vd[l];
+        if rz {
+            t[W * l + D + 1] = vdj[l];
+        }
     }
 }
 
 fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     let pl = a.pairs;
     let np = pl.len();
-    let inp = In { pi: &pl.i, pj: &pl.j, dwdx: a.dwdx, x: a.x, v: a.v, h: a.h, rho: a.rho, c: a.c, coef: a.coef };
+    let inp =
+        In { pi: &pl.i, pj: &pl.j, dwdx: a.dwdx, x: a.x, v: a.v, h: a.h, rho: a.rho, c: a.c, rinv: a.rinv, coef: a.coef };
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
     buf.pair.resize(W * np, 0.0);
