@@ -4,7 +4,7 @@
 
 use blastsph::case;
 use blastsph::cli;
-use blastsph::modules::{Backend, Module};
+use blastsph::modules::Module;
 use blastsph::sim::Overrides;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
