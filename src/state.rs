@@ -45,6 +45,9 @@ pub struct Particles {
     /// Initial h and ρ (for h from density); empty otherwise.
     pub h0: Vec<f64>,
     pub rho0: Vec<f64>,
+    /// Viscosity coefficient α of each particle (Morris–Monaghan switch), ntotal (the mirrors
+    /// hold their source's); empty without the switch.
+    pub alpha: Vec<f64>,
 }
 
 impl Particles {
@@ -60,6 +63,9 @@ impl Particles {
         self.mat.resize(nt, 0);
         if !self.tau.is_empty() {
             self.tau.resize(NSTR * nt, 0.0);
+        }
+        if !self.alpha.is_empty() {
+            self.alpha.resize(nt, 0.0);
         }
     }
 }
@@ -179,6 +185,7 @@ pub enum Field {
     Pmass,
     Mumax,
     Efloor,
+    Alpha,
 }
 
 /// A field's array, borrowed.
@@ -273,6 +280,7 @@ impl Field {
             Pmass => &w.pmass,
             Mumax => &w.mumax,
             Efloor => &w.efloor,
+            Alpha => &p.alpha,
         })
     }
 
@@ -326,6 +334,7 @@ impl Field {
             Pmass => &mut w.pmass,
             Mumax => &mut w.mumax,
             Efloor => &mut w.efloor,
+            Alpha => &mut p.alpha,
         })
     }
 

@@ -79,8 +79,13 @@ void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
                             const int *pair_j, const double *dwdx, const double *x,
                             const double *v, const double *h, const double *rho,
                             const double *c, const double *mass, double alpha, double beta,
-                            double etq, int nrinv, const double *rinv, double *dvdt,
-                            double *dedt, double *mumax);
+                            double etq, int nalpha, const double *alpv, double amax,
+                            int nrinv, const double *rinv, double *dvdt, double *dedt,
+                            double *mumax);
+void sph_viscosity_switch(int dim, int ntotal, int n, int npair, const int *pair_i,
+                          const int *pair_j, const double *dwdx, const double *mass,
+                          const double *rho, const double *v, const double *h, const double *c,
+                          double amin, double amax, double ell, double dt, double *alpv);
 
 /* conductivity (sph_conductivity.f90) */
 void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,

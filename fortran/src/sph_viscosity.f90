@@ -11,25 +11,37 @@
 !  the energy terms read v_i - (r_j/r_i) v_j at the i end and
 !  (r_i/r_j) v_i - v_j at the j end (as in sph_force: the heating of the
 !  rings is what the pair's forces take from their kinetic energies).
+!  With the Morris-Monaghan switch (nalpha = ntotal, alpv the alpha_i of
+!  every particle, mirrors included): alpha_ij = (alpha_i + alpha_j)/2 and
+!  beta_ij = beta alpha_ij/amax in place of alpha and beta.
+!  sph_viscosity_switch advances alpha_i of the real particles over dt:
+!     dalpha_i/dt = -(alpha_i - amin)/tau_i + S_i (amax - alpha_i),
+!     tau_i = h_i/(ell c_i),  S_i = max(-div v_i, 0),
+!     -div v_i = (1/rho_i) sum_j m_j v_ij.grad_i W_ij,
+!  by one backward-Euler step (alpha stays within [amin, amax] at any dt):
+!     alpha_i <- (alpha_i + dt (amin/tau_i + S_i amax))/(1 + dt (1/tau_i + S_i))
 !-----------------------------------------------------------------------
 module sph_viscosity
   use iso_c_binding, only: c_int, c_double
   implicit none
   private
-  public :: sph_viscosity_monaghan
+  public :: sph_viscosity_monaghan, sph_viscosity_switch
 
 contains
 
   subroutine sph_viscosity_monaghan(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, h, rho, c, &
-      mass, alpha, beta, etq, nrinv, rinv, dvdt, dedt, mumax) bind(C, name="sph_viscosity_monaghan")
-    integer(c_int), value :: dim, ntotal, npair, nrinv
-    real(c_double), value :: alpha, beta, etq
+      mass, alpha, beta, etq, nalpha, alpv, amax, nrinv, rinv, dvdt, dedt, mumax) &
+      bind(C, name="sph_viscosity_monaghan")
+    integer(c_int), value :: dim, ntotal, npair, nrinv, nalpha
+    real(c_double), value :: alpha, beta, etq, amax
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), h(ntotal), &
-                                  rho(ntotal), c(ntotal), mass(ntotal), rinv(max(nrinv, 1))
+                                  rho(ntotal), c(ntotal), mass(ntotal), rinv(max(nrinv, 1)), &
+                                  alpv(max(nalpha, 1))
     real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal), mumax(ntotal)
     integer :: i, j, k, d
-    real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de, vdj, sij, sji
+    real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de, vdj, sij, sji, &
+                      aij, bij
 
     dvdt = 0.0d0
     dedt = 0.0d0
@@ -50,7 +62,14 @@ contains
         muv = hij*vr/(r2 + (etq*hij)*(etq*hij))
         mc = 0.5d0*(c(i) + c(j))
         mrho = 0.5d0*(rho(i) + rho(j))
-        piv = (beta*muv - alpha*mc)*muv/mrho
+        if (nalpha > 0) then
+          aij = 0.5d0*(alpv(i) + alpv(j))
+          bij = beta*(aij/amax)
+        else
+          aij = alpha
+          bij = beta
+        end if
+        piv = (bij*muv - aij*mc)*muv/mrho
         vd = 0.0d0
         vdj = 0.0d0
         if (nrinv > 0) then
@@ -80,5 +99,38 @@ contains
       end if
     end do
   end subroutine sph_viscosity_monaghan
+
+  subroutine sph_viscosity_switch(dim, ntotal, n, npair, pair_i, pair_j, dwdx, mass, rho, v, h, c, &
+      amin, amax, ell, dt, alpv) bind(C, name="sph_viscosity_switch")
+    integer(c_int), value :: dim, ntotal, n, npair
+    real(c_double), value :: amin, amax, ell, dt
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), v(dim, ntotal), &
+                                  h(ntotal), c(ntotal)
+    real(c_double), intent(inout) :: alpv(ntotal)
+    real(c_double), allocatable :: dv(:)
+    integer :: i, j, k, d
+    real(c_double) :: vd, s, r
+
+    allocate(dv(ntotal))
+    dv = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      vd = 0.0d0
+      do d = 1, dim
+        vd = vd + (v(d, i) - v(d, j))*dwdx(d, k)
+      end do
+      dv(i) = dv(i) + mass(j)*vd
+      dv(j) = dv(j) + mass(i)*vd
+    end do
+    do i = 1, n
+      s = dv(i)/rho(i)
+      if (s < 0.0d0) s = 0.0d0
+      r = ell*c(i)/h(i)
+      alpv(i) = (alpv(i) + dt*(amin*r + s*amax))/(1.0d0 + dt*(r + s))
+    end do
+    deallocate(dv)
+  end subroutine sph_viscosity_switch
 
 end module sph_viscosity

@@ -292,6 +292,27 @@ pub struct ViscCfg {
     /// φ = phi_over_h × h_ij (4-48; 0.1).
     #[serde(default = "default_phi")]
     pub phi_over_h: f64,
+    /// Viscosity switch (theory.md §6): `none` (α, β constant) or `morris_monaghan` (α_i evolves
+    /// between `alpha_min` and `alpha`, β_ij = β α_ij/α).
+    #[serde(default)]
+    pub switch: ViscSwitch,
+    /// Floor of the switch's α_i (Morris & Monaghan 1997: 0.1).
+    #[serde(default = "default_alpha_min")]
+    pub alpha_min: f64,
+    /// ℓ of the switch's decay time τ_i = h_i/(ℓ c_i) (Morris & Monaghan: 0.2).
+    #[serde(default = "default_switch_decay")]
+    pub switch_decay: f64,
+}
+
+/// The artificial-viscosity switch.
+#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ViscSwitch {
+    /// Constant coefficients (the thesis's).
+    #[default]
+    None,
+    /// Morris & Monaghan (1997): dα_i/dt = −(α_i − α_min)/τ_i + max(−∇·v_i, 0)(α_max − α_i).
+    MorrisMonaghan,
 }
 
 fn default_beta() -> f64 {
@@ -300,10 +321,23 @@ fn default_beta() -> f64 {
 fn default_phi() -> f64 {
     0.1
 }
+fn default_alpha_min() -> f64 {
+    0.1
+}
+fn default_switch_decay() -> f64 {
+    0.2
+}
 
 impl Default for ViscCfg {
     fn default() -> Self {
-        ViscCfg { alpha: 1.0, beta: 10.0, phi_over_h: 0.1 }
+        ViscCfg {
+            alpha: 1.0,
+            beta: 10.0,
+            phi_over_h: 0.1,
+            switch: ViscSwitch::None,
+            alpha_min: default_alpha_min(),
+            switch_decay: default_switch_decay(),
+        }
     }
 }
 

@@ -316,6 +316,11 @@ impl Case {
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;
         v.num(&at, "phi_over_h", self.viscosity.phi_over_h, Range::above(0.0, 1.0))?;
+        if self.viscosity.switch == ViscSwitch::MorrisMonaghan {
+            v.num(&at, "alpha", self.viscosity.alpha, Range::above(0.0, 100.0))?;
+            v.num(&at, "alpha_min", self.viscosity.alpha_min, Range::within(0.0, self.viscosity.alpha))?;
+            v.num(&at, "switch_decay", self.viscosity.switch_decay, Range::above(0.0, 10.0))?;
+        }
         let at = At::top("conductivity");
         v.num(&at, "alpha", self.conductivity.alpha, Range::within(0.0, 100.0))?;
         v.any(&at, "signal");

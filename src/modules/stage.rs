@@ -78,6 +78,10 @@ pub enum Phase {
     Eos,
     /// p and c copied to the mirrors.
     EosShare,
+    /// The viscosity switch's α_i advanced over the step.
+    Switch,
+    /// α copied to the mirrors.
+    SwitchShare,
     /// The terms of the acceleration and energy rate (and dh/dt, XSPH).
     Rates,
     /// The total acceleration and energy rate.
@@ -92,7 +96,7 @@ pub enum Phase {
 
 impl Phase {
     /// The phases of one step, in order (`Init` excluded).
-    pub const STEP: [Phase; 16] = [
+    pub const STEP: [Phase; 18] = [
         Phase::Predict,
         Phase::Mirrors,
         Phase::Search,
@@ -104,6 +108,8 @@ impl Phase {
         Phase::Burn,
         Phase::Eos,
         Phase::EosShare,
+        Phase::Switch,
+        Phase::SwitchShare,
         Phase::Rates,
         Phase::Sum,
         Phase::StepSize,

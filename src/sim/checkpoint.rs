@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 
 const MAGIC: &[u8; 20] = b"BLASTSPH-CHECKPOINT\n";
 /// Version of the format; a checkpoint of another version is refused.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 
 /// One named array of a checkpoint.
 #[derive(Debug, Clone, PartialEq)]
@@ -314,7 +314,8 @@ impl Sim {
         b.put_text("sim.plan.stages", &stages.join("\n"));
         b.put_f64("sim.plan.seconds", &plan.entries.iter().map(|e| e.seconds).collect::<Vec<_>>());
 
-        let Particles { dim, nreal, ntotal, x, v, rho, p: pr, c, e, h, mass, mat, id, tau, tlight, burn, h0, rho0 } = p;
+        let Particles { dim, nreal, ntotal, x, v, rho, p: pr, c, e, h, mass, mat, id, tau, tlight, burn, h0, rho0, alpha } =
+            p;
         b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
         for (name, a) in [
             ("p.x", x),
@@ -330,6 +331,7 @@ impl Sim {
             ("p.burn", burn),
             ("p.h0", h0),
             ("p.rho0", rho0),
+            ("p.alpha", alpha),
         ] {
             b.put_f64(name, a);
         }
@@ -461,6 +463,7 @@ impl Sim {
             burn,
             h0,
             rho0,
+            alpha,
         } = p;
         let sized = |name: &str, got: usize, want: usize| -> Result<()> {
             if got == want { Ok(()) } else { Err(bad(&format!("`{name}` holds {got} values, not {want}"))) }
@@ -500,6 +503,9 @@ impl Sim {
         let new_tau = b.f64("p.tau")?;
         sized("p.tau", new_tau.len(), if tau.is_empty() { 0 } else { crate::modules::param::NSTR * ntotal })?;
         *tau = new_tau;
+        let new_alpha = b.f64("p.alpha")?;
+        sized("p.alpha", new_alpha.len(), if alpha.is_empty() { 0 } else { ntotal })?;
+        *alpha = new_alpha;
         *mat = new_mat;
         *id = new_id;
         *p_ntotal = ntotal;

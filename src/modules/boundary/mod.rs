@@ -179,7 +179,8 @@ impl Stage for FillStage {
     }
 }
 
-/// Copies of fields to the mirrors after they change (ρ of summation density; p and c).
+/// Copies of fields to the mirrors after they change (ρ of summation density; p and c; the
+/// viscosity switch's α).
 pub struct CopyStage {
     fields: Vec<Field>,
 }
@@ -202,6 +203,7 @@ impl Stage for CopyStage {
             let f = match f {
                 Field::Rho => &mut p.rho,
                 Field::P => &mut p.p,
+                Field::Alpha => &mut p.alpha,
                 _ => &mut p.c,
             };
             MirrorCopy { n: p.nreal, gsrc: &w.gsrc, f }.run(b);
@@ -259,6 +261,9 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
             stages.push((Phase::DensityShare, Box::new(CopyStage { fields: vec![Field::Rho] })));
         }
         stages.push((Phase::EosShare, Box::new(CopyStage { fields: vec![Field::P, Field::C] })));
+        if case.viscosity.switch != crate::case::ViscSwitch::None && case.viscosity.alpha > 0.0 {
+            stages.push((Phase::SwitchShare, Box::new(CopyStage { fields: vec![Field::Alpha] })));
+        }
     }
     if !wall_segs.is_empty() {
         let b = &case.boundary;

@@ -1,7 +1,7 @@
 //! The Fortran twin of the viscosity (`sph_viscosity_monaghan`).
 #![allow(unsafe_code)]
 
-use super::Monaghan;
+use super::{Monaghan, Switch};
 use crate::modules::ffi_util::{chk, chk_pairs, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -24,10 +24,12 @@ pub(super) fn monaghan(a: &mut Monaghan) {
     chk_pairs(&pl.i, &pl.j, nt);
     let nrinv = if a.rinv.is_empty() { 0 } else { nt };
     chk("rinv", a.rinv.len(), nrinv);
+    let nalpha = if a.alpv.is_empty() { 0 } else { nt };
+    chk("alpv", a.alpv.len(), nalpha);
     let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
-    // dim × npair), every pair index is in 0..ntotal (checked above), and rinv is a one-value
-    // dummy when nrinv = 0 (extent max(nrinv, 1)).
+    // dim × npair), every pair index is in 0..ntotal (checked above), and rinv and alpv are
+    // one-value dummies when nrinv = 0 and nalpha = 0 (extents max(n, 1)).
     unsafe {
         sys::sph_viscosity_monaghan(
             n32(dim),
@@ -45,11 +47,49 @@ pub(super) fn monaghan(a: &mut Monaghan) {
             a.coef.alpha,
             a.coef.beta,
             a.coef.etq,
+            n32(nalpha),
+            ptr_or(a.alpv, &dummy),
+            a.amax,
             n32(nrinv),
             ptr_or(a.rinv, &dummy),
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
             a.mumax.as_mut_ptr(),
+        )
+    }
+}
+
+pub(super) fn switch(a: &mut Switch) {
+    let (dim, pl) = (a.dim, a.pairs);
+    let nt = a.mass.len();
+    assert!(a.n <= nt, "legacy call: n exceeds ntotal");
+    chk("v", a.v.len(), dim * nt);
+    chk("dwdx", a.dwdx.len(), dim * pl.len());
+    for (name, l) in [("rho", a.rho.len()), ("h", a.h.len()), ("c", a.c.len()), ("alpv", a.alpv.len())] {
+        chk(name, l, nt);
+    }
+    chk_pairs(&pl.i, &pl.j, nt);
+    // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
+    // dim × npair), every pair index is in 0..ntotal and n ≤ ntotal (checked above).
+    unsafe {
+        sys::sph_viscosity_switch(
+            n32(dim),
+            n32(nt),
+            n32(a.n),
+            n32(pl.len()),
+            pl.i.as_ptr(),
+            pl.j.as_ptr(),
+            a.dwdx.as_ptr(),
+            a.mass.as_ptr(),
+            a.rho.as_ptr(),
+            a.v.as_ptr(),
+            a.h.as_ptr(),
+            a.c.as_ptr(),
+            a.amin,
+            a.amax,
+            a.ell,
+            a.dt,
+            a.alpv.as_mut_ptr(),
         )
     }
 }

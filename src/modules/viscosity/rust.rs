@@ -8,7 +8,7 @@
 //! it recedes); mumax_i is their largest over particle i's pairs (a maximum: independent of the
 //! order). 0 ULP, independent of the thread count.
 
-use super::{Coef, Monaghan};
+use super::{Coef, Monaghan, Switch};
 use crate::modules::{CHUNK, by_dim, gather_signed, par_rows, serial};
 use rayon::prelude::*;
 
@@ -23,6 +23,8 @@ struct In<'a> {
     rho: &'a [f64],
     c: &'a [f64],
     rinv: &'a [f64],
+    alpv: &'a [f64],
+    amax: f64,
     coef: Coef,
 }
 
@@ -31,9 +33,9 @@ pub(super) fn monaghan(a: &mut Monaghan) {
     if a.rinv.is_empty() { by_dim!(a.dim, 1, run(a)) } else { by_dim!(a.dim, 2, run(a)) }
 }
 
-/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄, and the j end's v·∇W
-/// (RZ).
-const NV: usize = 7;
+/// Values per pair in the block's work arrays: v·x, r², v·∇W, h̄, c̄, ρ̄, the j end's v·∇W (RZ),
+/// and the pair's α and β (the switch's α_ij, β α_ij/α_max; else the constants).
+const NV: usize = 9;
 
 /// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
 /// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a
@@ -47,8 +49,11 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
     let (vd, rest) = rest.split_at_mut(len);
     let (hij, rest) = rest.split_at_mut(len);
     let (mc, rest) = rest.split_at_mut(len);
-    let (mrho, vdj) = rest.split_at_mut(len);
+    let (mrho, rest) = rest.split_at_mut(len);
+    let (vdj, rest) = rest.split_at_mut(len);
+    let (aij, bij) = rest.split_at_mut(len);
     let rz = W == D + 2;
+    let sw = !a.alpv.is_empty();
     for l in 0..len {
         let k = k0 + l;
         let (i, j) = (a.pi[k] as usize, a.pj[k] as usize);
@@ -78,6 +83,14 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
         r2[l] = s_r2;
         vd[l] = s_vd;
         vdj[l] = s_vdj;
+        if sw {
+            let av = 0.5 * (a.alpv[i] + a.alpv[j]);
+            aij[l] = av;
+            bij[l] = beta * (av / a.amax);
+        } else {
+            aij[l] = alpha;
+            bij[l] = beta;
+        }
         hij[l] = 0.5 * (a.h[i] + a.h[j]);
         mc[l] = 0.5 * (a.c[i] + a.c[j]);
         mrho[l] = 0.5 * (a.rho[i] + a.rho[j]);
@@ -86,7 +99,7 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
     for l in 0..len {
         let hv = hij[l];
         let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
-        let piv = (beta * muv - alpha * mc[l]) * muv / mrho[l];
+        let piv = (bij[l] * muv - aij[l] * mc[l]) * muv / mrho[l];
         let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
         mu[l] = f64::from_bits((-muv).to_bits() & on);
         let de = 0.5 * piv * vd[l];
@@ -112,8 +125,20 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
 fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     let pl = a.pairs;
     let np = pl.len();
-    let inp =
-        In { pi: &pl.i, pj: &pl.j, dwdx: a.dwdx, x: a.x, v: a.v, h: a.h, rho: a.rho, c: a.c, rinv: a.rinv, coef: a.coef };
+    let inp = In {
+        pi: &pl.i,
+        pj: &pl.j,
+        dwdx: a.dwdx,
+        x: a.x,
+        v: a.v,
+        h: a.h,
+        rho: a.rho,
+        c: a.c,
+        rinv: a.rinv,
+        alpv: a.alpv,
+        amax: a.amax,
+        coef: a.coef,
+    };
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
     buf.pair.resize(W * np, 0.0);
@@ -145,5 +170,45 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
             }
         }
         r[0] = m;
+    });
+}
+
+/// The switch: one parallel pass over the pairs forms v_ij·∇_i W_ij (the Fortran's sum, d in
+/// order); one parallel pass over the real particles adds m_other × that over each particle's
+/// pairs in ascending pair order (the Fortran's scatter order: the term is the same at both ends),
+/// then takes the Fortran's backward-Euler step. 0 ULP, independent of the thread count.
+pub(super) fn switch(a: &mut Switch) {
+    by_dim!(a.dim, 0, switch_d(a))
+}
+
+fn switch_d<const D: usize, const W: usize>(a: &mut Switch) {
+    let Switch { n, pairs: pl, dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv, .. } = a;
+    let (n, pl, dwdx, mass, rho, v, h, c) = (*n, *pl, *dwdx, *mass, *rho, *v, *h, *c);
+    let (amin, amax, ell, dt) = (*amin, *amax, *ell, *dt);
+    let np = pl.len();
+    let mut guard = pl.scratch.lock();
+    let buf = &mut *guard;
+    buf.part.resize(np, 0.0);
+    let (pi, pj) = (&pl.i, &pl.j);
+    par_rows(&mut buf.part[..np], 1, |k, t| {
+        let (i, j) = (pi[k] as usize, pj[k] as usize);
+        let mut vd = 0.0;
+        for d in 0..D {
+            vd += (v[d + D * i] - v[d + D * j]) * dwdx[d + D * k];
+        }
+        t[0] = vd;
+    });
+    let vd: &[f64] = &buf.part;
+    par_rows(&mut alpv[..n], 1, |i, al| {
+        let mut dv = 0.0;
+        for inc in pl.incident(i) {
+            dv += mass[inc.other()] * vd[inc.pair()];
+        }
+        let mut s = dv / rho[i];
+        if s < 0.0 {
+            s = 0.0;
+        }
+        let r = ell * c[i] / h[i];
+        al[0] = (al[0] + dt * (amin * r + s * amax)) / (1.0 + dt * (r + s));
     });
 }
