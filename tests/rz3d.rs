@@ -113,6 +113,11 @@ fn rz_and_3d_bad_input_is_refused_with_one_line() {
             "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [0, 0]\nhi_m = [1, 1]\nspacing_m = 0.1\nmass_kg = 0.01\n",
             "mass_kg",
         ),
+        // a lattice with a column on the axis: rings of zero mass
+        (
+            "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0, 0]\ncount = [5, 5]\nspacing_m = 0.1\n",
+            "on the axis r = 0",
+        ),
         // a wall on the axis
         (
             "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [0, 0]\nhi_m = [1, 1]\nspacing_m = 0.1\n[[wall]]\nfrom_m = [0, 0]\nto_m = [0, 1]\n",

@@ -91,7 +91,15 @@ pub(super) fn geometry(c: &Case, v: &mut Checker) -> Result<()> {
         let key = format!("region[{k}] ({})", r.name);
         match r.shape {
             Shape::Box => neg(format!("{key}.lo_m[0]"), r.lo_m.as_ref().map_or(0.0, |v| v[0]))?,
-            Shape::Lattice => neg(format!("{key}.origin_m[0]"), r.origin_m.as_ref().map_or(0.0, |v| v[0]))?,
+            Shape::Lattice => {
+                let x0 = r.origin_m.as_ref().map_or(0.0, |v| v[0]);
+                neg(format!("{key}.origin_m[0]"), x0)?;
+                if x0 == 0.0 {
+                    return Err(input(format!(
+                        "{key}.origin_m[0] = 0: the lattice's first column lies on the axis r = 0, rings of zero mass in axisymmetric geometry: start it half a spacing off the axis"
+                    )));
+                }
+            }
             Shape::Polygon => {
                 for (q, p) in r.vertices_m.iter().flatten().enumerate() {
                     neg(format!("{key}.vertices_m[{q}][0]"), p[0])?;

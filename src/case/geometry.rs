@@ -32,6 +32,16 @@ pub fn check(case: &Case, init: &Initial) -> Result<()> {
             at(&dm.hi_m)
         )));
     }
+    // a ring on the axis has no mass (m = 2 pi r rho dx^2)
+    if case.axisymmetric()
+        && let Some(i) = (0..n).find(|&i| init.x[d * i] <= 0.0)
+    {
+        return Err(input(format!(
+            "{}: a particle at {} m lies on the axis r = 0, a ring of zero mass in axisymmetric geometry: start the region half a spacing off the axis (a `box` from r = 0 puts its first column at dx/2)",
+            region_of(i),
+            at(&init.x[d * i..d * i + d])
+        )));
+    }
     // the walls face the particles' centroid; a particle behind one (within its extent) is
     // outside the walls or cut by them
     let segs = crate::setup::segments(case, &init.x, |_| true);

@@ -314,8 +314,27 @@ impl Sim {
         b.put_text("sim.plan.stages", &stages.join("\n"));
         b.put_f64("sim.plan.seconds", &plan.entries.iter().map(|e| e.seconds).collect::<Vec<_>>());
 
-        let Particles { dim, nreal, ntotal, x, v, rho, p: pr, c, e, h, mass, mat, id, tau, tlight, burn, h0, rho0, alpha } =
-            p;
+        let Particles {
+            dim,
+            nreal,
+            ntotal,
+            x,
+            v,
+            rho,
+            p: pr,
+            c,
+            e,
+            h,
+            mass,
+            mat,
+            id,
+            tau,
+            tlight,
+            burn,
+            h0,
+            rho0,
+            alpha,
+        } = p;
         b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
         for (name, a) in [
             ("p.x", x),
