@@ -26,11 +26,27 @@ pub fn crater_history(case: &Case, frames: &[Frame]) -> Vec<(f64, std::result::R
     };
     let f0 = &frames[0];
     let idx0: HashMap<i64, usize> = f0.id.iter().enumerate().map(|(k, id)| (*id, k)).collect();
+    // 3D (z up): every point as (r, z) about the charge's vertical axis (crater::measure)
+    let d3 = case.dim == 3;
+    let is_expl = |k: usize| expl.get(f0.mat[k] as usize).copied().unwrap_or(false);
+    let ax = if d3 {
+        let ch: Vec<(f64, f64)> = (0..f0.x.len()).filter(|&k| is_expl(k)).map(|k| (f0.x[k], f0.y[k])).collect();
+        match crate::analysis::crater::axis_3d(case, &ch) {
+            Ok(a) => a,
+            Err(why) => return frames.iter().map(|f| (f.time, Err(why.clone()))).collect(),
+        }
+    } else {
+        (0.0, 0.0)
+    };
+    let pt = |f: &Frame, k: usize| -> (f64, f64) {
+        if d3 { crate::analysis::crater::about_axis(ax, f.x[k], f.y[k], f.z[k]) } else { (f.x[k], f.y[k]) }
+    };
     let mut charge0 = (Vec::new(), Vec::new());
     for k in 0..f0.x.len() {
-        if expl.get(f0.mat[k] as usize).copied().unwrap_or(false) {
-            charge0.0.push(f0.x[k]);
-            charge0.1.push(f0.y[k]);
+        if is_expl(k) {
+            let a = pt(f0, k);
+            charge0.0.push(a.0);
+            charge0.1.push(a.1);
         }
     }
     frames
@@ -42,13 +58,14 @@ pub fn crater_history(case: &Case, frames: &[Frame]) -> Vec<(f64, std::result::R
                     continue;
                 }
                 if let Some(&k) = idx0.get(&f.id[i]) {
-                    inp.soil0.0.push(f0.x[k]);
-                    inp.soil0.1.push(f0.y[k]);
-                    inp.soil1.0.push(f.x[i]);
-                    inp.soil1.1.push(f.y[i]);
+                    let (a, b) = (pt(f0, k), pt(f, i));
+                    inp.soil0.0.push(a.0);
+                    inp.soil0.1.push(a.1);
+                    inp.soil1.0.push(b.0);
+                    inp.soil1.1.push(b.1);
                 }
             }
-            if case.axisymmetric() {
+            if case.axisymmetric() || d3 {
                 inp = inp.through_the_axis();
             }
             (f.time, measure_xy(&inp, ds))
@@ -165,8 +182,21 @@ pub fn report(
     times: &[f64],
     animate: bool,
 ) -> Result<Value> {
-    if frames.is_empty() || case.dim != 2 {
+    if frames.is_empty() || case.dim == 1 {
         return Ok(json!({}));
+    }
+    if case.dim == 3 {
+        // 3D: the measures and the text; the plots are 2D sections (not drawn for 3D yet)
+        let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
+        let hist = if crater { crater_history(case, frames) } else { Vec::new() };
+        let (crater_json, growth, gauges) = print_text(case, summary, &hist);
+        println!("plots: none in 3D (open particles.xmf in ParaView)");
+        return Ok(json!({
+            "crater": crater_json,
+            "history": history_json(&hist),
+            "thesis_growth": growth,
+            "thesis_gauges": gauges,
+        }));
     }
     let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
     let hist = if crater { crater_history(case, frames) } else { Vec::new() };
@@ -495,6 +525,31 @@ pub fn report(
         println!("animation: {} ({} frames)", dir.join("animation.gif").display(), maps.len());
     }
     // text
+    let (crater_json, growth, gauges) = print_text(case, summary, &hist);
+    println!("plots in {}: {}", dir.display(), written.iter().chain(&snaps).cloned().collect::<Vec<_>>().join(", "));
+    Ok(json!({
+        "crater": crater_json,
+        "thesis_crater_m": case.analysis.thesis_crater_m,
+        "history": history_json(&hist),
+        "profile": match &last { Some(Ok(c)) => json!({ "x_m": c.columns_m, "surface0_m": c.surface0_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>(), "surface_m": c.surface_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>() }), _ => Value::Null },
+        "peaks_cm_mpa": peaks,
+        "peaks_scaled": peaks_out.iter().map(|(z, p, l)| json!({"scaled_distance": z, "peak_mpa": p, "gauge": l})).collect::<Vec<_>>(),
+        "thesis_growth": growth,
+        "thesis_gauges": gauges,
+        "bubble": bubble.iter().map(|(t, r)| json!({"t_s": t, "equivalent_radius_m": r})).collect::<Vec<_>>(),
+        "plots": written,
+        "snapshots": snaps,
+    }))
+}
+
+/// The report's text (crater, cavity, thesis comparisons, gauges), printed; returns the crater's
+/// JSON, the thesis growth and the thesis gauges.
+fn print_text(
+    case: &Case,
+    summary: &Value,
+    hist: &[(f64, std::result::Result<Crater, String>)],
+) -> (Value, Vec<Value>, Vec<Value>) {
+    let last = hist.last().map(|h| h.1.clone());
     let crater_json = match &last {
         Some(Ok(c)) => {
             let t_end = us(hist.last().map(|h| h.0).unwrap_or(0.0));
@@ -588,23 +643,17 @@ pub fn report(
             g["arrival_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6))
         );
     }
-    println!("plots in {}: {}", dir.display(), written.iter().chain(&snaps).cloned().collect::<Vec<_>>().join(", "));
-    Ok(json!({
-        "crater": crater_json,
-        "thesis_crater_m": case.analysis.thesis_crater_m,
-        "history": hist.iter().map(|(t, c)| match c {
+    (crater_json, growth, gauges)
+}
+
+/// The crater history as JSON rows.
+fn history_json(hist: &[(f64, std::result::Result<Crater, String>)]) -> Vec<Value> {
+    hist.iter()
+        .map(|(t, c)| match c {
             Ok(c) => json!({"t_s": t, "diameter_m": c.diameter_m, "depth_m": c.depth_m, "ejecta_height_m": c.ejecta_height_m, "cavity": c.cavity}),
             Err(why) => json!({"t_s": t, "measured": false, "reason": why}),
-        }).collect::<Vec<_>>(),
-        "profile": match &last { Some(Ok(c)) => json!({ "x_m": c.columns_m, "surface0_m": c.surface0_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>(), "surface_m": c.surface_m.iter().map(|v| v.is_finite().then_some(*v)).collect::<Vec<_>>() }), _ => Value::Null },
-        "peaks_cm_mpa": peaks,
-        "peaks_scaled": peaks_out.iter().map(|(z, p, l)| json!({"scaled_distance": z, "peak_mpa": p, "gauge": l})).collect::<Vec<_>>(),
-        "thesis_growth": growth,
-        "thesis_gauges": gauges,
-        "bubble": bubble.iter().map(|(t, r)| json!({"t_s": t, "equivalent_radius_m": r})).collect::<Vec<_>>(),
-        "plots": written,
-        "snapshots": snaps,
-    }))
+        })
+        .collect()
 }
 
 fn tick(p: f64) -> String {

@@ -309,29 +309,66 @@ impl CraterInput {
     }
 }
 
-/// Measures the crater of a 2D run from the soil particles' initial and current positions
-/// (axisymmetric runs on their section through the axis, [`CraterInput::through_the_axis`]).
+/// The vertical axis (x, y) a 3D crater is measured about (z up): the detonation point's, else
+/// the centroid of the explosive's initial positions `charge_xy`.
+pub fn axis_3d(case: &crate::case::Case, charge_xy: &[(f64, f64)]) -> Result<(f64, f64), String> {
+    if let Some(p) = case.detonation.as_ref().and_then(|d| d.point_m.as_ref()) {
+        return Ok((p[0], p[1]));
+    }
+    if charge_xy.is_empty() {
+        return Err("a 3D crater is measured about the charge's vertical axis: the case has no explosive and no detonation point".into());
+    }
+    let n = charge_xy.len() as f64;
+    Ok((charge_xy.iter().map(|p| p.0).sum::<f64>() / n, charge_xy.iter().map(|p| p.1).sum::<f64>() / n))
+}
+
+/// A 3D point as (r, z) about the vertical axis `ax` (the half plane a 3D crater is measured on).
+pub fn about_axis(ax: (f64, f64), x: f64, y: f64, z: f64) -> (f64, f64) {
+    ((x - ax.0).hypot(y - ax.1), z)
+}
+
+/// Measures the crater of a run from the soil particles' initial and current positions: in 2D
+/// plane directly; axisymmetric runs on their section through the axis
+/// ([`CraterInput::through_the_axis`]); 3D runs (z up) as a crater of revolution about the
+/// charge's vertical axis ([`axis_3d`]): every particle taken to (r, z) about it, all azimuths
+/// together (a column's top is the highest particle at that r in any direction), then as RZ.
 pub fn measure(sim: &Sim) -> Result<Crater, String> {
-    if sim.cfg.dim != 2 {
-        return Err(format!("the crater is measured in 2D only (this case has dim = {})", sim.cfg.dim));
+    let d = sim.cfg.dim;
+    if d == 1 {
+        return Err("the crater is measured in 2D and 3D only (this case has dim = 1)".to_string());
     }
     let soil = soil_mask(&sim.case);
     let expl = explosive_mask(&sim.case);
     let ds = soil_spacing(&sim.case).ok_or("no region of a soil material (analysis.soil_materials)")?;
+    let n = sim.p.nreal;
+    let ax = if d == 3 {
+        let ch: Vec<(f64, f64)> = (0..n)
+            .filter(|&i| expl[sim.p.mat[i] as usize])
+            .map(|i| (sim.x_init[3 * i], sim.x_init[3 * i + 1]))
+            .collect();
+        axis_3d(&sim.case, &ch)?
+    } else {
+        (0.0, 0.0)
+    };
+    let pt = |x: &[f64], i: usize| -> (f64, f64) {
+        if d == 3 { about_axis(ax, x[3 * i], x[3 * i + 1], x[3 * i + 2]) } else { (x[2 * i], x[2 * i + 1]) }
+    };
     let mut inp = CraterInput::default();
-    for i in 0..sim.p.nreal {
+    for i in 0..n {
         let m = sim.p.mat[i] as usize;
         if soil[m] {
-            inp.soil0.0.push(sim.x_init[2 * i]);
-            inp.soil0.1.push(sim.x_init[2 * i + 1]);
-            inp.soil1.0.push(sim.p.x[2 * i]);
-            inp.soil1.1.push(sim.p.x[2 * i + 1]);
+            let (a, b) = (pt(&sim.x_init, i), pt(&sim.p.x, i));
+            inp.soil0.0.push(a.0);
+            inp.soil0.1.push(a.1);
+            inp.soil1.0.push(b.0);
+            inp.soil1.1.push(b.1);
         } else if expl[m] {
-            inp.charge0.0.push(sim.x_init[2 * i]);
-            inp.charge0.1.push(sim.x_init[2 * i + 1]);
+            let a = pt(&sim.x_init, i);
+            inp.charge0.0.push(a.0);
+            inp.charge0.1.push(a.1);
         }
     }
-    if sim.case.axisymmetric() {
+    if sim.case.axisymmetric() || d == 3 {
         inp = inp.through_the_axis();
     }
     measure_xy(&inp, ds)
@@ -516,6 +553,33 @@ mod tests {
         // the original ground over the pit is the ground's level beside it
         let k = c.columns_m.iter().position(|x| (x - 0.505).abs() < 1e-9).unwrap();
         assert!((c.surface0_m[k] - 0.995).abs() < 1e-9, "{}", c.surface0_m[k]);
+    }
+
+    #[test]
+    fn a_3d_bowl_is_measured_about_its_vertical_axis() {
+        // a quarter block 0.3 x 0.3 x 0.5 m (z up, surface z = 0.5) with a hemispherical bowl of
+        // radius 10 cm about the axis x = y = 0: diameter 20 cm, depth 10 cm, read on (r, z)
+        let ds = 0.01;
+        let n = 30;
+        let (mut s0, mut s1) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
+        for k in 0..50 {
+            for j in 0..n {
+                for i in 0..n {
+                    let (x, y, z) = ((i as f64 + 0.5) * ds, (j as f64 + 0.5) * ds, (k as f64 + 0.5) * ds);
+                    let (r, h) = about_axis((0.0, 0.0), x, y, z);
+                    s0.0.push(r);
+                    s0.1.push(h);
+                    if (r * r + (z - 0.5) * (z - 0.5)).sqrt() >= 0.1 {
+                        s1.0.push(r);
+                        s1.1.push(h);
+                    }
+                }
+            }
+        }
+        let inp = CraterInput { soil0: s0, soil1: s1, charge0: (Vec::new(), Vec::new()) }.through_the_axis();
+        let c = measure_xy(&inp, ds).unwrap();
+        assert!((c.diameter_m - 0.20).abs() <= 2.0 * ds, "diameter {}", c.diameter_m);
+        assert!((c.depth_m - 0.10).abs() <= ds, "depth {}", c.depth_m);
     }
 
     #[test]
