@@ -619,7 +619,7 @@ fn print_text(
             f("ppv_ms", 1.0, "m/s", 2)
         );
     }
-    let growth = thesis_growth(case, &hist);
+    let growth = thesis_growth(case, hist);
     for g in &growth {
         println!(
             "thesis at {:.0} µs: diameter {} cm, depth {} cm; ours at {:.0} µs: diameter {} cm, depth {} cm",
