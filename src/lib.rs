@@ -35,6 +35,8 @@ pub mod progress;
 pub mod report;
 #[cfg(feature = "io")]
 pub mod restart;
+#[cfg(feature = "plot")]
+pub mod revolve;
 pub mod rundir;
 #[cfg(feature = "io")]
 pub mod runner;

@@ -156,3 +156,70 @@ fn rz_and_3d_bad_input_is_refused_with_one_line() {
         assert!(!err.contains('\n'), "one line: {err}");
     }
 }
+
+/// `blastsph revolve` of an axisymmetric run: every ring becomes N points at its radius and
+/// height, over the angle asked; the points' masses add up to that share of the rings' masses;
+/// a plane run and a bad sector count are refused with exit 2.
+#[test]
+fn revolve_writes_the_rings_as_3d_points() {
+    let d = tempfile::tempdir().unwrap();
+    let run = d.path().join("run");
+    let opts = blastsph::runner::RunOptions {
+        out: Some(run.clone()),
+        sets: [
+            "region.hot.hi_m=[0.05, 0.05]",
+            "region.hot.spacing_m=0.05",
+            "region.ambient.spacing_m=0.05",
+            "time.end_s=0.002",
+            "time.output_interval_s=0.001",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect(),
+        quiet: true,
+        ..Default::default()
+    };
+    blastsph::runner::run(&case_path("verify/sedov_rz.toml"), &opts).expect("run");
+    let frames = blastsph::output::read_frames(&run.join("particles.h5")).unwrap();
+    let (sectors, angle) = (12usize, 270.0f64);
+    let xmf = blastsph::revolve::revolve(&run, sectors, angle).expect("revolve");
+    assert!(xmf.ends_with("revolved.xmf") && xmf.is_file());
+    let f = hdf5::File::open(run.join("revolved.h5")).unwrap();
+    for (k, fr) in frames.iter().enumerate() {
+        let g = f.group(&format!("Step#{k}")).unwrap();
+        let xyz: Vec<f64> = g.dataset("xyz").unwrap().read_raw().unwrap();
+        let mass: Vec<f64> = g.dataset("mass").unwrap().read_raw().unwrap();
+        let n = fr.x.len();
+        assert_eq!(xyz.len(), 3 * n * sectors, "step {k}: points");
+        for i in 0..n {
+            for s in 0..sectors {
+                let q = &xyz[3 * (i * sectors + s)..3 * (i * sectors + s) + 3];
+                let (r, z) = (q[0].hypot(q[1]), q[2]);
+                assert!((r - fr.x[i]).abs() <= 1e-12 * (1.0 + fr.x[i]) && z == fr.y[i], "step {k} ring {i}");
+                let th = q[1].atan2(q[0]).rem_euclid(std::f64::consts::TAU);
+                assert!(th < angle.to_radians() + 1e-12, "step {k}: angle {th} beyond {angle} degrees");
+            }
+        }
+        let (m_pts, m_rings) = (mass.iter().sum::<f64>(), fr.mass.iter().sum::<f64>());
+        assert!((m_pts / m_rings - angle / 360.0).abs() < 1e-12, "mass share {}", m_pts / m_rings);
+    }
+    // again into the same folder: refused (the files exist)
+    assert!(blastsph::revolve::revolve(&run, sectors, angle).is_err());
+    // the CLI: a plane run and a bad sector count, one line and exit 2
+    let bin = env!("CARGO_BIN_EXE_blastsph");
+    let o = std::process::Command::new(bin).args(["revolve", "--sectors", "0"]).arg(&run).output().unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    let plane = d.path().join("plane");
+    let opts = blastsph::runner::RunOptions {
+        out: Some(plane.clone()),
+        sets: vec!["time.end_s=1e-6".into()],
+        quiet: true,
+        ..Default::default()
+    };
+    blastsph::runner::run(&case_path("verify/noh_1d.toml"), &opts).expect("plane run");
+    let o = std::process::Command::new(bin).arg("revolve").arg(&plane).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("not an axisymmetric run"), "{err}");
+}

@@ -218,6 +218,18 @@ pub enum Cmd {
         #[arg(long)]
         animate: bool,
     },
+    /// The revolved 3D points of an axisymmetric run, for ParaView (revolved.h5, revolved.xmf
+    /// in the run directory)
+    Revolve {
+        /// The run directory of an axisymmetric run
+        dir: PathBuf,
+        /// Sectors (points per ring), 1 to 720
+        #[arg(long, default_value_t = 36)]
+        sectors: usize,
+        /// Angle revolved (degrees, (0, 360]; 270 shows the inside)
+        #[arg(long, default_value_t = 360.0)]
+        angle: f64,
+    },
     /// Run every thesis scene, compare with the thesis and check its trends (validation.md)
     Validate {
         /// Where the runs and validation.md go
@@ -609,6 +621,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 },
                 dir.join("ledger.json").display()
             );
+            Ok(0)
+        }
+        Cmd::Revolve { dir, sectors, angle } => {
+            crate::rundir::check_existing(&dir, "revolve")?;
+            let xmf = crate::revolve::revolve(&dir, sectors, angle)?;
+            println!("revolved: {} (open it in ParaView)", xmf.display());
             Ok(0)
         }
         Cmd::Report { dir, times, animate } => {
