@@ -360,7 +360,10 @@ pub fn load(path: &Path) -> Result<Manifest> {
     for d in &raw.run_dirs {
         let p = Path::new(d);
         if d.is_empty() || p.is_absolute() || p.components().any(|c| matches!(c, std::path::Component::ParentDir)) {
-            return Err(err("run_dirs", format!("\"{d}\": a folder inside the one the routines run in (relative, no ..)")));
+            return Err(err(
+                "run_dirs",
+                format!("\"{d}\": a folder inside the one the routines run in (relative, no ..)"),
+            ));
         }
     }
     Ok(Manifest {
