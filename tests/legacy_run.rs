@@ -313,3 +313,34 @@ fn the_books_averaged_velocity_is_matched_and_an_unstable_ledger_row_is_reported
     assert!(so.contains("-sound_speed         did not finish: unstable"), "{so}");
     assert!(so.contains("bit for bit"), "{so}");
 }
+
+/// param.inc's `sle = 2` (h_upgrade, case `smoothing = "rate"`) with the item `h_upgrade`: h moved
+/// inside the step as the book does, at 0 ULP; the shock tube with it goes unstable (the genuine
+/// book code at step 13, A.7; this fixture later): blastsph stops there, says so, and equals the
+/// program before.
+#[test]
+fn the_books_h_upgrade_is_matched_until_the_run_blows_up() {
+    let d = variant_built("switch_sle2", "param.inc", |t| t.replace("parameter (sle = 0)", "parameter (sle = 2)"));
+    let b = d.join("build");
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    let case = d.join("shock_tube_sle2.toml");
+    std::fs::write(&case, text.replace("smoothing = \"constant\"", "smoothing = \"rate\"")).unwrap();
+    let (bs, cs, out) = (b.to_str().unwrap(), case.to_str().unwrap(), d.join("dual"));
+    let so =
+        blastsph_ok(&["dual", cs, "--legacy", bs, "--compat", "liu-book,h_upgrade", "--out", out.to_str().unwrap()], 0);
+    assert!(so.contains("steps compared; STOPPED before the end: unstable"), "{so}");
+    let (r, rows) = report_rows(&out.join("dual_report.json"));
+    assert_eq!(r["legacy"]["routines"]["h_upgrade"]["stands_for"], serde_json::json!(["smoothing.h_upgrade"]));
+    // every step and the evaluation at t = 0 for the output
+    let n = r["steps"].as_u64().unwrap();
+    assert!(n >= 10, "{r}");
+    let x = row(&rows, "legacy.h_upgrade", "h");
+    assert_eq!((x["compared"].as_u64(), x["max_ulp"].as_u64()), (Some(400 * (n + 1)), Some(0)), "{x}");
+    for (stage, fields) in MAPPED {
+        for f in *fields {
+            assert_eq!(row(&rows, stage, f)["max_ulp"], 0, "{stage} {f}");
+        }
+    }
+    let prog = program_rows_of(&b, "switch_sle2_program", 10);
+    assert_run_ends_as_after(&b, cs, "liu-book,h_upgrade", &prog, "switch_sle2_run", 10);
+}

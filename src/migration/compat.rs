@@ -36,6 +36,7 @@ pub enum Item {
     ForceEnergy,
     PaSph1,
     NorDensity,
+    HUpgrade,
     ViscMu,
     ViscEnergy,
     XsphExpr,
@@ -106,6 +107,12 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         "nor_density",
         "density",
         "param.inc's nor_density = .true.: the summed density divided by the kernel's integral sum_j (m_j/rho_j) W_ij over the densities before the summation (§4); not in the liu-book profile (the book ships .false.)",
+    ),
+    (
+        Item::HUpgrade,
+        "h_upgrade",
+        "smoothing",
+        "param.inc's sle = 2: h_upgrade moves h by a whole step in the step, h += dt (h/dim) sum_j (m_j/rho_j)(v_j - v_i).gradW, h <= 0 undone, in place of blastsph's rate and theta update (§9); not in the liu-book profile (the book ships sle = 0)",
     ),
     (Item::ViscMu, "visc_mu", "viscosity", "the viscosity's mu denominator r^2 + ((h h) eta) eta (§7)"),
     (
@@ -185,7 +192,7 @@ impl Flags {
         match name {
             "liu-book" => Some(
                 Item::all()
-                    .filter(|&i| !matches!(i, Item::GlobalH | Item::PaSph1 | Item::NorDensity))
+                    .filter(|&i| !matches!(i, Item::GlobalH | Item::PaSph1 | Item::NorDensity | Item::HUpgrade))
                     .fold(Flags(0), |f, i| f.with(i, true)),
             ),
             "none" => Some(Flags(0)),
@@ -319,8 +326,9 @@ pub fn plan(m: Module, ctx: &PlanCtx) -> Option<Contribution> {
     if f.is_empty() {
         return None;
     }
-    use crate::modules::{density, eos, force, integrator, kernel, nnps, viscosity, xsph};
+    use crate::modules::{density, eos, force, integrator, kernel, nnps, smoothing, viscosity, xsph};
     match m {
+        Module::Smoothing => smoothing::compat::plan(ctx, f),
         Module::Density => density::compat::plan(ctx, f),
         Module::Nnps => nnps::compat::plan(ctx, f),
         Module::Kernel => kernel::compat::plan(ctx, f),

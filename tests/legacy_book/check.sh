@@ -7,7 +7,7 @@
 set -euo pipefail
 BOOK=$(realpath "$1"); B=${2:-$(dirname "$0")/../../target/release/blastsph}; B=$(realpath "$B")
 HERE=$(realpath "$(dirname "$0")")
-cd "$BOOK"; cp -r "$HERE"/stubs "$HERE"/legacy.toml "$HERE"/shock_tube_book.toml "$HERE"/cmp17.py .
+cd "$BOOK"; rm -rf build dual dual_plain run ledger ref40 prog v_*; cp -r "$HERE"/stubs "$HERE"/legacy.toml "$HERE"/shock_tube_book.toml "$HERE"/cmp17.py .
 FL="-O2 -ffp-contract=off -std=legacy -finit-local-zero"
 # ref DIR STEPS: the book's own sequence (stubs/driver17.f: sph.f's calls) from DIR/src
 ref() { mkdir -p "$1/ref$2/TEST/data"; (cd "$1/ref$2" && gfortran $FL -I../src ../src/*.f ../stubs/driver17.f \
@@ -39,3 +39,6 @@ variant link 's/parameter(nnps = 1 )/parameter(nnps = 2 )/' liu-book,global_h 's
 variant con 's/summation_density  = .true./summation_density  = .false./' liu-book \
   '/^name = "sum_density"/,/^args/{s/name = "sum_density"/name = "con_density"/;s/^args = .*/args = ["ntotal", "mass", "niac", "pair_i", "pair_j", "dwdx", "vx", "itype", "x", "rho", "drhodt"]/}' \
   's/^density = "summation"/density = "continuity"\ncontinuity_form = "mass"/' 12
+variant sle2 's/parameter(sle = 0)/parameter(sle = 2)/' liu-book,h_upgrade \
+  '$a\\n[[routine]]\nname = "h_upgrade"\nmodule = "smoothing"\nargs = ["dt", "ntotal", "mass", "vx", "rho", "niac", "pair_i", "pair_j", "dwdx", "hsml"]' \
+  's/^smoothing = "constant"/smoothing = "rate"/' 12

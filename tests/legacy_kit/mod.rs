@@ -228,7 +228,20 @@ pub fn assert_run_ends_as(
     rows: &[Vec<f64>],
     name: &str,
 ) -> blastsph::output::Frame {
+    assert_run_ends_as_after(build, case, compat, rows, name, 40)
+}
+
+/// [`assert_run_ends_as`] after `steps` steps of dt = 0.005 s (the case's end set to steps·dt).
+pub fn assert_run_ends_as_after(
+    build: &Path,
+    case: &str,
+    compat: &str,
+    rows: &[Vec<f64>],
+    name: &str,
+    steps: u32,
+) -> blastsph::output::Frame {
     let out = scratch(name);
+    let end = format!("time.end_s={}", steps as f64 * 0.005);
     let so = blastsph_ok(
         &[
             "run",
@@ -237,16 +250,18 @@ pub fn assert_run_ends_as(
             build.to_str().unwrap(),
             "--compat",
             compat,
+            "--set",
+            &end,
             "--out",
             out.to_str().unwrap(),
             "--quiet",
         ],
         0,
     );
-    assert!(so.contains("400 particles, 40 steps"), "{so}");
+    assert!(so.contains(&format!("400 particles, {steps} steps")), "{so}");
     let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
     let f = frames.last().unwrap();
-    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    assert!((f.time - steps as f64 * 0.005).abs() < 1e-6, "t = {}", f.time);
     assert_eq!(f.x.len(), rows.len());
     // columns: number, type, x, vx, mass, rho, p, u, hsml
     for i in 0..rows.len() {
