@@ -147,37 +147,35 @@ fn bad_legacy_runs_are_refused_with_one_line() {
     );
 }
 
-/// A source that needs another compiler's module (the book's `time_print.f` uses `dfport`):
-/// refused as a compile error, built once the manifest excludes it.
+/// A source that needs another compiler's module (the book's `time_print.f90` and
+/// `time_elapsed.f90` use `dfport`): refused as a compile error, built once the manifest excludes
+/// it, also when that leaves a `sources` pattern with no file (the book's `*.f90`: only the two
+/// timers). `run_dirs` makes the folders the code opens its files in (the book's `./TEST/data`).
 #[test]
 fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
-    let d = variant("dfport", |t| t.to_string());
-    std::fs::write(
-        d.join("time_print.f"),
-        "      subroutine time_print\n      use dfport\n      implicit none\n      end\n",
-    )
-    .unwrap();
-    refused(&d, &["time_print.f", "build.log"]);
+    let dfport = "subroutine time_print\n  use dfport\n  implicit none\nend subroutine time_print\n";
+    let d = variant("dfport", |t| t.replace("sources = [\"*.f\"]", "sources = [\"*.f\", \"*.f90\"]"));
+    std::fs::write(d.join("time_print.f90"), dfport).unwrap();
+    refused(&d, &["time_print.f90", "build.log"]);
     let d = variant("dfport_excluded", |t| {
-        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"time_print.f\"]")
+        t.replace(
+            "sources = [\"*.f\"]",
+            "sources = [\"*.f\", \"*.f90\"]\nexclude = [\"time_print.f90\"]\nrun_dirs = [\"TEST/data\"]",
+        )
     });
-    std::fs::write(
-        d.join("time_print.f"),
-        "      subroutine time_print\n      use dfport\n      implicit none\n      end\n",
-    )
-    .unwrap();
-    let o = blastsph(&[
-        "legacy",
-        "build",
-        d.join("legacy.toml").to_str().unwrap(),
-        "--out",
-        d.join("build").to_str().unwrap(),
-    ]);
+    std::fs::write(d.join("time_print.f90"), dfport).unwrap();
+    let b = d.join("build");
+    let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", b.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    blastsph_ok(&["check", "shock_tube", "--legacy", b.to_str().unwrap()], 0);
+    assert!(b.join("work/TEST/data").is_dir(), "run_dirs made in DIR/work");
     let d = variant("exclude_nothing", |t| {
         t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")
     });
     refused(&d, &["exclude", "nosuch.f", "matches no file"]);
+    let d =
+        variant("run_dirs_outside", |t| t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../x\"]"));
+    refused(&d, &["run_dirs", "../x"]);
 }
 
 /// A search that returns the same pairs in another order and the other way round
@@ -235,4 +233,114 @@ fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
     assert!(line.contains("not run") && line.contains("twice"), "{so}");
     assert!(!so.contains("legacy.art_visc"), "{so}");
     assert!(so.contains("energy rate = legacy.int_force + viscosity.monaghan\n"), "{so}");
+}
+
+/// The switches of param.inc that the book ships off, each met by its compat item (found on the
+/// genuine book code, docs/migration.md A.7): with `pa_sph = 1` int_force differs from the profile
+/// until `pa_sph1` is on, with `nor_density` sum_density until `nor_density` is on; with the item
+/// every mapped routine is at 0 ULP and `run --legacy` ends where the variant's own program ends.
+#[test]
+fn param_inc_switches_are_matched_by_their_compat_items_at_zero_ulp() {
+    let cases: [(&str, &str, &str, &str, &str, &str); 2] = [
+        ("pa1", "parameter (pa_sph = 2)", "parameter (pa_sph = 1)", "pa_sph1", "legacy.int_force", "acc"),
+        (
+            "nor",
+            "parameter (nor_density       = .false.)",
+            "parameter (nor_density       = .true.)",
+            "nor_density",
+            "legacy.sum_density",
+            "rho",
+        ),
+    ];
+    for (name, from, to, item, stage, field) in cases {
+        let d = variant_built(&format!("switch_{name}"), "param.inc", |t| t.replace(from, to));
+        let b = d.join("build");
+        let (bs, off, on) = (b.to_str().unwrap(), d.join("dual_off"), d.join("dual_on"));
+        // the profile alone: the routine differs, and its row names the item that is off
+        blastsph_ok(&["dual", "shock_tube", "--legacy", bs, "--compat", "liu-book", "--out", off.to_str().unwrap()], 4);
+        let (_, rows) = report_rows(&off.join("dual_report.json"));
+        let x = row(&rows, stage, field);
+        assert!(x["out_of_tolerance"].as_u64().unwrap() > 0, "{name}: {x}");
+        assert!(x["tolerance_why"].as_str().unwrap().contains(item), "{name}: {x}");
+        // with the item: every mapped routine at 0 ULP
+        let spec = format!("liu-book,{item}");
+        let so =
+            blastsph_ok(&["dual", "shock_tube", "--legacy", bs, "--compat", &spec, "--out", on.to_str().unwrap()], 0);
+        assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{name}: {so}");
+        let (_, rows) = report_rows(&on.join("dual_report.json"));
+        for (stage, fields) in MAPPED {
+            for f in *fields {
+                let x = row(&rows, stage, f);
+                assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{name}: {x}");
+            }
+        }
+        // run --legacy ends in the state of the variant's own program, bit for bit
+        let prog = program_rows_of(&b, &format!("switch_{name}_program"), 40);
+        assert_run_ends_as(&b, "shock_tube", &spec, &prog, &format!("switch_{name}_run"));
+    }
+}
+
+/// The book ships `average_velocity = .true.` (av_vel, ε = 0.3): av_vel at 0 ULP, run --legacy
+/// equal to the program, and in the ledger the case without the book's sound speed goes unstable:
+/// a row that says so, not the end of the ledger.
+#[test]
+fn the_books_averaged_velocity_is_matched_and_an_unstable_ledger_row_is_reported() {
+    let d = variant_built("switch_xsph", "param.inc", |t| {
+        t.replace("parameter (average_velocity  = .false.)", "parameter (average_velocity  = .true.)")
+    });
+    let (b, case) = (d.join("build"), xsph_case(&d));
+    let (bs, cs, out) = (b.to_str().unwrap(), case.to_str().unwrap(), d.join("dual"));
+    blastsph_ok(&["dual", cs, "--legacy", bs, "--compat", "liu-book", "--out", out.to_str().unwrap()], 0);
+    let (r, rows) = report_rows(&out.join("dual_report.json"));
+    assert_eq!(r["legacy"]["routines"]["av_vel"]["stands_for"], serde_json::json!(["xsph.average"]));
+    let x = row(&rows, "legacy.av_vel", "av");
+    assert_eq!((x["compared"].as_u64(), x["max_ulp"].as_u64()), (Some(400 * 40), Some(0)), "{x}");
+    let prog = program_rows_of(&b, "switch_xsph_program", 40);
+    assert_run_ends_as(&b, cs, "liu-book", &prog, "switch_xsph_run");
+    // the ledger: every row but -sound_speed reaches the end
+    let led = d.join("ledger");
+    let so = blastsph_ok(&["legacy", "ledger", cs, "--legacy", bs, "--out", led.to_str().unwrap()], 0);
+    let l: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(led.join("ledger.json")).unwrap()).unwrap();
+    for r in l["rows"].as_array().unwrap() {
+        let failed = r.get("failed").and_then(|f| f.as_str());
+        if r["run"] == "-sound_speed" {
+            assert!(failed.is_some_and(|f| f.contains("unstable")), "{r}");
+        } else {
+            assert_eq!((failed, r["steps"].as_u64()), (None, Some(40)), "{r}");
+        }
+    }
+    assert!(so.contains("-sound_speed         did not finish: unstable"), "{so}");
+    assert!(so.contains("bit for bit"), "{so}");
+}
+
+/// param.inc's `sle = 2` (h_upgrade, case `smoothing = "rate"`) with the item `h_upgrade`: h moved
+/// inside the step as the book does, at 0 ULP; the shock tube with it goes unstable (the genuine
+/// book code at step 13, A.7; this fixture later): blastsph stops there, says so, and equals the
+/// program before.
+#[test]
+fn the_books_h_upgrade_is_matched_until_the_run_blows_up() {
+    let d = variant_built("switch_sle2", "param.inc", |t| t.replace("parameter (sle = 0)", "parameter (sle = 2)"));
+    let b = d.join("build");
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    let case = d.join("shock_tube_sle2.toml");
+    std::fs::write(&case, text.replace("smoothing = \"constant\"", "smoothing = \"rate\"")).unwrap();
+    let (bs, cs, out) = (b.to_str().unwrap(), case.to_str().unwrap(), d.join("dual"));
+    let so =
+        blastsph_ok(&["dual", cs, "--legacy", bs, "--compat", "liu-book,h_upgrade", "--out", out.to_str().unwrap()], 0);
+    assert!(so.contains("steps compared; STOPPED before the end: unstable"), "{so}");
+    let (r, rows) = report_rows(&out.join("dual_report.json"));
+    assert_eq!(r["legacy"]["routines"]["h_upgrade"]["stands_for"], serde_json::json!(["smoothing.h_upgrade"]));
+    // every step and the evaluation at t = 0 for the output
+    let n = r["steps"].as_u64().unwrap();
+    assert!(n >= 10, "{r}");
+    let x = row(&rows, "legacy.h_upgrade", "h");
+    assert_eq!((x["compared"].as_u64(), x["max_ulp"].as_u64()), (Some(400 * (n + 1)), Some(0)), "{x}");
+    for (stage, fields) in MAPPED {
+        for f in *fields {
+            assert_eq!(row(&rows, stage, f)["max_ulp"], 0, "{stage} {f}");
+        }
+    }
+    let prog = program_rows_of(&b, "switch_sle2_program", 10);
+    assert_run_ends_as_after(&b, cs, "liu-book,h_upgrade", &prog, "switch_sle2_run", 10);
 }

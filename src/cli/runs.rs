@@ -114,8 +114,11 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
             uncompared.join(", ")
         )
     };
+    // a run that stopped before the end says so on the summary line (the case went unstable:
+    // the steps before it were compared)
+    let stopped = diag.as_ref().map_or(String::new(), |d| format!("; STOPPED before the end: {d}"));
     println!(
-        "{} steps compared; {}{}; report {}",
+        "{} steps compared{stopped}; {}{}; report {}",
         done,
         match (ok, not.is_empty()) {
             (true, true) => "every module within tolerance",

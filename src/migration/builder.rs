@@ -122,6 +122,9 @@ pub struct BuildInfo {
     /// or EOS kind (empty: the book's codes, ideal gas 1, water 2).
     #[serde(default)]
     pub itype: std::collections::BTreeMap<String, i32>,
+    /// The manifest's `run_dirs`: folders made inside `DIR/work` before the routines run.
+    #[serde(default)]
+    pub run_dirs: Vec<String>,
 }
 
 impl BuildInfo {
@@ -536,6 +539,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             .collect(),
         routines,
         itype: m.itype.clone(),
+        run_dirs: m.run_dirs.clone(),
     };
     let jp = out.join(BUILD_JSON);
     std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())

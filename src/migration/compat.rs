@@ -34,6 +34,9 @@ pub enum Item {
     VirtualPairs,
     GlobalH,
     ForceEnergy,
+    PaSph1,
+    NorDensity,
+    HUpgrade,
     ViscMu,
     ViscEnergy,
     XsphExpr,
@@ -93,6 +96,24 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         "force",
         "the force's energy rate: sum_d (v_j - v_i)_d h_d per pair, scattered, then 0 + 0.5 x (§6)",
     ),
+    (
+        Item::PaSph1,
+        "pa_sph1",
+        "force",
+        "param.inc's pa_sph = 1: h = -(p_i + p_j) dW/dx_d / (rho_i rho_j) and its energy rate (v_j - v_i)_d h_d, both scaled by 1/(rho_i rho_j) after the sum over d (§6); not in the liu-book profile (the book ships pa_sph = 2)",
+    ),
+    (
+        Item::NorDensity,
+        "nor_density",
+        "density",
+        "param.inc's nor_density = .true.: the summed density divided by the kernel's integral sum_j (m_j/rho_j) W_ij over the densities before the summation (§4); not in the liu-book profile (the book ships .false.)",
+    ),
+    (
+        Item::HUpgrade,
+        "h_upgrade",
+        "smoothing",
+        "param.inc's sle = 2: h_upgrade moves h by a whole step in the step, h += dt (h/dim) sum_j (m_j/rho_j)(v_j - v_i).gradW, h <= 0 undone, in place of blastsph's rate and theta update (§9); not in the liu-book profile (the book ships sle = 0)",
+    ),
     (Item::ViscMu, "visc_mu", "viscosity", "the viscosity's mu denominator r^2 + ((h h) eta) eta (§7)"),
     (
         Item::ViscEnergy,
@@ -118,7 +139,10 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
 
 /// The profiles and the items each switches on.
 pub const PROFILES: &[(&str, &str)] = &[
-    ("liu-book", "every item but global_h: Liu & Liu's book code with direct_find"),
+    (
+        "liu-book",
+        "every item but global_h, pa_sph1, nor_density: Liu & Liu's book code as shipped (direct_find, pa_sph = 2, nor_density off)",
+    ),
     ("none", "no item (blastsph's own twins)"),
 ];
 
@@ -166,7 +190,11 @@ impl Flags {
     /// The items of a profile.
     pub fn profile(name: &str) -> Option<Flags> {
         match name {
-            "liu-book" => Some(Item::all().filter(|&i| i != Item::GlobalH).fold(Flags(0), |f, i| f.with(i, true))),
+            "liu-book" => Some(
+                Item::all()
+                    .filter(|&i| !matches!(i, Item::GlobalH | Item::PaSph1 | Item::NorDensity | Item::HUpgrade))
+                    .fold(Flags(0), |f, i| f.with(i, true)),
+            ),
             "none" => Some(Flags(0)),
             _ => None,
         }
@@ -298,8 +326,10 @@ pub fn plan(m: Module, ctx: &PlanCtx) -> Option<Contribution> {
     if f.is_empty() {
         return None;
     }
-    use crate::modules::{eos, force, integrator, kernel, nnps, viscosity, xsph};
+    use crate::modules::{density, eos, force, integrator, kernel, nnps, smoothing, viscosity, xsph};
     match m {
+        Module::Smoothing => smoothing::compat::plan(ctx, f),
+        Module::Density => density::compat::plan(ctx, f),
         Module::Nnps => nnps::compat::plan(ctx, f),
         Module::Kernel => kernel::compat::plan(ctx, f),
         Module::Eos => eos::compat::plan(ctx, f),
@@ -319,6 +349,8 @@ mod tests {
     fn profiles_items_and_specs() {
         let book = Flags::profile("liu-book").unwrap();
         assert!(book.has(Item::SoundSpeed) && !book.has(Item::GlobalH));
+        assert!(!book.has(Item::PaSph1) && !book.has(Item::NorDensity));
+        assert_eq!(book.with(Item::PaSph1, true).label(), "liu-book,pa_sph1");
         assert_eq!(book.label(), "liu-book");
         assert_eq!(book.with(Item::SoundSpeed, false).label(), "liu-book,-sound_speed");
         let s = sets_of("liu-book,-sound_speed,global_h").unwrap();

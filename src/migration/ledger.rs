@@ -59,6 +59,10 @@ pub struct Row {
     /// exact solution over the case's window; absent for other cases.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub l1: Option<[f64; 4]>,
+    /// Why the run did not reach the end (a case that goes unstable without an item): the
+    /// differences are then not measured (zeros).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
 }
 
 /// Runs the case to its end (a fixed step: the number of steps `run` takes, round(end/dt)).
@@ -152,7 +156,35 @@ fn row(run: &str, what: String, flags: Flags, e: &End, base: &End, l1: Option<[f
         max_abs_e: d(&e.e, &base.e),
         particles_differing: differing,
         l1,
+        failed: None,
     })
+}
+
+/// A row of a run that stopped before the end: `err` says why.
+fn failed_row(run: &str, what: String, flags: Flags, err: &SphError) -> Row {
+    Row {
+        run: run.to_string(),
+        items: if flags.is_empty() { "-".into() } else { flags.names() },
+        what,
+        steps: 0,
+        time: 0.0,
+        max_abs_rho: 0.0,
+        max_abs_v: 0.0,
+        max_abs_p: 0.0,
+        max_abs_e: 0.0,
+        particles_differing: 0,
+        l1: None,
+        failed: Some(err.to_string()),
+    }
+}
+
+/// The row of a comparison run, or the row saying why it stopped (an item the case cannot do
+/// without: the run goes unstable).
+fn row_or_failed(run: &str, what: String, flags: Flags, end: Result<End>, base: &End, case: &Case) -> Result<Row> {
+    match end {
+        Ok(e) => row(run, what, flags, &e, base, l1(case, &e)?),
+        Err(err) => Ok(failed_row(run, what, flags, &err)),
+    }
 }
 
 /// Runs the ledger of `case` against the legacy build `legacy`, with the case's compat profile
@@ -183,19 +215,13 @@ pub fn ledger(case: &Case, legacy: &Path, out: &Path) -> Result<(Vec<Row>, Strin
     ];
     for item in Item::all().filter(|&i| profile.has(i)) {
         let f = profile.with(item, false);
-        let e = run_to_end(with_flags(case, f), &ov(true))?;
+        let e = run_to_end(with_flags(case, f), &ov(true));
         let what = super::compat::ITEMS.iter().find(|t| t.0 == item).map_or("", |t| t.3);
-        rows.push(row(&format!("-{}", item.name()), what.to_string(), f, &e, &base, l1(case, &e)?)?);
+        rows.push(row_or_failed(&format!("-{}", item.name()), what.to_string(), f, e, &base, case)?);
     }
-    let none = run_to_end(with_flags(case, Flags::default()), &ov(true))?;
-    rows.push(row(
-        "none",
-        "blastsph's own twins (no compat item)".into(),
-        Flags::default(),
-        &none,
-        &base,
-        l1(case, &none)?,
-    )?);
+    let none = run_to_end(with_flags(case, Flags::default()), &ov(true));
+    let what = "blastsph's own twins (no compat item)".to_string();
+    rows.push(row_or_failed("none", what, Flags::default(), none, &base, case)?);
     let text = table(&rows, case.analysis.kind == AnalysisKind::Riemann);
     let rep = serde_json::json!({
         "case": case.name(),
@@ -223,6 +249,10 @@ pub fn table(rows: &[Row], riemann: bool) -> String {
         if riemann { "   L1 rho     L1 v       L1 p       L1 e" } else { "" }
     );
     for r in rows {
+        if let Some(why) = &r.failed {
+            s += &format!("{:<20} did not finish: {why}\n", r.run);
+            continue;
+        }
         s += &format!(
             "{:<20} {:>6} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>6}",
             r.run, r.steps, r.max_abs_rho, r.max_abs_v, r.max_abs_p, r.max_abs_e, r.particles_differing

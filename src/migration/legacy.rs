@@ -146,7 +146,8 @@ impl Legacy {
         }
         let abs = std::path::absolute(dir).map_err(|e| SphError::Io(format!("{shown}: {e}")))?;
         let cwd = abs.join("work");
-        for d in [cwd.clone(), abs.join("data")] {
+        let run_dirs = info.run_dirs.iter().map(|d| cwd.join(d));
+        for d in [cwd.clone(), abs.join("data")].into_iter().chain(run_dirs) {
             std::fs::create_dir_all(&d).map_err(|e| SphError::Io(format!("{}: {e}", d.display())))?;
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();

@@ -47,6 +47,8 @@ struct RawManifest {
     routines: Vec<RawRoutine>,
     #[serde(default)]
     itype: std::collections::BTreeMap<String, i32>,
+    #[serde(default)]
+    run_dirs: Vec<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -152,6 +154,10 @@ pub struct Manifest {
     /// The code's `itype` of each blastsph material, by material name or EOS kind
     /// (`ideal_gas`, `jwl`, `water`, `soil`); default: the book's, ideal gas 1, water 2.
     pub itype: std::collections::BTreeMap<String, i32>,
+    /// Folders made inside the folder the routines run in (`DIR/work`) before they run: the
+    /// folders your code opens files in, relative to where your program runs (the book's
+    /// `input` and `output` open `./TEST/data/...`).
+    pub run_dirs: Vec<String>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -219,10 +225,14 @@ pub fn load(path: &Path) -> Result<Manifest> {
         let full: PathBuf = dir.join(pat).components().collect();
         let full_s = full.to_string_lossy().to_string();
         let paths = glob::glob(&full_s).map_err(|e| err("sources", format!("\"{pat}\": bad pattern: {e}")))?;
-        let mut found = 0;
+        let (mut found, mut left_out) = (0, 0);
         for p in paths {
             let p = p.map_err(|e| err("sources", format!("\"{pat}\": {e}")))?;
-            if !p.is_file() || excluded.contains(&p) {
+            if !p.is_file() {
+                continue;
+            }
+            if excluded.contains(&p) {
+                left_out += 1;
                 continue;
             }
             let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
@@ -237,7 +247,9 @@ pub fn load(path: &Path) -> Result<Manifest> {
                 sources.push(p);
             }
         }
-        if found == 0 {
+        // A pattern whose every file is excluded (the book's `*.f90`: its two dfport timers) is
+        // what the user asked for, not a typo.
+        if found == 0 && left_out == 0 {
             return Err(err("sources", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
         }
     }
@@ -345,6 +357,15 @@ pub fn load(path: &Path) -> Result<Manifest> {
         routines.push(Routine { name, modules, call, args });
     }
 
+    for d in &raw.run_dirs {
+        let p = Path::new(d);
+        if d.is_empty() || p.is_absolute() || p.components().any(|c| matches!(c, std::path::Component::ParentDir)) {
+            return Err(err(
+                "run_dirs",
+                format!("\"{d}\": a folder inside the one the routines run in (relative, no ..)"),
+            ));
+        }
+    }
     Ok(Manifest {
         path,
         dir,
@@ -356,6 +377,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         param_names,
         routines,
         itype: raw.itype.clone(),
+        run_dirs: raw.run_dirs.clone(),
     })
 }
 

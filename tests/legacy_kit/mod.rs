@@ -114,6 +114,30 @@ pub fn variant(name: &str, edit: impl Fn(&str) -> String) -> PathBuf {
     d
 }
 
+/// A copy of the fixture in a scratch folder with `edit` applied to file `file` (param.inc's
+/// switches, say), built into `DIR/build`; returns DIR.
+pub fn variant_built(name: &str, file: &str, edit: impl Fn(&str) -> String) -> PathBuf {
+    let d = variant(name, |m| m.to_string());
+    let f = d.join(file);
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = edit(&text);
+    assert_ne!(new, text, "the edit of {file} changes it");
+    std::fs::write(&f, new).unwrap();
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the variant builds");
+    d
+}
+
+/// The shock tube with the book's averaged velocity (param.inc's `average_velocity = .true.`,
+/// av_vel's ε = 0.3): cases/shock_tube.toml with `xsph_eps = 0.3`, written into `dir`.
+pub fn xsph_case(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    let new = text.replace("smoothing = \"constant\"", "smoothing = \"constant\"\nxsph_eps = 0.3");
+    assert_ne!(new, text);
+    let p = dir.join("shock_tube_xsph.toml");
+    std::fs::write(&p, new).unwrap();
+    p
+}
+
 /// `legacy build` refuses: status 2, one line on stderr naming every needle, no panic.
 pub fn refused(dir: &Path, needles: &[&str]) -> String {
     let out = dir.join("build");
@@ -165,8 +189,14 @@ pub fn program_final_state() -> &'static [Vec<f64>] {
 }
 
 pub fn program_rows() -> Vec<Vec<f64>> {
-    let work = scratch("program_run_2");
-    let mut child = Command::new(shared().join("program"))
+    program_rows_of(shared(), "program_run_2", 40)
+}
+
+/// The program of the build in `build` run for `steps` steps (input `steps` then `0`): its final
+/// state at 17 digits (columns: number, type, x, vx, mass, rho, p, u, hsml).
+pub fn program_rows_of(build: &Path, name: &str, steps: u32) -> Vec<Vec<f64>> {
+    let work = scratch(name);
+    let mut child = Command::new(build.join("program"))
         .current_dir(&work)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -175,7 +205,7 @@ pub fn program_rows() -> Vec<Vec<f64>> {
         .expect("the fixture's program starts");
     {
         use std::io::Write;
-        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+        child.stdin.take().unwrap().write_all(format!("{steps}\n0\n").as_bytes()).unwrap();
     }
     let o = child.wait_with_output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -186,26 +216,52 @@ pub fn program_rows() -> Vec<Vec<f64>> {
 /// `run CASE --legacy BUILD --compat liu-book` ends in the state of the fixture's own program, bit
 /// for bit; returns the last frame.
 pub fn assert_run_ends_as_the_program(build: &Path, name: &str) -> blastsph::output::Frame {
-    let rows = program_final_state();
+    assert_run_ends_as(build, "shock_tube", "liu-book", program_final_state(), name)
+}
+
+/// `run CASE --legacy BUILD --compat COMPAT` ends in the state `rows` (a program's final state,
+/// [`program_rows_of`]), bit for bit; returns the last frame.
+pub fn assert_run_ends_as(
+    build: &Path,
+    case: &str,
+    compat: &str,
+    rows: &[Vec<f64>],
+    name: &str,
+) -> blastsph::output::Frame {
+    assert_run_ends_as_after(build, case, compat, rows, name, 40)
+}
+
+/// [`assert_run_ends_as`] after `steps` steps of dt = 0.005 s (the case's end set to steps·dt).
+pub fn assert_run_ends_as_after(
+    build: &Path,
+    case: &str,
+    compat: &str,
+    rows: &[Vec<f64>],
+    name: &str,
+    steps: u32,
+) -> blastsph::output::Frame {
     let out = scratch(name);
+    let end = format!("time.end_s={}", steps as f64 * 0.005);
     let so = blastsph_ok(
         &[
             "run",
-            "shock_tube",
+            case,
             "--legacy",
             build.to_str().unwrap(),
             "--compat",
-            "liu-book",
+            compat,
+            "--set",
+            &end,
             "--out",
             out.to_str().unwrap(),
             "--quiet",
         ],
         0,
     );
-    assert!(so.contains("400 particles, 40 steps"), "{so}");
+    assert!(so.contains(&format!("400 particles, {steps} steps")), "{so}");
     let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
     let f = frames.last().unwrap();
-    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    assert!((f.time - steps as f64 * 0.005).abs() < 1e-6, "t = {}", f.time);
     assert_eq!(f.x.len(), rows.len());
     // columns: number, type, x, vx, mass, rho, p, u, hsml
     for i in 0..rows.len() {
