@@ -125,8 +125,12 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if !(f.has(Item::ViscMu) || f.has(Item::ViscEnergy)) || ctx.case.axisymmetric() {
         return None;
     }
-    // the book's routine gives no max|μ|: a CFL step that reads it keeps blastsph's twin
+    // the book's routine gives no max|μ|: a CFL step that reads it keeps blastsph's twin; the
+    // book has no viscosity switch (α_i per particle): a case with one keeps blastsph's twin too
     let v = &ctx.case.viscosity;
+    if v.switch != crate::case::ViscSwitch::None {
+        return None;
+    }
     let coef = Coef { alpha: v.alpha, beta: v.beta, etq: v.phi_over_h };
     let stage = ViscosityStage::of_case(coef, ctx.case, false);
     if stage.signal {
