@@ -23,6 +23,7 @@
 !-----------------------------------------------------------------------
 module sph_viscosity
   use iso_c_binding, only: c_int, c_double
+  use sph_density, only: sph_density_rate
   implicit none
   private
   public :: sph_viscosity_monaghan, sph_viscosity_switch
@@ -109,21 +110,12 @@ contains
                                   h(ntotal), c(ntotal)
     real(c_double), intent(inout) :: alpv(ntotal)
     real(c_double), allocatable :: dv(:)
-    integer :: i, j, k, d
-    real(c_double) :: vd, s, r
+    integer :: i
+    real(c_double) :: s, r
 
+    ! -div v_i = (1/rho_i) sum_j m_j v_ij.grad_i W_ij: the continuity sum of sph_density
     allocate(dv(ntotal))
-    dv = 0.0d0
-    do k = 1, npair
-      i = pair_i(k) + 1
-      j = pair_j(k) + 1
-      vd = 0.0d0
-      do d = 1, dim
-        vd = vd + (v(d, i) - v(d, j))*dwdx(d, k)
-      end do
-      dv(i) = dv(i) + mass(j)*vd
-      dv(j) = dv(j) + mass(i)*vd
-    end do
+    call sph_density_rate(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, v, dv)
     do i = 1, n
       s = dv(i)/rho(i)
       if (s < 0.0d0) s = 0.0d0

@@ -9,7 +9,7 @@
 //! order). 0 ULP, independent of the thread count.
 
 use super::{Coef, Monaghan, Switch};
-use crate::modules::{CHUNK, by_dim, gather_signed, par_rows, serial};
+use crate::modules::{CHUNK, Twin, by_dim, gather_signed, par_rows, serial};
 use rayon::prelude::*;
 
 /// The read-only inputs of the pair pass.
@@ -173,38 +173,17 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     });
 }
 
-/// The switch: one parallel pass over the pairs forms v_ij·∇_i W_ij (the Fortran's sum, d in
-/// order); one parallel pass over the real particles adds m_other × that over each particle's
-/// pairs in ascending pair order (the Fortran's scatter order: the term is the same at both ends),
-/// then takes the Fortran's backward-Euler step. 0 ULP, independent of the thread count.
+/// The switch: −∇·v_i ρ_i = Σ_j m_j v_ij·∇_i W_ij is the density module's continuity sum (its
+/// Rust twin, as the Fortran calls `sph_density_rate`), then the Fortran's backward-Euler step
+/// per real particle. 0 ULP, independent of the thread count.
 pub(super) fn switch(a: &mut Switch) {
-    by_dim!(a.dim, 0, switch_d(a))
-}
-
-fn switch_d<const D: usize, const W: usize>(a: &mut Switch) {
-    let Switch { n, pairs: pl, dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv, .. } = a;
-    let (n, pl, dwdx, mass, rho, v, h, c) = (*n, *pl, *dwdx, *mass, *rho, *v, *h, *c);
+    let Switch { dim, n, pairs, dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv } = a;
+    let (n, rho, h, c) = (*n, *rho, *h, *c);
     let (amin, amax, ell, dt) = (*amin, *amax, *ell, *dt);
-    let np = pl.len();
-    let mut guard = pl.scratch.lock();
-    let buf = &mut *guard;
-    buf.part.resize(np, 0.0);
-    let (pi, pj) = (&pl.i, &pl.j);
-    par_rows(&mut buf.part[..np], 1, |k, t| {
-        let (i, j) = (pi[k] as usize, pj[k] as usize);
-        let mut vd = 0.0;
-        for d in 0..D {
-            vd += (v[d + D * i] - v[d + D * j]) * dwdx[d + D * k];
-        }
-        t[0] = vd;
-    });
-    let vd: &[f64] = &buf.part;
+    let mut dv = vec![0.0; mass.len()];
+    crate::modules::density::Rate { dim: *dim, volume: false, pairs, dwdx, mass, rho, v, drho: &mut dv }.rust();
     par_rows(&mut alpv[..n], 1, |i, al| {
-        let mut dv = 0.0;
-        for inc in pl.incident(i) {
-            dv += mass[inc.other()] * vd[inc.pair()];
-        }
-        let mut s = dv / rho[i];
+        let mut s = dv[i] / rho[i];
         if s < 0.0 {
             s = 0.0;
         }
