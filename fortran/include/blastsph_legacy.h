@@ -91,7 +91,8 @@ void sph_viscosity_switch(int dim, int ntotal, int n, int npair, const int *pair
 void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                             const double *dwdx, const double *x, const double *v,
                             const double *rho, const double *p, const double *e,
-                            const double *mass, double alpha, int signal, double *dedt);
+                            const double *mass, double alpha, int signal, int nrinv, const double *rinv,
+                            double *dedt);
 
 /* strength (sph_strength.f90) */
 void sph_strength_rates(int dim, int ntotal, int n, int npair, const int *pair_i,

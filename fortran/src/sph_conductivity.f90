@@ -12,6 +12,10 @@
 !  xhat.grad W <= 0, so heat flows from the hotter particle; the pair's
 !  two terms cancel in sum_i m_i de_i/dt (energy is conserved).
 !  Coincident particles (r = 0) exchange nothing.
+!  Axisymmetric (nrinv = ntotal, rinv = 1/r*, mass the planar masses mu):
+!  the i end's term is weighted by rbar/r_i = (1 + r_j/r_i)/2 and the j
+!  end's by (1 + r_i/r_j)/2, so that the rings (mass 2 pi r mu) exchange
+!  2 pi mu_i mu_j rbar q: energy is conserved.
 !-----------------------------------------------------------------------
 module sph_conductivity
   use iso_c_binding, only: c_int, c_double
@@ -22,15 +26,15 @@ module sph_conductivity
 contains
 
   subroutine sph_conductivity_price(dim, ntotal, npair, pair_i, pair_j, dwdx, x, v, rho, p, e, &
-      mass, alpha, signal, dedt) bind(C, name="sph_conductivity_price")
-    integer(c_int), value :: dim, ntotal, npair, signal
+      mass, alpha, signal, nrinv, rinv, dedt) bind(C, name="sph_conductivity_price")
+    integer(c_int), value :: dim, ntotal, npair, signal, nrinv
     real(c_double), value :: alpha
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), x(dim, ntotal), v(dim, ntotal), rho(ntotal), &
-                                  p(ntotal), e(ntotal), mass(ntotal)
+                                  p(ntotal), e(ntotal), mass(ntotal), rinv(max(nrinv, 1))
     real(c_double), intent(out) :: dedt(ntotal)
     integer :: i, j, k, d
-    real(c_double) :: dx, r2, r, xw, vr, mrho, vs, q
+    real(c_double) :: dx, r2, r, xw, vr, mrho, vs, q, fi, fj
 
     dedt = 0.0d0
     do k = 1, npair
@@ -54,8 +58,15 @@ contains
           vs = abs(vr)/r
         end if
         q = alpha*vs*(e(i) - e(j))/mrho*(xw/r)
-        dedt(i) = dedt(i) + mass(j)*q
-        dedt(j) = dedt(j) - mass(i)*q
+        if (nrinv > 0) then
+          fi = 0.5d0*(1.0d0 + rinv(i)/rinv(j))
+          fj = 0.5d0*(1.0d0 + rinv(j)/rinv(i))
+          dedt(i) = dedt(i) + mass(j)*(q*fi)
+          dedt(j) = dedt(j) - mass(i)*(q*fj)
+        else
+          dedt(i) = dedt(i) + mass(j)*q
+          dedt(j) = dedt(j) - mass(i)*q
+        end if
       end if
     end do
   end subroutine sph_conductivity_price

@@ -38,6 +38,11 @@ pub struct Price<'a> {
     pub alpha: f64,
     /// The signal speed: 0 pressure (Price), 1 velocity.
     pub signal: i32,
+    /// Axisymmetric: 1/r* (1/m) per particle (ntotal; `mass` the planar masses): the i end's
+    /// term is weighted by r̄/r_i = (1 + r_j/r_i)/2 and the j end's by (1 + r_i/r_j)/2, so that
+    /// the rings (mass 2πr μ) exchange 2π μ_i μ_j r̄ q and the energy is conserved. Empty in plane
+    /// geometry.
+    pub rinv: &'a [f64],
     /// Energy rate (J/kg/s), ntotal.
     pub dedt: &'a mut [f64],
 }
@@ -56,6 +61,8 @@ pub struct ConductivityStage {
     alpha: f64,
     signal: i32,
     slots: Slots,
+    /// Axisymmetric: the planar masses and the ring weights.
+    rz: bool,
 }
 
 impl Stage for ConductivityStage {
@@ -66,7 +73,12 @@ impl Stage for ConductivityStage {
         "conductivity.price"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::PairI, Field::PairJ, Field::Dwdx, Field::X, Field::V, Field::Rho, Field::P, Field::E, Field::Mass]
+        use Field::*;
+        if self.rz {
+            &[PairI, PairJ, Dwdx, X, V, Rho, P, E, Pmass, Rinv]
+        } else {
+            &[PairI, PairJ, Dwdx, X, V, Rho, P, E, Mass]
+        }
     }
     fn writes(&self) -> &[Field] {
         &[Field::Dde]
@@ -85,9 +97,10 @@ impl Stage for ConductivityStage {
             rho: &p.rho[..nt],
             p: &p.p[..nt],
             e: &p.e[..nt],
-            mass: &p.mass[..nt],
+            mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
             alpha: self.alpha,
             signal: self.signal,
+            rinv: if self.rz { &w.rinv[..nt] } else { &[] },
             dedt: &mut w.dde[self.slots.de_range(nt)],
         }
         .run(b);
@@ -109,7 +122,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     };
     let why = format!("alpha_u = {}, {:?} signal speed", c.alpha, c.signal).to_lowercase();
     if c.alpha > 0.0 {
-        let st = ConductivityStage { alpha: c.alpha, signal, slots: Slots::default() };
+        let st = ConductivityStage { alpha: c.alpha, signal, slots: Slots::default(), rz: ctx.case.axisymmetric() };
         Contribution::run(why, vec![(Phase::Rates, Box::new(st))])
     } else {
         Contribution::skip("alpha_u = 0 (off)")

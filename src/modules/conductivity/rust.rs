@@ -12,14 +12,18 @@ pub(super) fn price(a: &mut Price) {
 }
 
 fn run<const D: usize, const W: usize>(a: &mut Price) {
-    let Price { pairs: pl, dwdx, x, v, rho, p, e, mass, alpha, signal, dedt, .. } = a;
+    let Price { pairs: pl, dwdx, x, v, rho, p, e, mass, alpha, signal, rinv, dedt, .. } = a;
     let (pl, dwdx, x, v, rho, p, e, mass, alpha, signal) = (*pl, *dwdx, *x, *v, *rho, *p, *e, *mass, *alpha, *signal);
+    let rinv: &[f64] = rinv;
     let np = pl.len();
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
-    buf.pair.resize(np, 0.0);
+    // RZ: three terms a pair (0, the i end's q r̄/r_i, the j end's −q r̄/r_j), gathered as the
+    // energy column of a 1-component sum (+ m_j at the i end, + m_i at the j end)
+    let wd = if rinv.is_empty() { 1 } else { 3 };
+    buf.pair.resize(wd * np, 0.0);
     let (pi, pj) = (&pl.i, &pl.j);
-    par_rows(&mut buf.pair[..np], 1, |k, q| {
+    par_rows(&mut buf.pair[..wd * np], wd, |k, t| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
         let (mut r2, mut xw, mut vr) = (0.0, 0.0, 0.0);
         for d in 0..D {
@@ -28,7 +32,7 @@ fn run<const D: usize, const W: usize>(a: &mut Price) {
             xw += dx * dwdx[d + D * k];
             vr += (v[d + D * i] - v[d + D * j]) * dx;
         }
-        q[0] = if r2 > 0.0 {
+        let q = if r2 > 0.0 {
             let r = r2.sqrt();
             let mrho = 0.5 * (rho[i] + rho[j]);
             let vs = if signal == 0 { ((p[i] - p[j]).abs() / mrho).sqrt() } else { vr.abs() / r };
@@ -36,7 +40,23 @@ fn run<const D: usize, const W: usize>(a: &mut Price) {
         } else {
             0.0
         };
+        if t.len() == 1 {
+            t[0] = q;
+        } else {
+            let fi = 0.5 * (1.0 + rinv[i] / rinv[j]);
+            let fj = 0.5 * (1.0 + rinv[j] / rinv[i]);
+            t[0] = 0.0;
+            t[1] = q * fi;
+            t[2] = -(q * fj);
+        }
     });
-    // rows of one value: + m_j q at the i end, − m_i q at the j end
-    gather_signed::<1, 1>(pl, &buf.pair, mass, None, dedt, &mut []);
+    if rinv.is_empty() {
+        // rows of one value: + m_j q at the i end, − m_i q at the j end
+        gather_signed::<1, 1>(pl, &buf.pair, mass, None, dedt, &mut []);
+    } else {
+        // + m_j (q r̄/r_i) at the i end, + m_i (−q r̄/r_j) at the j end (the Fortran's − m_i (q r̄/r_j))
+        let nt = mass.len();
+        buf.part.resize(nt, 0.0);
+        gather_signed::<1, 3>(pl, &buf.pair, mass, None, &mut buf.part[..nt], dedt);
+    }
 }
