@@ -115,6 +115,9 @@ pub struct Work {
     pub mumax: Vec<f64>,
     /// Energy added by the floor e ≥ 0 in the last step (J; per metre of depth in 2D), one value.
     pub efloor: Vec<f64>,
+    /// The viscosity switch's workspace: ρ_i (−∇·v_i) = Σ_j m_j v_ij·∇_i W_ij (kg/m³/s), ntotal;
+    /// recomputed by every switch call, not state.
+    pub divv: Vec<f64>,
 }
 
 /// Where a step stands: the time a stage evaluates at and the steps around it (s).

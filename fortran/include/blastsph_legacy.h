@@ -85,7 +85,8 @@ void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,
 void sph_viscosity_switch(int dim, int ntotal, int n, int npair, const int *pair_i,
                           const int *pair_j, const double *dwdx, const double *mass,
                           const double *rho, const double *v, const double *h, const double *c,
-                          double amin, double amax, double ell, double dt, double *alpv);
+                          double amin, double amax, double ell, double dt, double *alpv,
+                          double *dv);
 
 /* conductivity (sph_conductivity.f90) */
 void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,

@@ -102,19 +102,19 @@ contains
   end subroutine sph_viscosity_monaghan
 
   subroutine sph_viscosity_switch(dim, ntotal, n, npair, pair_i, pair_j, dwdx, mass, rho, v, h, c, &
-      amin, amax, ell, dt, alpv) bind(C, name="sph_viscosity_switch")
+      amin, amax, ell, dt, alpv, dv) bind(C, name="sph_viscosity_switch")
     integer(c_int), value :: dim, ntotal, n, npair
     real(c_double), value :: amin, amax, ell, dt
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), v(dim, ntotal), &
                                   h(ntotal), c(ntotal)
     real(c_double), intent(inout) :: alpv(ntotal)
-    real(c_double), allocatable :: dv(:)
+    real(c_double), intent(out) :: dv(ntotal)
     integer :: i
     real(c_double) :: s, r
 
-    ! -div v_i = (1/rho_i) sum_j m_j v_ij.grad_i W_ij: the continuity sum of sph_density
-    allocate(dv(ntotal))
+    ! -div v_i = (1/rho_i) sum_j m_j v_ij.grad_i W_ij: the continuity sum of sph_density,
+    ! into the caller's workspace dv
     call sph_density_rate(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, v, dv)
     do i = 1, n
       s = dv(i)/rho(i)
@@ -122,7 +122,6 @@ contains
       r = ell*c(i)/h(i)
       alpv(i) = (alpv(i) + dt*(amin*r + s*amax))/(1.0d0 + dt*(r + s))
     end do
-    deallocate(dv)
   end subroutine sph_viscosity_switch
 
 end module sph_viscosity

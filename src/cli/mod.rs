@@ -459,17 +459,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| runner::run(&case, &opts))?;
-            let s = &r.summary;
-            println!(
-                "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s wall ({} backend), output in {}",
-                s["case"].as_str().unwrap_or("?"),
-                s["particles"],
-                s["steps"],
-                s["time"].as_f64().unwrap_or(0.0),
-                s["wall_seconds"].as_f64().unwrap_or(0.0),
-                s["backend"].as_str().unwrap_or("?"),
-                r.dir.display()
-            );
+            println!("{}", finished_line(&r.summary, "wall", &r.dir));
             Ok(0)
         }
         Cmd::Resume {
@@ -494,17 +484,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| crate::restart::resume(&dir, &o))?;
-            let s = &r.summary;
-            println!(
-                "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s wall in all ({} backend), output in {}",
-                s["case"].as_str().unwrap_or("?"),
-                s["particles"],
-                s["steps"],
-                s["time"].as_f64().unwrap_or(0.0),
-                s["wall_seconds"].as_f64().unwrap_or(0.0),
-                s["backend"].as_str().unwrap_or("?"),
-                r.dir.display()
-            );
+            println!("{}", finished_line(&r.summary, "wall in all", &r.dir));
             Ok(0)
         }
         Cmd::Check { case, args, case_dir } => {
@@ -669,4 +649,19 @@ fn dispatch(cli: Cli) -> Result<i32> {
             }
         }
     }
+}
+
+/// The one line a finished `run` or `resume` prints: case, particles, steps, time, wall time
+/// (`wall` names what it counts), backend, run directory.
+fn finished_line(s: &serde_json::Value, wall: &str, dir: &std::path::Path) -> String {
+    format!(
+        "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s {wall} ({} backend), output in {}",
+        s["case"].as_str().unwrap_or("?"),
+        s["particles"],
+        s["steps"],
+        s["time"].as_f64().unwrap_or(0.0),
+        s["wall_seconds"].as_f64().unwrap_or(0.0),
+        s["backend"].as_str().unwrap_or("?"),
+        dir.display()
+    )
 }

@@ -383,6 +383,7 @@ impl Sim {
             pmass,
             mumax,
             efloor,
+            divv: _, // the viscosity switch's workspace, recomputed before every use
         } = w;
         b.put("w.pairs.i", Item::I32(pairs.i.clone()));
         b.put("w.pairs.j", Item::I32(pairs.j.clone()));
@@ -555,6 +556,7 @@ impl Sim {
             pmass,
             mumax,
             efloor,
+            divv: _, // the viscosity switch's workspace, recomputed before every use
         } = w;
         let (pi, pj) = (b.i32("w.pairs.i")?, b.i32("w.pairs.j")?);
         sized("w.pairs.j", pj.len(), pi.len())?;

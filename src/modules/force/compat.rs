@@ -12,9 +12,9 @@
 use super::ForceStage;
 use crate::migration::compat::{Flags, Item};
 use crate::modules::{
-    Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Slots, Stage, Terms, by_dim, gather_signed, par_rows,
+    Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, by_dim, gather_signed, par_rows,
 };
-use crate::state::{Clock, Field, Particles, Work};
+use crate::state::{Clock, Particles, Work};
 
 /// The book's int_force (pa_sph = 2, or 1 with `pa_sph1`; inviscid), after its EOS.
 pub struct ForceCompat {
@@ -85,21 +85,8 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, slots: Slo
 }
 
 impl Stage for ForceCompat {
-    fn module(&self) -> Module {
-        Module::Force
-    }
-    fn name(&self) -> &'static str {
-        "force.internal"
-    }
-    fn reads(&self) -> &[Field] {
-        self.normal.reads()
-    }
-    fn writes(&self) -> &[Field] {
-        self.normal.writes()
-    }
-    fn prepare(&self, p: &mut Particles, w: &mut Work) {
-        self.normal.prepare(p, w)
-    }
+    crate::modules::as_its_normal_stage!();
+
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let slots = self.normal.slots;
         if self.pa1 {
@@ -107,12 +94,6 @@ impl Stage for ForceCompat {
         } else {
             by_dim!(p.dim, 1, run_d(p, w, slots))
         }
-    }
-    fn terms(&self) -> Terms {
-        self.normal.terms()
-    }
-    fn assign(&mut self, slots: Slots) {
-        self.normal.assign(slots)
     }
     fn counterpart(&self) -> Counterpart {
         Counterpart::None(self.why)

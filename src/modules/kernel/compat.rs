@@ -115,21 +115,8 @@ pub struct PairsCompat {
 }
 
 impl Stage for PairsCompat {
-    fn module(&self) -> Module {
-        Module::Kernel
-    }
-    fn name(&self) -> &'static str {
-        "kernel.pairs"
-    }
-    fn reads(&self) -> &[Field] {
-        self.normal.reads()
-    }
-    fn writes(&self) -> &[Field] {
-        self.normal.writes()
-    }
-    fn prepare(&self, p: &mut Particles, w: &mut Work) {
-        self.normal.prepare(p, w)
-    }
+    crate::modules::as_its_normal_stage!();
+
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt, kind, f) = (p.dim, p.ntotal, self.kind, self.f);
         let (x, h) = (&p.x[..dim * nt], &p.h[..nt]);

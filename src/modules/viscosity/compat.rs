@@ -9,9 +9,9 @@
 use super::{Coef, ViscosityStage};
 use crate::migration::compat::{Flags, Item};
 use crate::modules::{
-    Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Slots, Stage, Terms, by_dim, par_rows, par_rows2,
+    Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, by_dim, par_rows, par_rows2,
 };
-use crate::state::{Clock, Field, Particles, Work};
+use crate::state::{Clock, Particles, Work};
 
 /// The book's art_visc.
 pub struct ViscosityCompat {
@@ -89,30 +89,11 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, coef: Coef
 }
 
 impl Stage for ViscosityCompat {
-    fn module(&self) -> Module {
-        Module::Viscosity
-    }
-    fn name(&self) -> &'static str {
-        "viscosity.monaghan"
-    }
-    fn reads(&self) -> &[Field] {
-        self.normal.reads()
-    }
-    fn writes(&self) -> &[Field] {
-        self.normal.writes()
-    }
-    fn prepare(&self, p: &mut Particles, w: &mut Work) {
-        self.normal.prepare(p, w)
-    }
+    crate::modules::as_its_normal_stage!();
+
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (coef, slots, f) = (self.normal.coef, self.normal.slots, self.f);
         by_dim!(p.dim, 1, run_d(p, w, coef, slots, f))
-    }
-    fn terms(&self) -> Terms {
-        self.normal.terms()
-    }
-    fn assign(&mut self, slots: Slots) {
-        self.normal.assign(slots)
     }
     fn counterpart(&self) -> Counterpart {
         Counterpart::None(self.why)

@@ -65,7 +65,9 @@ pub(super) fn switch(a: &mut Switch) {
     assert!(a.n <= nt, "legacy call: n exceeds ntotal");
     chk("v", a.v.len(), dim * nt);
     chk("dwdx", a.dwdx.len(), dim * pl.len());
-    for (name, l) in [("rho", a.rho.len()), ("h", a.h.len()), ("c", a.c.len()), ("alpv", a.alpv.len())] {
+    for (name, l) in
+        [("rho", a.rho.len()), ("h", a.h.len()), ("c", a.c.len()), ("alpv", a.alpv.len()), ("dv", a.dv.len())]
+    {
         chk(name, l, nt);
     }
     chk_pairs(&pl.i, &pl.j, nt);
@@ -90,6 +92,7 @@ pub(super) fn switch(a: &mut Switch) {
             a.ell,
             a.dt,
             a.alpv.as_mut_ptr(),
+            a.dv.as_mut_ptr(),
         )
     }
 }

@@ -86,6 +86,8 @@ pub struct Switch<'a> {
     pub dt: f64,
     /// α_i (ntotal; the first n are advanced).
     pub alpv: &'a mut [f64],
+    /// Workspace (ntotal): the continuity sum Σ_j m_j v_ij·∇_i W_ij on return.
+    pub dv: &'a mut [f64],
 }
 
 impl Twin for Switch<'_> {
@@ -132,6 +134,9 @@ impl Stage for SwitchStage {
     fn register(&self, p: &mut Particles) {
         p.alpha = vec![self.coef.amax; p.ntotal];
     }
+    fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        w.divv.resize(p.ntotal, 0.0);
+    }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, k: &Clock) {
         let (dim, n, nt) = (p.dim, p.nreal, p.ntotal);
         let SwitchCoef { amin, amax, ell } = self.coef;
@@ -150,6 +155,7 @@ impl Stage for SwitchStage {
             ell,
             dt: k.dt_prev,
             alpv: &mut p.alpha[..nt],
+            dv: &mut w.divv[..nt],
         }
         .run(b);
     }

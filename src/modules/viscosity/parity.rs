@@ -52,11 +52,11 @@ fn viscosity_switch() {
         let al0: Vec<f64> = (0..cl.nt).map(|i| 0.1 + 0.9 * ((i * 53 % 97) as f64 / 96.0)).collect();
         for dt in [0.0, 1e-4, 1e3] {
             let tag = format!("viscosity::switch {dim}D seed {seed} dt {dt}");
-            let [al] = parity(&tag, 0, ["alpv"], [al0.clone()], |b, [alpv]| {
+            let [al, _] = parity(&tag, 0, ["alpv", "dv"], [al0.clone(), sentinel(cl.nt)], |b, [alpv, dv]| {
                 let (mass, rho, v, h, c) = (&cl.mass, &cl.rho, &cl.v, &cl.h, &cl.c);
                 let n = cl.nreal;
                 let (amin, amax, ell) = (0.1, 1.0, 0.2);
-                run(Switch { dim, n, pairs: &pl, dwdx: &dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv }, b)
+                run(Switch { dim, n, pairs: &pl, dwdx: &dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv, dv }, b)
             });
             // α stays within [α_min, α_max]; the mirrors' values are not touched; dt = 0 changes nothing
             let out = al.iter().find(|&&a| !(0.1 - 1e-12..=1.0 + 1e-12).contains(&a));

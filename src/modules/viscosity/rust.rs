@@ -177,11 +177,11 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
 /// Rust twin, as the Fortran calls `sph_density_rate`), then the Fortran's backward-Euler step
 /// per real particle. 0 ULP, independent of the thread count.
 pub(super) fn switch(a: &mut Switch) {
-    let Switch { dim, n, pairs, dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv } = a;
+    let Switch { dim, n, pairs, dwdx, mass, rho, v, h, c, amin, amax, ell, dt, alpv, dv } = a;
     let (n, rho, h, c) = (*n, *rho, *h, *c);
     let (amin, amax, ell, dt) = (*amin, *amax, *ell, *dt);
-    let mut dv = vec![0.0; mass.len()];
-    crate::modules::density::Rate { dim: *dim, volume: false, pairs, dwdx, mass, rho, v, drho: &mut dv }.rust();
+    crate::modules::density::Rate { dim: *dim, volume: false, pairs, dwdx, mass, rho, v, drho: dv }.rust();
+    let dv: &[f64] = dv;
     par_rows(&mut alpv[..n], 1, |i, al| {
         let mut s = dv[i] / rho[i];
         if s < 0.0 {

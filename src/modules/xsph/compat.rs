@@ -7,8 +7,8 @@
 
 use super::XsphStage;
 use crate::migration::compat::{Flags, Item};
-use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows};
-use crate::state::{Clock, Field, Particles, Work};
+use crate::modules::{Backend, Contribution, Counterpart, Phase, PlanCtx, Stage, par_rows};
+use crate::state::{Clock, Particles, Work};
 
 /// The book's av_vel.
 pub struct XsphCompat {
@@ -17,21 +17,8 @@ pub struct XsphCompat {
 }
 
 impl Stage for XsphCompat {
-    fn module(&self) -> Module {
-        Module::Xsph
-    }
-    fn name(&self) -> &'static str {
-        "xsph.average"
-    }
-    fn reads(&self) -> &[Field] {
-        self.normal.reads()
-    }
-    fn writes(&self) -> &[Field] {
-        self.normal.writes()
-    }
-    fn prepare(&self, p: &mut Particles, w: &mut Work) {
-        self.normal.prepare(p, w)
-    }
+    crate::modules::as_its_normal_stage!();
+
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt, eps) = (p.dim, p.ntotal, self.normal.eps);
         let (mass, rho, v) = (&p.mass[..nt], &p.rho[..nt], &p.v[..dim * nt]);
