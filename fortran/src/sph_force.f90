@@ -48,9 +48,11 @@ contains
       rj2 = rho(j)*rho(j)
       pr = p(i)/ri2 + p(j)/rj2
       vd = 0.0d0
-      do a = 1, dim
-        vd = vd + (v(a, i) - v(a, j))*dwdx(a, k)
-      end do
+      if (nrinv == 0) then
+        do a = 1, dim
+          vd = vd + (v(a, i) - v(a, j))*dwdx(a, k)
+        end do
+      end if
       if (ntau == 0) then
         do a = 1, dim
           f = pr*dwdx(a, k)

@@ -53,9 +53,12 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
         let g = &dwdx[D * k..D * k + D];
         let (si, sj) = (&sig[wp * i..wp * i + wp], &sig[wp * j..wp * j + wp]);
         let pr = si[0] + sj[0];
+        // v_ij·∇W of the plane energy terms (RZ forms its own two below)
         let mut vd = 0.0;
-        for d in 0..D {
-            vd += (v[d + D * i] - v[d + D * j]) * g[d];
+        if !rz {
+            for d in 0..D {
+                vd += (v[d + D * i] - v[d + D * j]) * g[d];
+            }
         }
         if !strength {
             for d in 0..D {
