@@ -15,6 +15,14 @@ pub(crate) fn chk(name: &str, len: usize, need: usize) {
     assert!(len >= need, "legacy call: array `{name}` has {len} values, the routine needs {need}");
 }
 
+/// An optional array of `per` values per particle over `n` particles (empty = absent): checks it
+/// holds them all when present; returns the particle extent the Fortran declares it with, `n` or 0.
+pub(crate) fn chk_opt(name: &str, len: usize, n: usize, per: usize) -> usize {
+    let ext = if len == 0 { 0 } else { n };
+    chk(name, len, per * ext);
+    ext
+}
+
 /// Every index in `idx` lies in `0..bound` (the Fortran dereferences them).
 pub(crate) fn chk_idx(name: &str, idx: &[i32], bound: usize) {
     let (lo, hi) = idx.iter().fold((i32::MAX, i32::MIN), |(a, b), &v| (a.min(v), b.max(v)));

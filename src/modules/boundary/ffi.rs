@@ -3,7 +3,7 @@
 #![allow(unsafe_code)]
 
 use super::{MirrorCopy, MirrorFill, MirrorMake, WallForce};
-use crate::modules::ffi_util::{chk, chk_idx, mptr_or, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, chk_idx, mptr_or, n32, ptr_or};
 use crate::modules::param::{NSTR, seg_len};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -106,8 +106,7 @@ pub(super) fn mirror_fill(a: &mut MirrorFill) {
     ] {
         chk(name, l, nt);
     }
-    let ntau = if a.tau.is_empty() { 0 } else { nt };
-    chk("tau", a.tau.len(), NSTR * ntau);
+    let ntau = chk_opt("tau", a.tau.len(), nt, NSTR);
     let mut dummy = 0.0;
     // SAFETY: every particle array holds ntotal = n + ng rows, the mirror lists ng entries whose
     // sources are real particles and whose walls exist (checked above); tau is a one-value dummy

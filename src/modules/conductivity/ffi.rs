@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::Price;
-use crate::modules::ffi_util::{chk, chk_pairs, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, chk_pairs, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -19,8 +19,7 @@ pub(super) fn price(a: &mut Price) {
         chk(name, l, nt);
     }
     chk_pairs(&pl.i, &pl.j, nt);
-    let nrinv = if a.rinv.is_empty() { 0 } else { nt };
-    chk("rinv", a.rinv.len(), nrinv);
+    let nrinv = chk_opt("rinv", a.rinv.len(), nt, 1);
     let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare (dim × ntotal, ntotal,
     // dim × npair), every pair index is in 0..ntotal (checked above), and rinv is a one-value

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::Eval;
-use crate::modules::ffi_util::{chk, chk_mat, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, chk_mat, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -14,8 +14,7 @@ pub(super) fn eval(a: &mut Eval) {
     for (name, l) in [("rho", a.rho.len()), ("e", a.e.len()), ("p", a.p.len()), ("c", a.c.len())] {
         chk(name, l, n);
     }
-    let nburn = if a.burn.is_empty() { 0 } else { n };
-    chk("burn", a.burn.len(), nburn);
+    let nburn = chk_opt("burn", a.burn.len(), n, 1);
     chk_mat(a.mt, a.mat);
     let dummy = 1.0;
     // SAFETY: every array holds at least the n values (nmat columns for the table) that the

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::Internal;
-use crate::modules::ffi_util::{chk, chk_pairs, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, chk_pairs, n32, ptr_or};
 use crate::modules::param::NSTR;
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -20,10 +20,8 @@ pub(super) fn internal(a: &mut Internal) {
     chk("rho", a.rho.len(), nt);
     chk("p", a.p.len(), nt);
     chk_pairs(&pl.i, &pl.j, nt);
-    let ntau = if a.tau.is_empty() { 0 } else { nt };
-    chk("tau", a.tau.len(), NSTR * ntau);
-    let nrinv = if a.rinv.is_empty() { 0 } else { nt };
-    chk("rinv", a.rinv.len(), nrinv);
+    let ntau = chk_opt("tau", a.tau.len(), nt, NSTR);
+    let nrinv = chk_opt("rinv", a.rinv.len(), nt, 1);
     let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare, pair indices are in
     // 0..ntotal (checked above), and tau (ntau = 0) and rinv (nrinv = 0) are one-value dummies

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::{Advance, Cfl, Efloor, Leapfrog, Predict, Rates, SumRates};
-use crate::modules::ffi_util::{chk, mptr_or, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, mptr_or, n32, ptr_or};
 use crate::modules::param::NSTR;
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -47,8 +47,7 @@ fn check_leapfrog(dim: usize, n: usize, s: &Leapfrog, r: &Rates) -> usize {
     chk("v", s.v.len(), dim * n);
     chk("v_min", s.v_min.len(), dim * n);
     chk("dv", r.dv.len(), dim * n);
-    let ntau = if s.tau.is_empty() { 0 } else { n };
-    chk("tau", s.tau.len(), NSTR * ntau);
+    let ntau = chk_opt("tau", s.tau.len(), n, NSTR);
     chk("tau_min", s.tau_min.len(), NSTR * ntau);
     chk("dtau", r.dtau.len(), NSTR * ntau);
     ntau
@@ -88,8 +87,7 @@ pub(super) fn advance(a: &mut Advance) {
     let (dim, n) = (a.dim, a.n);
     let ntau = check_leapfrog(dim, n, &a.lf, &a.rates);
     chk("x", a.x.len(), dim * n);
-    let nav = if a.av.is_empty() { 0 } else { n };
-    chk("av", a.av.len(), dim * nav);
+    let nav = chk_opt("av", a.av.len(), n, dim);
     let (s, r) = (&mut a.lf, &a.rates);
     let (mut d1, d2, d3, d4) = (0.0, 0.0, 0.0, 0.0);
     // SAFETY: every array holds the values the explicit shapes declare (checked above); the
@@ -127,8 +125,7 @@ pub(super) fn cfl(a: &mut Cfl) {
     chk("c", a.c.len(), n);
     chk("v", a.v.len(), dim * n);
     chk("dv", a.dv.len(), dim * n);
-    let nmu = if a.mumax.is_empty() { 0 } else { n };
-    chk("mumax", a.mumax.len(), nmu);
+    let nmu = chk_opt("mumax", a.mumax.len(), n, 1);
     let dummy = 0.0;
     // SAFETY: h and c hold n values, v and dv dim × n, mumax n or none (a one-value dummy for the
     // extent max(nmu, 1)) (checked above); dt is one value.

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::{Advance, FromDensity, Rate};
-use crate::modules::ffi_util::{chk, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -14,8 +14,7 @@ pub(super) fn from_density(a: &mut FromDensity) {
     chk("rho", a.rho.len(), n);
     chk("h0", a.h0.len(), n);
     chk("rho0", a.rho0.len(), n);
-    let nr = if a.rinv.is_empty() { 0 } else { n };
-    chk("rinv", a.rinv.len(), nr);
+    let nr = chk_opt("rinv", a.rinv.len(), n, 1);
     let dummy = 0.0;
     // SAFETY: every array holds the n values the routine reads or writes (checked above); rinv
     // is a one-value dummy in plane geometry (nr = 0).

@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::{Rates, Yield};
-use crate::modules::ffi_util::{ptr_or, chk, chk_mat, chk_pairs, n32};
+use crate::modules::ffi_util::{chk, chk_mat, chk_opt, chk_pairs, n32, ptr_or};
 use crate::modules::param::NSTR;
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -25,8 +25,7 @@ pub(super) fn rates(a: &mut Rates) {
     chk("mat", a.mat.len(), nt);
     chk_mat(a.mt, &a.mat[..nt]);
     chk_pairs(&pl.i, &pl.j, nt);
-    let nr = if a.rinv.is_empty() { 0 } else { nt };
-    chk("rinv", a.rinv.len(), nr);
+    let nr = chk_opt("rinv", a.rinv.len(), nt, 1);
     let dummy = 0.0;
     // SAFETY: the arrays hold the values the explicit shapes declare (NSTR × ntotal, 3 × ntotal,
     // NSTR × n, ...), pair indices are in 0..ntotal and material indices in 0..nmat (checked);
