@@ -252,7 +252,10 @@ contains
   end subroutine reflect_point
 
   ! list the mirrors: gsrc(g) the source (0-based), gseg(1:ngen,g) the walls (0-based, -1 =
-  ! none), ngen = 2 + dim/3 generations of images (3 in 3D)
+  ! none), ngen = 2 + dim/3 generations of images (3 in 3D). A particle i is mirrored when it lies
+  ! within kappa*(h(i) + hmax)/2 of a wall, hmax the largest h: the farthest any real particle j
+  ! reaches (a pair interacts within kappa*(h(i) + h(j))/2), so that a particle with a large h
+  ! near a wall sees the images of every particle it sees on its own side
   subroutine sph_boundary_mirror_make(dim, n, x, h, kappa, nseg, seg, maxg, ng, gsrc, gseg) &
       bind(C, name="sph_boundary_mirror_make")
     integer(c_int), value :: dim, n, nseg, maxg
@@ -261,12 +264,16 @@ contains
     integer(c_int), intent(out) :: ng
     integer(c_int), intent(inout) :: gsrc(maxg), gseg(2 + dim/3, maxg)
     integer :: i, s, t, u, g, ng1, ng2
-    real(c_double) :: y(3)
+    real(c_double) :: y(3), hmax
 
+    hmax = 0.0d0
+    do i = 1, n
+      hmax = max(hmax, h(i))
+    end do
     ng = 0
     do i = 1, n
       do s = 1, nseg
-        if (in_band(dim, seg(:, s), x(:, i), kappa*h(i))) then
+        if (in_band(dim, seg(:, s), x(:, i), kappa*(0.5d0*(h(i) + hmax)))) then
           ng = ng + 1
           if (ng <= maxg) then
             gsrc(ng) = i - 1
@@ -285,7 +292,7 @@ contains
       y(1:dim) = x(:, i)
       call reflect_point(dim, seg(:, s), y(1:dim))
       do t = s + 1, nseg
-        if (in_band(dim, seg(:, t), y(1:dim), kappa*h(i))) then
+        if (in_band(dim, seg(:, t), y(1:dim), kappa*(0.5d0*(h(i) + hmax)))) then
           ng = ng + 1
           if (ng <= maxg) then
             gsrc(ng) = i - 1
@@ -307,7 +314,7 @@ contains
       call reflect_point(dim, seg(:, s), y)
       call reflect_point(dim, seg(:, t), y)
       do u = t + 1, nseg
-        if (in_band(dim, seg(:, u), y, kappa*h(i))) then
+        if (in_band(dim, seg(:, u), y, kappa*(0.5d0*(h(i) + hmax)))) then
           ng = ng + 1
           if (ng <= maxg) then
             gsrc(ng) = i - 1

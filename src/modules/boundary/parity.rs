@@ -210,3 +210,46 @@ fn boundary_mirrors_make_fill_copy() {
         });
     }
 }
+
+/// The mirror band is wide enough for the particle that reaches farthest: a lattice above the wall
+/// y = 0, one particle beside the wall with h = 4 h0 (a blast's hot centre) and the rest at h0.
+/// Every particle j that the hot one reaches, |x_j − x_hot| < κ (h_hot + h_j)/2, has its image
+/// listed when that image is within the same reach (with a band of κ h_j, the images of the
+/// particles beyond κ h0 of the wall were missing: the hot particle felt the real side only and was
+/// pushed through the mirror). Both twins.
+#[test]
+fn boundary_mirror_band_covers_the_largest_h() {
+    let (dx, side) = (0.01, 12usize);
+    let mut x = Vec::new();
+    let mut h = Vec::new();
+    for b in 0..side {
+        for a in 0..side {
+            x.extend_from_slice(&[(a as f64 + 0.5) * dx, (b as f64 + 0.5) * dx]);
+            h.push(dx);
+        }
+    }
+    let hot = side / 2; // (6.5 dx, 0.5 dx): on the first row
+    h[hot] = 4.0 * dx;
+    let mut segs = Segments::default();
+    segs.seg.extend_from_slice(&[0.0, 0.0, side as f64 * dx, 0.0, 0.0, 1.0]);
+    segs.endnode.push(1);
+    let kappa = 2.0;
+    let (mut sf, mut gf) = (Vec::new(), Vec::new());
+    let (mut sr, mut gr) = (Vec::new(), Vec::new());
+    for (b, gsrc, gseg) in [(F, &mut sf, &mut gf), (R, &mut sr, &mut gr)] {
+        run(MirrorMake { dim: 2, x: &x, h: &h, kappa, segs: &segs, gsrc, gseg }, b);
+    }
+    check_i("boundary::mirror_make band gsrc", &sf, &sr);
+    check_i("boundary::mirror_make band gseg", &gf, &gr);
+    let (xh, yh) = (x[2 * hot], x[2 * hot + 1]);
+    let mut needed = 0;
+    for j in 0..side * side {
+        let (xj, yj) = (x[2 * j], -x[2 * j + 1]);
+        let reach = kappa * 0.5 * (h[hot] + h[j]);
+        if ((xj - xh).powi(2) + (yj - yh).powi(2)).sqrt() < reach {
+            needed += 1;
+            assert!(sf.contains(&(j as i32)), "the image of particle {j} (y = {}) is missing", x[2 * j + 1]);
+        }
+    }
+    assert!(needed > 20, "the hot particle reaches {needed} images");
+}

@@ -228,12 +228,13 @@ fn first_images<const D: usize>(
     x: &[f64],
     h: &[f64],
     kappa: f64,
+    hmax: f64,
     segs: &Segments,
     frames: &[WallFrame],
     out: &mut Vec<[i32; 2]>,
 ) {
     for i in rows {
-        let band = kappa * h[i];
+        let band = kappa * (0.5 * (h[i] + hmax));
         let y = &x[D * i..D * i + D];
         for (s, fr) in frames.iter().enumerate() {
             if in_band(D, segs.get(D, s), fr, y, band) {
@@ -256,13 +257,17 @@ fn reflect(dim: usize, sg: &[f64], y: &mut [f64]) {
 }
 
 /// Lists the mirrors of the `h.len()` real particles into `gsrc`, `gseg` (resized; `gseg` holds
-/// 2 walls per mirror, 3 in 3D, −1 = none).
+/// 2 walls per mirror, 3 in 3D, −1 = none). A particle i is mirrored when it lies within
+/// κ (h_i + h_max)/2 of a wall (m), h_max the largest h: the farthest any real particle j reaches (a
+/// pair interacts within κ (h_i + h_j)/2), so that a particle with a large h near a wall sees the
+/// images of every particle it sees on its own side.
 pub(super) fn mirror_make(a: &mut MirrorMake) {
     let MirrorMake { dim, x, h, kappa, segs, gsrc, gseg } = a;
     let (dim, kappa) = (*dim, *kappa);
     let ngen = 2 + dim / 3;
     let n = h.len();
     let ns = segs.len();
+    let hmax = h.iter().fold(0.0f64, |a, &b| a.max(b));
     let sg = |s: usize| segs.get(dim, s);
     let frames: Vec<WallFrame> = (0..ns).map(|s| frame(dim, sg(s))).collect();
     // the first images, by particle then wall, in tasks of CHUNK particles
@@ -270,9 +275,9 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         let mut out = Vec::new();
         let rows = CHUNK * c..(CHUNK * c + CHUNK).min(n);
         match dim {
-            1 => first_images::<1>(rows, x, h, kappa, segs, &frames, &mut out),
-            2 => first_images::<2>(rows, x, h, kappa, segs, &frames, &mut out),
-            _ => first_images::<3>(rows, x, h, kappa, segs, &frames, &mut out),
+            1 => first_images::<1>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
+            2 => first_images::<2>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
+            _ => first_images::<3>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
         }
         out
     };
@@ -295,7 +300,7 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         y[..dim].copy_from_slice(&x[dim * i..dim * i + dim]);
         reflect(dim, sg(s), &mut y[..dim]);
         for t in s + 1..ns {
-            if in_band(dim, sg(t), &frames[t], &y[..dim], kappa * h[i]) {
+            if in_band(dim, sg(t), &frames[t], &y[..dim], kappa * (0.5 * (h[i] + hmax))) {
                 gsrc.push(i as i32);
                 gseg.extend_from_slice(&[s as i32, t as i32]);
                 gseg.extend_from_slice(&none[..ngen - 2]);
@@ -315,7 +320,7 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         reflect(3, sg(s), &mut y);
         reflect(3, sg(t), &mut y);
         for u in t + 1..ns {
-            if in_band(3, sg(u), &frames[u], &y, kappa * h[i]) {
+            if in_band(3, sg(u), &frames[u], &y, kappa * (0.5 * (h[i] + hmax))) {
                 gsrc.push(i as i32);
                 gseg.extend_from_slice(&[s as i32, t as i32, u as i32]);
             }
