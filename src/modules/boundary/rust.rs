@@ -223,16 +223,17 @@ fn in_band(dim: usize, sg: &[f64], fr: &WallFrame, y: &[f64], band: f64) -> bool
 
 /// The (particle, wall) pairs of the particles `rows` that lie in a wall's band, by particle then
 /// wall: [`in_band`] with the dimension a constant, so its loops unroll (the same operations).
+/// `reach` is (κ, h_max): the band of particle i is κ (h_i + h_max)/2.
 fn first_images<const D: usize>(
     rows: std::ops::Range<usize>,
     x: &[f64],
     h: &[f64],
-    kappa: f64,
-    hmax: f64,
+    reach: (f64, f64),
     segs: &Segments,
     frames: &[WallFrame],
     out: &mut Vec<[i32; 2]>,
 ) {
+    let (kappa, hmax) = reach;
     for i in rows {
         let band = kappa * (0.5 * (h[i] + hmax));
         let y = &x[D * i..D * i + D];
@@ -275,9 +276,9 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         let mut out = Vec::new();
         let rows = CHUNK * c..(CHUNK * c + CHUNK).min(n);
         match dim {
-            1 => first_images::<1>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
-            2 => first_images::<2>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
-            _ => first_images::<3>(rows, x, h, kappa, hmax, segs, &frames, &mut out),
+            1 => first_images::<1>(rows, x, h, (kappa, hmax), segs, &frames, &mut out),
+            2 => first_images::<2>(rows, x, h, (kappa, hmax), segs, &frames, &mut out),
+            _ => first_images::<3>(rows, x, h, (kappa, hmax), segs, &frames, &mut out),
         }
         out
     };
