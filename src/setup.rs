@@ -224,13 +224,15 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
             (o, c)
         }
         Shape::Cylinder | Shape::Sphere => {
-            // the cell-centred lattice from the origin, over the (clipped) bounding box
+            // the cell-centred lattice from the origin, over the (clipped) bounding box: every
+            // node org + (i + 1/2) dx below its top, and one more (the shape's test clips them;
+            // counting whole cells from the clip box's corner lost the nodes in the top half cell)
             let (org, _, hi) = round_box(rc, d);
             let mut o = [0.0; 3];
             let mut c = [1usize; 3];
             for a in 0..d {
                 o[a] = org[a] + 0.5 * dx;
-                c[a] = ((hi[a] - org[a]) / dx + 1e-9).floor().max(0.0) as usize;
+                c[a] = ((hi[a] - org[a]) / dx).ceil().max(0.0) as usize + 1;
             }
             (o, c)
         }
