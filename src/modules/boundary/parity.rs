@@ -214,9 +214,9 @@ fn boundary_mirrors_make_fill_copy() {
 /// The mirror band is wide enough for the particle that reaches farthest: a lattice above the wall
 /// y = 0, one particle beside the wall with h = 4 h0 (a blast's hot centre) and the rest at h0.
 /// Every particle j that the hot one reaches, |x_j − x_hot| < κ (h_hot + h_j)/2, has its image
-/// listed when that image is within the same reach (with a band of κ h_j, the images of the
-/// particles beyond κ h0 of the wall were missing: the hot particle felt the real side only and was
-/// pushed through the mirror). Both twins.
+/// listed when that image is within the same reach (with each particle's band its own κ h_j, the
+/// images of the particles beyond κ h0 of the wall were missing: the hot particle felt the real side
+/// only and was pushed through the mirror). Both twins.
 #[test]
 fn boundary_mirror_band_covers_the_largest_h() {
     let (dx, side) = (0.01, 12usize);
