@@ -2,7 +2,7 @@
 //! are known to fail, each with the evidence in docs/validation.md ("Safe defaults"), and the
 //! likely fix of a run that stopped.
 
-use crate::case::{BurnMode, Case, ContinuityForm, DensityKind, EnergyForm, EosCfg, StepRule};
+use crate::case::{BurnMode, Case, ContinuityForm, DensityKind, EnergyForm, EosCfg, Geometry, StepRule};
 
 /// One line per setting of `case` that is known to fail, naming the evidence.
 pub fn warnings(case: &Case) -> Vec<String> {
@@ -36,6 +36,12 @@ pub fn warnings(case: &Case) -> Vec<String> {
     }
     if s.h_over_dx < 0.9 {
         w.push(format!("sph.h_over_dx = {}: below 0.9 the thesis's runs failed (THESIS.md s.1)", s.h_over_dx));
+    }
+    if case.geometry == Geometry::Axisymmetric && s.h_over_dx > 1.05 {
+        w.push(format!(
+            "sph.h_over_dx = {} in axisymmetric geometry: a ring next to the axis can be driven onto it and ride up as a jet (the RZ Sedov blast at h = 1.2 dx, beta = 10: one ring at 19 x the exact peak density; docs/validation.md, \"Other deposits in RZ and 3D\"); h_over_dx = 1 (the default) does not",
+            s.h_over_dx
+        ));
     }
     if let Some(d) = case.detonation.as_ref().filter(|d| d.mode == BurnMode::Programmed) {
         if d.width_h <= 0.0 && !d.beta_burn {
@@ -122,6 +128,18 @@ mod tests {
         let w = warnings(&case("parity = \"thesis\""));
         assert!(w.iter().any(|l| l.contains("energy_form")), "{w:?}");
         assert!(w.iter().any(|l| l.contains("viscous_step")), "{w:?}");
+    }
+
+    #[test]
+    fn axisymmetric_with_a_wide_kernel_warns_of_the_axis_jet() {
+        let rz = |h: &str| {
+            let text = format!(
+                "dim = 2\ngeometry = \"axisymmetric\"\n[sph]\nh_over_dx = {h}\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [1.0, 1.0]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n"
+            );
+            warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
+        };
+        assert!(rz("1.0").is_empty(), "{:?}", rz("1.0"));
+        assert!(rz("1.2").iter().any(|l| l.contains("onto it")), "{:?}", rz("1.2"));
     }
 
     #[test]
