@@ -267,3 +267,111 @@ fn clipped_disc_and_ball_keep_every_lattice_node() {
         assert_eq!(init.counts[0], want, "{dim}D, radius {rad} dx: nodes inside");
     }
 }
+
+/// The first pulse of gauge `g` of a finished run: its peak over the gauge's initial pressure
+/// (Pa), its arrival (s: where it first passes a tenth of that peak) and its impulse ∫ (p − p₀) dt
+/// over the 100 µs from the arrival (Pa·s, trapezoids over the steps). The whole record's
+/// impulse also holds the reflections from the far walls, which a square quarter and a cylinder
+/// of the same size return differently; the first pulse is the same physics in both.
+fn first_pulse(dir: &Path, g: &str) -> (f64, f64, f64) {
+    let text = std::fs::read_to_string(dir.join("gauges.csv")).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = head.iter().position(|h| *h == format!("{g}_p_pa")).unwrap_or_else(|| panic!("no gauge {g}"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            (v[0].parse().unwrap(), v[col].parse().unwrap())
+        })
+        .collect();
+    let p0 = rows[0].1;
+    let peak = rows.iter().map(|r| r.1 - p0).fold(f64::MIN, f64::max);
+    let k = rows.iter().position(|r| r.1 - p0 > 0.1 * peak).expect("the pulse arrives");
+    let t0 = rows[k].0;
+    let mut imp = 0.0;
+    for w in rows[k..].windows(2).take_while(|w| w[1].0 <= t0 + 1.0e-4) {
+        imp += 0.5 * (w[0].1 + w[1].1 - 2.0 * p0) * (w[1].0 - w[0].0);
+    }
+    (peak, t0, imp)
+}
+
+/// The compact 1 kg charge in RZ (`surface_loose_tnt1kg_rz_box.toml`) and in 3D (the quarter,
+/// `surface_loose_tnt1kg_3d.toml`), same soil box, charge and gauges, at spacing `dx` to 500 µs:
+/// per gauge (A, C on the axis; G1, G2, S2 off it) the RZ/3D − 1 of the first pulse's peak,
+/// arrival and impulse, and of the crater's diameter and depth.
+fn rz_against_3d(dx: f64) -> (Vec<(String, [f64; 3])>, [f64; 2]) {
+    use blastsph::runner::{RunOptions, run};
+    let dirs = tempfile::tempdir().unwrap();
+    let mut out = Vec::new();
+    for (name, tag) in [("surface_loose_tnt1kg_rz_box.toml", "rz"), ("surface_loose_tnt1kg_3d.toml", "3d")] {
+        let sets: Vec<String> = vec![
+            "time.end_s=5e-4".into(),
+            format!("region.soil.spacing_m={dx}"),
+            format!("region.charge.spacing_m={dx}"),
+        ];
+        let opts = RunOptions { out: Some(dirs.path().join(tag)), sets, quiet: true, ..Default::default() };
+        let r = run(&case_path(name), &opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(r.summary["status"], "ok", "{name}");
+        out.push(r);
+    }
+    let mut gauges = Vec::new();
+    for g in ["A", "C", "G1", "G2", "S2"] {
+        let (a, b) = (first_pulse(&out[0].dir, g), first_pulse(&out[1].dir, g));
+        let d = [a.0 / b.0 - 1.0, a.1 / b.1 - 1.0, a.2 / b.2 - 1.0];
+        eprintln!(
+            "dx {dx}: gauge {g:2}: peak {:.1} / {:.1} MPa ({:+.1} %), arrival {:.1} / {:.1} µs ({:+.1} %), 100 µs impulse {:.2} / {:.2} kPa·s ({:+.1} %)",
+            a.0 / 1e6,
+            b.0 / 1e6,
+            100.0 * d[0],
+            a.1 * 1e6,
+            b.1 * 1e6,
+            100.0 * d[1],
+            a.2 / 1e3,
+            b.2 / 1e3,
+            100.0 * d[2]
+        );
+        gauges.push((g.to_string(), d));
+    }
+    let crater = |r: &blastsph::runner::RunResult, k: &str| {
+        r.summary["crater"][k].as_f64().unwrap_or_else(|| panic!("no crater {k}: {}", r.summary["crater"]))
+    };
+    let c = [
+        crater(&out[0], "diameter_m") / crater(&out[1], "diameter_m") - 1.0,
+        crater(&out[0], "depth_m") / crater(&out[1], "depth_m") - 1.0,
+    ];
+    eprintln!("dx {dx}: crater diameter RZ/3D {:+.1} %, depth {:+.1} %", 100.0 * c[0], 100.0 * c[1]);
+    (gauges, c)
+}
+
+/// RZ against 3D at 23 mm (docs/validation.md, "RZ against 3D"): measured there, the first
+/// pulses' peaks −4.7 % … +11.4 %, arrivals −5 … −8 %, impulses −14.9 % … +13.9 %, the crater
+/// diameter 0.0 % and depth −1.0 %; asserted with margins: peaks within 15 %, arrivals 10 %,
+/// impulses 18 %, crater 5 %.
+#[test]
+fn rz_and_3d_compact_charge_agree_at_23_mm() {
+    let (gauges, crater) = rz_against_3d(0.023);
+    for (g, d) in &gauges {
+        assert!(d[0].abs() < 0.15, "gauge {g}: peak RZ/3D − 1 = {:.3}", d[0]);
+        assert!(d[1].abs() < 0.10, "gauge {g}: arrival RZ/3D − 1 = {:.3}", d[1]);
+        assert!(d[2].abs() < 0.18, "gauge {g}: impulse RZ/3D − 1 = {:.3}", d[2]);
+    }
+    assert!(crater[0].abs() < 0.05 && crater[1].abs() < 0.05, "crater RZ/3D − 1: {crater:?}");
+}
+
+/// The same at 23 and 11.5 mm (the 3D run at 11.5 mm is 1.1 × 10⁵ particles, about 3 minutes):
+/// the largest first-pulse impulse difference shrinks (measured 14.9 % → 5.7 %) and is within 7 %
+/// at 11.5 mm; the arrivals within 5 %; the crater within 8 % (measured +3.4 % / +7.0 %). The
+/// peaks do not converge to each other (−4.7 … +11.4 % → −13.5 … −3.2 %, the 3D higher on the
+/// axis): stated in docs/validation.md, asserted only within 15 %.
+#[test]
+#[ignore]
+fn rz_and_3d_compact_charge_agreement_shrinks_with_resolution() {
+    let worst = |v: &[(String, [f64; 3])], k: usize| v.iter().map(|(_, d)| d[k].abs()).fold(0.0, f64::max);
+    let (coarse, _) = rz_against_3d(0.023);
+    let (fine, crater) = rz_against_3d(0.0115);
+    assert!(worst(&fine, 2) < worst(&coarse, 2), "impulse difference {} → {}", worst(&coarse, 2), worst(&fine, 2));
+    assert!(worst(&fine, 2) < 0.07, "impulse difference at 11.5 mm: {}", worst(&fine, 2));
+    assert!(worst(&fine, 1) < 0.05, "arrival difference at 11.5 mm: {}", worst(&fine, 1));
+    assert!(worst(&fine, 0) < 0.15, "peak difference at 11.5 mm: {}", worst(&fine, 0));
+    assert!(crater[0].abs() < 0.08 && crater[1].abs() < 0.08, "crater RZ/3D − 1 at 11.5 mm: {crater:?}");
+}
