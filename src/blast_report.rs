@@ -586,6 +586,25 @@ fn print_text(
         None => Value::Null,
     };
     let measured = matches!(&last, Some(Ok(c)) if c.note.is_none());
+    // 3D: the run's final crater in vertical sections through the charge's axis (summary.json)
+    let sections = summary["crater"]["sections"].as_array().cloned().unwrap_or_default();
+    if !sections.is_empty() {
+        let each: Vec<String> = sections
+            .iter()
+            .map(|x| {
+                let deg = x["azimuth_deg"].as_f64().unwrap_or(f64::NAN);
+                match x["note"].as_str() {
+                    Some(why) if x["diameter_m"].as_f64() == Some(0.0) => format!("{deg:.0}°: {why}"),
+                    _ => format!(
+                        "{deg:.0}°: {} cm wide, {} cm deep",
+                        cm1(x["diameter_m"].as_f64().unwrap_or(f64::NAN)),
+                        cm1(x["depth_m"].as_f64().unwrap_or(f64::NAN))
+                    ),
+                }
+            })
+            .collect();
+        println!("crater in sections through the charge's axis (the run's end): {}", each.join("; "));
+    }
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2
     {

@@ -43,6 +43,24 @@ pub struct Cavity {
     pub top_depth_m: f64,
 }
 
+/// A vertical section of a 3D crater through the charge's vertical axis: the crater as the 2D
+/// measure reads it on the soil particles within one spacing of that plane (docs/validation.md,
+/// "Crater and ejecta definitions").
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Section {
+    /// Direction of the section's plane in the horizontal, degrees from +x towards +y.
+    pub azimuth_deg: f64,
+    /// Width of the crater along the section (m; 0 without a crater).
+    pub diameter_m: f64,
+    /// Deepest drop of the surface in the section (m).
+    pub depth_m: f64,
+    /// Where the deepest column lies along the section, from the axis (m, signed: + towards the
+    /// azimuth).
+    pub centre_m: f64,
+    /// Why the section shows no crater, when it shows none.
+    pub note: Option<String>,
+}
+
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct Crater {
     pub diameter_m: f64,
@@ -60,6 +78,10 @@ pub struct Crater {
     pub cavity: Option<Cavity>,
     /// Why there is no apparent crater, when there is none.
     pub note: Option<String>,
+    /// 3D: the crater in vertical sections through the charge's axis at 0°, 45°, 90° and 135°
+    /// (a scene that is not symmetric about the axis shows it here); empty in 2D and RZ.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<Section>,
     /// Column centres (m), original and current surface heights (m; NaN for an empty column).
     #[serde(skip)]
     pub columns_m: Vec<f64>,
@@ -327,6 +349,79 @@ pub fn about_axis(ax: (f64, f64), x: f64, y: f64, z: f64) -> (f64, f64) {
     ((x - ax.0).hypot(y - ax.1), z)
 }
 
+/// The symmetry planes of a 3D case that a crater about the vertical axis `ax` is completed
+/// across: its `mirror` walls that are vertical, axis-aligned (x = c or y = c) and pass within
+/// `ds` of the axis, as (0 for x, 1 for y; c in m). A mirror wall away from the axis is a rigid
+/// free-slip wall beside the crater, not a plane the scene is the half of.
+pub fn mirror_planes(case: &crate::case::Case, ax: (f64, f64), ds: f64) -> Vec<(usize, f64)> {
+    if case.dim != 3 {
+        return Vec::new();
+    }
+    case.walls
+        .iter()
+        .filter(|w| w.kind == crate::case::WallKind::Mirror && w.edge_m.is_none())
+        .filter_map(|w| {
+            (0..2).find(|&k| w.from_m.get(k).is_some_and(|a| Some(a) == w.to_m.get(k))).map(|k| (k, w.from_m[k]))
+        })
+        .filter(|&(k, c)| (c - if k == 0 { ax.0 } else { ax.1 }).abs() <= ds)
+        .collect()
+}
+
+/// The crater of a 3D run in vertical sections through the charge's vertical axis `ax` at 0°,
+/// 45°, 90° and 135°, from the soil's initial and current positions and the explosive's initial
+/// ones (x, y, z; z up): the points are first completed by their images in the symmetry planes
+/// `mirrors` (a quarter with the planes x = 0 and y = 0 becomes the whole scene), then each
+/// section takes the points within `ds` of its plane, at their signed distance from the axis
+/// along it, and is measured as a plane crater ([`measure_xy`]) with columns `ds` wide.
+pub fn sections_3d(
+    ax: (f64, f64),
+    ds: f64,
+    mirrors: &[(usize, f64)],
+    soil0: &[[f64; 3]],
+    soil1: &[[f64; 3]],
+    charge0: &[[f64; 3]],
+) -> Vec<Section> {
+    let complete = |pts: &[[f64; 3]]| -> Vec<[f64; 3]> {
+        let mut all = pts.to_vec();
+        for &(k, c) in mirrors {
+            let images: Vec<[f64; 3]> = all
+                .iter()
+                .map(|p| {
+                    let mut q = *p;
+                    q[k] = 2.0 * c - p[k];
+                    q
+                })
+                .collect();
+            all.extend(images);
+        }
+        all
+    };
+    let (a0, a1, c0) = (complete(soil0), complete(soil1), complete(charge0));
+    [0.0f64, 45.0, 90.0, 135.0]
+        .iter()
+        .map(|&deg| {
+            let (sn, cs) = deg.to_radians().sin_cos();
+            let cut = |pts: &[[f64; 3]]| -> (Vec<f64>, Vec<f64>) {
+                pts.iter()
+                    .filter(|p| (-(p[0] - ax.0) * sn + (p[1] - ax.1) * cs).abs() <= ds)
+                    .map(|p| ((p[0] - ax.0) * cs + (p[1] - ax.1) * sn, p[2]))
+                    .unzip()
+            };
+            let inp = CraterInput { soil0: cut(&a0), soil1: cut(&a1), charge0: cut(&c0) };
+            match measure_xy(&inp, ds) {
+                Ok(c) => Section {
+                    azimuth_deg: deg,
+                    diameter_m: c.diameter_m,
+                    depth_m: c.depth_m,
+                    centre_m: c.centre_m,
+                    note: c.note,
+                },
+                Err(why) => Section { azimuth_deg: deg, note: Some(why), ..Default::default() },
+            }
+        })
+        .collect()
+}
+
 /// Measures the crater of a run from the soil particles' initial and current positions: in 2D
 /// plane directly; axisymmetric runs on their section through the axis
 /// ([`CraterInput::through_the_axis`]); 3D runs (z up) as a crater of revolution about the
@@ -371,7 +466,17 @@ pub fn measure(sim: &Sim) -> Result<Crater, String> {
     if sim.case.axisymmetric() || d == 3 {
         inp = inp.through_the_axis();
     }
-    measure_xy(&inp, ds)
+    let mut c = measure_xy(&inp, ds)?;
+    if d == 3 {
+        let p3 = |x: &[f64], i: usize| [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+        let is = |i: &usize, mask: &[bool]| mask[sim.p.mat[*i] as usize];
+        let soil_i: Vec<usize> = (0..n).filter(|i| is(i, &soil)).collect();
+        let s0: Vec<[f64; 3]> = soil_i.iter().map(|&i| p3(&sim.x_init, i)).collect();
+        let s1: Vec<[f64; 3]> = soil_i.iter().map(|&i| p3(&sim.p.x, i)).collect();
+        let c0: Vec<[f64; 3]> = (0..n).filter(|i| is(i, &expl)).map(|i| p3(&sim.x_init, i)).collect();
+        c.sections = sections_3d(ax, ds, &mirror_planes(&sim.case, ax, ds), &s0, &s1, &c0);
+    }
+    Ok(c)
 }
 
 /// The crater from `inp` with columns `ds` wide (the coarsest soil spacing).
@@ -501,6 +606,7 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
             c
         }),
         note,
+        sections: Vec::new(),
         columns_m: (0..ncol).map(|k| lo + (k as f64 + 0.5) * ds).collect(),
         surface0_m: s0,
         surface_m: s1,
@@ -580,6 +686,46 @@ mod tests {
         let c = measure_xy(&inp, ds).unwrap();
         assert!((c.diameter_m - 0.20).abs() <= 2.0 * ds, "diameter {}", c.diameter_m);
         assert!((c.depth_m - 0.10).abs() <= ds, "depth {}", c.depth_m);
+    }
+
+    #[test]
+    fn a_3d_crater_that_is_not_round_is_measured_in_sections_and_a_quarter_is_completed() {
+        // an elliptic bowl about the axis x = y = 0 (z up, surface z = 0.4): semi-axes 15 cm
+        // along x and 8 cm along y, 10 cm deep; the whole block, and its quarter x, y > 0 with
+        // the planes x = 0 and y = 0 as symmetry planes
+        let ds = 0.01;
+        let inside = |x: f64, y: f64, z: f64| (x / 0.15).powi(2) + (y / 0.08).powi(2) + ((z - 0.4) / 0.1).powi(2) < 1.0;
+        let block = |lo: i32| {
+            let (mut s0, mut s1) = (Vec::new(), Vec::new());
+            for k in 0..40 {
+                for j in lo..30 {
+                    for i in lo..30 {
+                        let p = [(i as f64 + 0.5) * ds, (j as f64 + 0.5) * ds, (k as f64 + 0.5) * ds];
+                        s0.push(p);
+                        if !inside(p[0], p[1], p[2]) {
+                            s1.push(p);
+                        }
+                    }
+                }
+            }
+            (s0, s1)
+        };
+        let (w0, w1) = block(-30);
+        let whole = sections_3d((0.0, 0.0), ds, &[], &w0, &w1, &[]);
+        let (q0, q1) = block(0);
+        let quarter = sections_3d((0.0, 0.0), ds, &[(0, 0.0), (1, 0.0)], &q0, &q1, &[]);
+        let alone = sections_3d((0.0, 0.0), ds, &[], &q0, &q1, &[]);
+        for (w, q) in whole.iter().zip(&quarter) {
+            assert!((w.diameter_m - q.diameter_m).abs() < 1e-9 && (w.depth_m - q.depth_m).abs() < 1e-9, "{w:?} {q:?}");
+        }
+        let by = |deg: f64| whole.iter().find(|s| s.azimuth_deg == deg).unwrap().clone();
+        assert!((by(0.0).diameter_m - 0.30).abs() <= 2.0 * ds, "along x: {:?}", by(0.0));
+        assert!((by(90.0).diameter_m - 0.16).abs() <= 2.0 * ds, "along y: {:?}", by(90.0));
+        let diag = 2.0 / ((1.0 / 0.15f64).powi(2) + (1.0 / 0.08f64).powi(2)).sqrt() * 2f64.sqrt();
+        assert!((by(45.0).diameter_m - diag).abs() <= 2.0 * ds, "diagonal {diag}: {:?}", by(45.0));
+        assert!(whole.iter().all(|s| (s.depth_m - 0.10).abs() <= ds), "{whole:?}");
+        // the quarter without its images reads half a crater along each plane
+        assert!(alone[0].diameter_m < 0.17, "{:?}", alone[0]);
     }
 
     #[test]
