@@ -185,21 +185,19 @@ pub fn report(
     if frames.is_empty() || case.dim == 1 {
         return Ok(json!({}));
     }
-    if case.dim == 3 {
-        // 3D: the measures and the text; the plots are 2D sections (not drawn for 3D yet)
-        let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
-        let hist = if crater { crater_history(case, frames) } else { Vec::new() };
-        let (crater_json, growth, gauges) = print_text(case, summary, &hist);
-        println!("plots: none in 3D (open particles.xmf in ParaView)");
-        return Ok(json!({
-            "crater": crater_json,
-            "history": history_json(&hist),
-            "thesis_growth": growth,
-            "thesis_gauges": gauges,
-        }));
-    }
     let crater = case.analysis.kind == crate::case::AnalysisKind::Crater;
+    // the crater is measured on the whole scene (3D: about the charge's axis); the plots below
+    // are drawn on the plane section, in 3D the vertical section through the charge's axis
     let hist = if crater { crater_history(case, frames) } else { Vec::new() };
+    let charge = charge_of(case, frames);
+    let bubble = bubble_history(case, frames);
+    let sections;
+    let frames: &[Frame] = if case.dim == 3 {
+        sections = section_frames(case, frames);
+        &sections
+    } else {
+        frames
+    };
     let ok_hist: Vec<(f64, &Crater)> = hist.iter().filter_map(|(t, c)| c.as_ref().ok().map(|c| (*t, c))).collect();
     let last = hist.last().map(|h| h.1.clone());
     let n = frames.len();
@@ -226,11 +224,10 @@ pub fn report(
         v
     };
     let mut written: Vec<String> = Vec::new();
-    let bubble = bubble_history(case, frames);
     if !bubble.is_empty() {
         plot::lines(
             &dir.join("bubble_growth.png"),
-            &format!("{}: detonation products, equivalent radius √(A/π)", case.name()),
+            &format!("{}: detonation products, {}", case.name(), bubble_measure(case)),
             "t (µs)",
             "radius (cm)",
             &[("products".to_string(), bubble.iter().map(|(t, r)| (us(*t), 100.0 * r)).collect())],
@@ -357,23 +354,9 @@ pub fn report(
             &[],
         )?;
         written.push("gauges_velocity.png".into());
-        // peak pressure against scaled distance
-        let centre: Option<Vec<f64>> = case.detonation.as_ref().and_then(|d| d.point_m.clone()).or_else(|| {
-            let ex = explosive_mask(case);
-            let f0 = &frames[0];
-            let k: Vec<usize> =
-                (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).collect();
-            (!k.is_empty()).then(|| {
-                vec![
-                    k.iter().map(|&i| f0.x[i]).sum::<f64>() / k.len() as f64,
-                    k.iter().map(|&i| f0.y[i]).sum::<f64>() / k.len() as f64,
-                ]
-            })
-        });
-        let ex = explosive_mask(case);
-        let f0 = &frames[0];
-        let w: f64 =
-            (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).map(|i| f0.mass[i]).sum();
+        // peak pressure against scaled distance from the charge's centre (the detonation point,
+        // else the explosive's initial centroid) over the whole charge's mass
+        let (centre, w) = (charge.centre.clone(), charge.mass_kg);
         if let Some(centre) = centre {
             for gg in &sg {
                 let pt: Vec<f64> =
@@ -381,7 +364,7 @@ pub fn report(
                 let r = pt.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
                 let p = gg["peak_pa"].as_f64().unwrap_or(f64::NAN) / 1e6;
                 peaks.push((100.0 * r, p));
-                let z = if w > 0.0 { scaled(r, w, case.dim) } else { f64::NAN };
+                let z = if w > 0.0 { scaled(r, w, charge.dim) } else { f64::NAN };
                 peaks_out.push((
                     z,
                     p,
@@ -391,12 +374,8 @@ pub fn report(
             if w > 0.0 {
                 plot::loglog_on_data(
                     &dir.join("peaks.png"),
-                    &format!(
-                        "{}: peak pressure against scaled distance (charge {:.3} kg per m of depth)",
-                        case.name(),
-                        w
-                    ),
-                    "scaled distance R/√(W/L)  (m/(kg/m)^½, plane strain: a line charge)",
+                    &format!("{}: peak pressure against scaled distance (charge {})", case.name(), charge.mass_text()),
+                    charge.scaled_label(),
                     "peak p (MPa)",
                     &peaks_out,
                     None,
@@ -415,6 +394,11 @@ pub fn report(
         (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let wdt = (xhi - xlo).max(1e-9);
     let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
+    let axes = match (case.dim, case.axisymmetric()) {
+        (3, _) => ["x (m), the section through the charge's axis", "z (m)"],
+        (_, true) => ["r (m)", "z (m)"],
+        _ => ["x (m)", "y (m)"],
+    };
     let colours = material_colours(case);
     let names: Vec<String> = case
         .materials
@@ -447,6 +431,7 @@ pub fn report(
                 colouring: Colouring::Material { index: &mat, colours: &colours, names: &names },
                 bounds,
                 note: None,
+                axes,
             },
         )?;
         let pmpa: Vec<f64> = f.p.iter().map(|p| p / 1e6).collect();
@@ -461,6 +446,7 @@ pub fn report(
                 colouring: Colouring::Field { values: &pmpa, scale: &pscale },
                 bounds,
                 note: None,
+                axes,
             },
         )?;
         let sp = speeds(f);
@@ -475,6 +461,7 @@ pub fn report(
                 colouring: Colouring::Field { values: &sp, scale: &vscale },
                 bounds,
                 note: None,
+                axes,
             },
         )?;
         snaps.extend([pm, pp, pv]);
@@ -500,6 +487,7 @@ pub fn report(
                 colouring: Colouring::Field { values: &ppv0, scale: &scale },
                 bounds: ((bounds.0.0, bounds.0.1), (bounds.1.0, yhi + 0.03 * wdt)),
                 note: None,
+                axes,
             },
         )?;
         written.push("ppv_map.png".into());
@@ -518,6 +506,7 @@ pub fn report(
                 colouring: Colouring::Field { values: &pmpa_all[k], scale: &pscale },
                 bounds,
                 note: None,
+                axes,
             })
             .collect();
         plot::animate(&dir.join("animation.gif"), &maps, 150)?;
@@ -743,14 +732,140 @@ pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
     if !jwl.iter().any(|j| *j) {
         return Vec::new();
     }
+    let pi = std::f64::consts::PI;
+    let images = if case.dim == 3 { charge_of(case, frames).images } else { 1.0 };
     frames
         .iter()
         .map(|f| {
-            let a: f64 = (0..f.mass.len())
-                .filter(|&i| jwl.get(f.mat[i] as usize).copied().unwrap_or(false))
-                .map(|i| f.mass[i] / f.rho[i])
-                .sum();
-            (f.time, (a / std::f64::consts::PI).sqrt())
+            let own = |i: usize| jwl.get(f.mat[i] as usize).copied().unwrap_or(false);
+            // m/ρ: each particle's area in 2D plane (per metre of depth), its ring's or its own
+            // volume in RZ and 3D
+            let a: f64 = (0..f.mass.len()).filter(|&i| own(i)).map(|i| f.mass[i] / f.rho[i]).sum();
+            let r = if case.dim == 3 || case.axisymmetric() {
+                (3.0 * images * a / (4.0 * pi)).cbrt()
+            } else {
+                (a / pi).sqrt()
+            };
+            (f.time, r)
+        })
+        .collect()
+}
+
+/// What [`bubble_history`]'s radius is, for the plot's title.
+fn bubble_measure(case: &Case) -> &'static str {
+    if case.dim == 3 || case.axisymmetric() {
+        "equivalent radius (3V/4π)^⅓ of their whole volume V (in 3D with the symmetry planes' images)"
+    } else {
+        "equivalent radius √(A/π) of their section"
+    }
+}
+
+/// The charge a report scales its distances by.
+struct Charge {
+    /// Its centre: the detonation point, else the explosive's initial centroid (m).
+    centre: Option<Vec<f64>>,
+    /// The whole charge's mass: kg per metre of depth in 2D plane, kg in RZ and 3D (the model's
+    /// explosive times `images`).
+    mass_kg: f64,
+    /// The dimension its blast spreads in: 2 in plane strain (a line charge), 3 in RZ and 3D.
+    dim: usize,
+    /// 3D: how many copies of the modelled scene the symmetry planes through the charge's axis
+    /// make of it (4 for a quarter); 1 otherwise.
+    images: f64,
+}
+
+impl Charge {
+    fn mass_text(&self) -> String {
+        match self.dim {
+            2 => format!("{:.3} kg per m of depth", self.mass_kg),
+            _ if self.images > 1.0 => format!("{:.3} kg, the model's {:.0} images", self.mass_kg, self.images),
+            _ => format!("{:.3} kg", self.mass_kg),
+        }
+    }
+    fn scaled_label(&self) -> &'static str {
+        match self.dim {
+            2 => "scaled distance R/√(W/L)  (m/(kg/m)^½, plane strain: a line charge)",
+            3 => "scaled distance R/W^⅓  (m/kg^⅓)",
+            _ => "scaled distance R/(W/A)",
+        }
+    }
+}
+
+/// The charge of a run from its first frame.
+fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
+    let ex = explosive_mask(case);
+    let f0 = &frames[0];
+    let k: Vec<usize> = (0..f0.x.len()).filter(|&i| ex.get(f0.mat[i] as usize).copied().unwrap_or(false)).collect();
+    let d = case.dim;
+    let coords = |i: usize| -> Vec<f64> {
+        match d {
+            3 => vec![f0.x[i], f0.y[i], f0.z[i]],
+            2 => vec![f0.x[i], f0.y[i]],
+            _ => vec![f0.x[i]],
+        }
+    };
+    let centre = case.detonation.as_ref().and_then(|dt| dt.point_m.clone()).or_else(|| {
+        (!k.is_empty()).then(|| {
+            let mut c = vec![0.0; d];
+            for &i in &k {
+                for (a, b) in c.iter_mut().zip(coords(i)) {
+                    *a += b / k.len() as f64;
+                }
+            }
+            if case.axisymmetric() {
+                c[0] = 0.0; // a charge of rings is centred on the axis
+            }
+            c
+        })
+    });
+    let images = match (d, &centre) {
+        (3, Some(c)) => {
+            let ds = soil_spacing(case).unwrap_or_else(|| f0.h.iter().cloned().fold(f64::INFINITY, f64::min));
+            2f64.powi(crate::analysis::crater::mirror_planes(case, (c[0], c[1]), ds).len() as i32)
+        }
+        _ => 1.0,
+    };
+    let mass: f64 = k.iter().map(|&i| f0.mass[i]).sum::<f64>() * images;
+    Charge { centre, mass_kg: mass, dim: if d == 3 || case.axisymmetric() { 3 } else { d }, images }
+}
+
+/// The vertical section of a 3D run through the charge's axis along x (the plane y = the axis's
+/// y), as 2D frames (x, z) for the report's maps: the soil, charge and everything else within
+/// half a spacing of the plane (the first layer beside it when the plane is a symmetry plane of
+/// a quarter model); speeds in the plane; each particle's `mass` set to ρ V^⅔ so that its drawn
+/// side is V^⅓.
+fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
+    let charge = charge_of(case, frames);
+    let ay = charge.centre.as_ref().map_or(0.0, |c| c[1]);
+    let f0 = &frames[0];
+    let ds = soil_spacing(case).unwrap_or_else(|| f0.h.iter().cloned().fold(f64::INFINITY, f64::min));
+    let cx = charge.centre.as_ref().map_or(0.0, |c| c[0]);
+    let mirrored = crate::analysis::crater::mirror_planes(case, (cx, ay), ds).iter().any(|&(k, _)| k == 1);
+    let keep = |y: f64| if mirrored { (y - ay) >= 0.0 && (y - ay) < ds } else { (y - ay).abs() < 0.75 * ds };
+    frames
+        .iter()
+        .map(|f| {
+            let idx: Vec<usize> = (0..f.x.len()).filter(|&i| keep(f.y[i])).collect();
+            let pick =
+                |v: &[f64]| -> Vec<f64> { if v.is_empty() { Vec::new() } else { idx.iter().map(|&i| v[i]).collect() } };
+            Frame {
+                time: f.time,
+                x: pick(&f.x),
+                y: pick(&f.z),
+                z: vec![0.0; idx.len()],
+                vx: pick(&f.vx),
+                vy: pick(&f.vz),
+                vz: vec![0.0; idx.len()],
+                rho: pick(&f.rho),
+                p: pick(&f.p),
+                e: pick(&f.e),
+                h: pick(&f.h),
+                mass: idx.iter().map(|&i| f.rho[i] * (f.mass[i] / f.rho[i]).powf(2.0 / 3.0)).collect(),
+                mat: idx.iter().map(|&i| f.mat[i]).collect(),
+                id: idx.iter().map(|&i| f.id[i]).collect(),
+                ppv: pick(&f.ppv),
+                p_peak: pick(&f.p_peak),
+            }
         })
         .collect()
 }

@@ -360,6 +360,8 @@ pub struct MapSpec<'a> {
     pub bounds: ((f64, f64), (f64, f64)),
     /// Extra text under the title (reference values, notes).
     pub note: Option<String>,
+    /// Axis titles: "x (m)", "y (m)" in 2D plane; r and z in RZ; x and z on a 3D section.
+    pub axes: [&'a str; 2],
 }
 
 /// Pixel size of a map of `bounds` at a plot width of `w` pixels.
@@ -402,8 +404,8 @@ where
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(perr)?;
     ch.configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
+        .x_desc(m.axes[0])
+        .y_desc(m.axes[1])
         .disable_mesh()
         .label_style(("sans-serif", 13))
         .draw()

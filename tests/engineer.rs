@@ -363,3 +363,50 @@ fn crater_is_measured_from_the_soil_or_refused_with_a_reason() {
     assert!(so.contains("no apparent crater") && so.contains("cavity:"), "{so}");
     assert!(!so.contains("NaN") && !so.contains("nan"), "{so}");
 }
+
+/// A 3D blast's report: the crater in its four sections through the charge's axis (summary.json
+/// and the text), and the plots drawn on the vertical section through the axis (maps in x–z),
+/// with the peaks scaled by the whole charge (the quarter's four images).
+#[test]
+fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
+    let d = tempfile::tempdir().unwrap();
+    let r = d.path().join("q");
+    ok(&blastsph(&[
+        "run",
+        "cases/surface_loose_tnt1kg_3d.toml",
+        "--quiet",
+        "--end-time",
+        "1.2e-4",
+        "--out",
+        r.to_str().unwrap(),
+        "--set",
+        "region.soil.spacing_m=0.023",
+        "--set",
+        "region.charge.spacing_m=0.023",
+    ]));
+    let secs = summary(&r)["crater"]["sections"].as_array().cloned().expect("crater.sections in 3D");
+    let deg: Vec<f64> = secs.iter().map(|s| s["azimuth_deg"].as_f64().unwrap()).collect();
+    assert_eq!(deg, [0.0, 45.0, 90.0, 135.0]);
+    // the quarter's two symmetry planes: the sections along x and along y read the same crater
+    assert_eq!(secs[0]["diameter_m"], secs[2]["diameter_m"], "{secs:?}");
+    assert!(secs[0]["diameter_m"].as_f64().unwrap() > 0.1, "a crater by 120 µs: {secs:?}");
+    let o = blastsph(&["report", r.to_str().unwrap()]);
+    ok(&o);
+    let so = text(&o.stdout);
+    assert!(so.contains("sections through the charge's axis"), "{so}");
+    for f in ["peaks.png", "crater_profile.png", "gauges.png", "bubble_growth.png", "ppv_map.png"] {
+        assert!(r.join(f).exists(), "{f} not drawn:\n{so}");
+    }
+    let snaps = std::fs::read_dir(&r).unwrap().filter_map(|e| e.ok()).filter(|e| {
+        let n = e.file_name().to_string_lossy().into_owned();
+        n.starts_with("snap_material_") && n.ends_with(".png")
+    });
+    assert!(snaps.count() >= 2, "{so}");
+    let rep: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(r.join("report.json")).unwrap()).unwrap();
+    let scaled = rep["peaks_scaled"].as_array().cloned().unwrap_or_default();
+    assert!(!scaled.is_empty(), "{rep}");
+    // gauge A 0.15 m from the detonation point, the whole charge (4 x the quarter's) about 0.95 kg
+    let a = scaled.iter().find(|g| g["gauge"].as_str().unwrap_or("").starts_with("A ")).expect("gauge A");
+    let z = a["scaled_distance"].as_f64().unwrap();
+    assert!((z - 0.15 / 0.95f64.cbrt()).abs() < 0.01, "scaled distance of A: {z}");
+}
