@@ -402,7 +402,8 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
         n.starts_with("snap_material_") && n.ends_with(".png")
     });
     assert!(snaps.count() >= 2, "{so}");
-    let rep: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(r.join("report.json")).unwrap()).unwrap();
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(r.join("report.json")).unwrap()).unwrap();
     let scaled = rep["peaks_scaled"].as_array().cloned().unwrap_or_default();
     assert!(!scaled.is_empty(), "{rep}");
     // gauge A 0.15 m from the detonation point, the whole charge (4 x the quarter's) about 0.95 kg
