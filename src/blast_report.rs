@@ -305,7 +305,11 @@ pub fn report(
         plot::lines_with_refs(
             &dir.join("crater_profile.png"),
             &format!("{}: ground surface (columns {:.1} cm wide)", case.name(), 100.0 * c_end.column_m),
-            "x (m)",
+            if case.dim == 3 || case.axisymmetric() {
+                "distance from the charge's axis (m; both sides: the section through the axis)"
+            } else {
+                "x (m)"
+            },
             "surface height (m)",
             &prof,
             &crefs,

@@ -557,8 +557,10 @@ pub fn loglog_on_data(
 ) -> Result<()> {
     let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
-    let good: Vec<&(f64, f64, String)> =
+    // in order of distance, so the line joins neighbours (gauges need not be listed outward)
+    let mut good: Vec<&(f64, f64, String)> =
         points.iter().filter(|p| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0).collect();
+    good.sort_by(|a, b| a.0.total_cmp(&b.0));
     if good.is_empty() {
         root.draw(&Text::new(format!("{title}: no positive values to plot"), (40, 40), ("sans-serif", 18).into_font()))
             .map_err(perr)?;
