@@ -836,8 +836,8 @@ fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
 /// The vertical section of a 3D run through the charge's axis along x (the plane y = the axis's
 /// y), as 2D frames (x, z) for the report's maps: the soil, charge and everything else within
 /// half a spacing of the plane (the first layer beside it when the plane is a symmetry plane of
-/// a quarter model); speeds in the plane; each particle's `mass` set to ρ V^⅔ so that its drawn
-/// side is V^⅓.
+/// a quarter model; every particle, projected, when none lies there at t = 0); speeds in the
+/// plane; each particle's `mass` set to ρ V^⅔ so that its drawn side is V^⅓.
 fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
     let charge = charge_of(case, frames);
     let ay = charge.centre.as_ref().map_or(0.0, |c| c[1]);
@@ -845,7 +845,10 @@ fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
     let ds = soil_spacing(case).unwrap_or_else(|| f0.h.iter().cloned().fold(f64::INFINITY, f64::min));
     let cx = charge.centre.as_ref().map_or(0.0, |c| c[0]);
     let mirrored = crate::analysis::crater::mirror_planes(case, (cx, ay), ds).iter().any(|&(k, _)| k == 1);
-    let keep = |y: f64| if mirrored { (y - ay) >= 0.0 && (y - ay) < ds } else { (y - ay).abs() < 0.75 * ds };
+    let slab = |y: f64| if mirrored { (y - ay) >= 0.0 && (y - ay) < ds } else { (y - ay).abs() < 0.75 * ds };
+    // a scene with no particle on that plane is drawn projected onto it, whole
+    let whole = !f0.y.iter().any(|&y| slab(y));
+    let keep = |y: f64| whole || slab(y);
     frames
         .iter()
         .map(|f| {
