@@ -398,8 +398,10 @@ pub fn report(
         (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let wdt = (xhi - xlo).max(1e-9);
     let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
+    let section_label =
+        format!("x (m), on the vertical section y = {:.4} m", charge.centre.as_ref().map_or(0.0, |c| c[1]));
     let axes = match (case.dim, case.axisymmetric()) {
-        (3, _) => ["x (m), the section through the charge's axis", "z (m)"],
+        (3, _) => [section_label.as_str(), "z (m)"],
         (_, true) => ["r (m)", "z (m)"],
         _ => ["x (m)", "y (m)"],
     };

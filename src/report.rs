@@ -230,7 +230,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation => {
             crate::analysis::verify::report(dir, &case, &frames)?
         }
-        AnalysisKind::None if case.dim == 2 => {
+        AnalysisKind::None if case.dim >= 2 => {
             crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?
         }
         AnalysisKind::None => json!({}),
