@@ -9,7 +9,7 @@
 //! order). 0 ULP, independent of the thread count.
 
 use super::{Coef, Monaghan, Switch};
-use crate::modules::{CHUNK, Twin, by_dim, gather_signed, par_rows, serial};
+use crate::modules::{CHUNK, Twin, by_dim, gather_signed_max, par_rows, serial};
 use rayon::prelude::*;
 
 /// The read-only inputs of the pair pass.
@@ -40,10 +40,12 @@ const NV: usize = 9;
 /// The pair terms of the block of pairs from `k0` (as many as `t` holds): the same operations per
 /// pair as the Fortran's loop body, with the approaching test as an exact bit-mask select (a
 /// receding pair gets +0), so that the divisions run on vectors.
-fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &mut [f64], tmp: &mut [f64]) {
+fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], tmp: &mut [f64]) {
     let Coef { alpha, beta, etq } = a.coef;
     let (x, v) = (a.x, a.v);
-    let len = t.len() / W;
+    // each pair's row: its W terms, then −μ
+    let s = W + 1;
+    let len = t.len() / s;
     let (vr, rest) = tmp.split_at_mut(len);
     let (r2, rest) = rest.split_at_mut(len);
     let (vd, rest) = rest.split_at_mut(len);
@@ -101,7 +103,7 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
         let muv = hv * vr[l] / (r2[l] + (etq * hv) * (etq * hv));
         let piv = (bij[l] * muv - aij[l] * mc[l]) * muv / mrho[l];
         let on = 0u64.wrapping_sub((vr[l] < 0.0) as u64);
-        mu[l] = f64::from_bits((-muv).to_bits() & on);
+        r2[l] = f64::from_bits((-muv).to_bits() & on);
         let de = 0.5 * piv * vd[l];
         let dej = 0.5 * piv * vdj[l];
         hij[l] = f64::from_bits(piv.to_bits() & on);
@@ -113,12 +115,13 @@ fn block<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64], mu: &
         let g = &a.dwdx[D * (k0 + l)..D * (k0 + l) + D];
         let on = vr[l].to_bits();
         for d in 0..D {
-            t[W * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
+            t[s * l + d] = f64::from_bits((-(hij[l] * g[d])).to_bits() & on);
         }
-        t[W * l + D] = vd[l];
+        t[s * l + D] = vd[l];
         if rz {
-            t[W * l + D + 1] = vdj[l];
+            t[s * l + D + 1] = vdj[l];
         }
+        t[s * l + W] = r2[l];
     }
 }
 
@@ -141,36 +144,25 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     };
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
-    buf.pair.resize(W * np, 0.0);
-    // −μ of every pair (+0 where it recedes), for the viscous signal speed
-    buf.part.resize(np, 0.0);
+    // per pair: the W terms, then −μ (+0 where it recedes), for the viscous signal speed
+    buf.pair.resize((W + 1) * np, 0.0);
     buf.per_thread.ensure();
     let tls = &buf.per_thread;
     // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W; in blocks of
     // pairs, the gathers first (into a per-thread array), then the arithmetic over it
-    let body = |b: usize, (t, mu): (&mut [f64], &mut [f64])| {
-        tls.with(NV * (t.len() / W), |tmp| block::<D, W>(&inp, CHUNK * b, t, mu, tmp))
+    let body = |b: usize, t: &mut [f64]| {
+        tls.with(NV * (t.len() / (W + 1)), |tmp| block::<D, W>(&inp, CHUNK * b, t, tmp))
     };
-    let tc = &mut buf.pair[..W * np];
-    let mc = &mut buf.part[..np];
+    let tc = &mut buf.pair[..(W + 1) * np];
     if serial() {
-        tc.chunks_mut(W * CHUNK).zip(mc.chunks_mut(CHUNK)).enumerate().for_each(|(b, t)| body(b, t));
+        tc.chunks_mut((W + 1) * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
     } else {
-        tc.par_chunks_mut(W * CHUNK).zip(mc.par_chunks_mut(CHUNK)).enumerate().for_each(|(b, t)| body(b, t));
+        tc.par_chunks_mut((W + 1) * CHUNK).enumerate().for_each(|(b, t)| body(b, t));
     }
-    gather_signed::<D, W>(pl, &buf.pair, a.mass, None, a.dvdt, a.dedt);
-    // the largest −μ over each particle's pairs (a maximum: independent of the order)
-    let mu: &[f64] = &buf.part;
-    par_rows(&mut a.mumax[..a.mass.len()], 1, |i, r| {
-        let mut m = 0.0f64;
-        for inc in pl.incident(i) {
-            let q = mu[inc.pair()];
-            if q > m {
-                m = q;
-            }
-        }
-        r[0] = m;
-    });
+    // the sums, and the largest −μ over each particle's pairs (a maximum: independent of the
+    // order)
+    let nt = a.mass.len();
+    gather_signed_max::<D, W>(pl, &buf.pair, W + 1, a.mass, None, a.dvdt, a.dedt, &mut a.mumax[..nt]);
 }
 
 /// The switch: −∇·v_i ρ_i = Σ_j m_j v_ij·∇_i W_ij is the density module's continuity sum (its
