@@ -201,12 +201,7 @@ where
     let body = |c: usize, b1: &mut [f64], b2: &mut [f64], b3: &mut [f64]| {
         let n = b1.len() / w1;
         for r in 0..n {
-            f(
-                c * CHUNK + r,
-                &mut b1[w1 * r..w1 * r + w1],
-                &mut b2[w2 * r..w2 * r + w2],
-                &mut b3[w3 * r..w3 * r + w3],
-            );
+            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
         }
     };
     // (an empty array gives one empty chunk per chunk of the first)
