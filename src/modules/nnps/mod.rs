@@ -142,9 +142,8 @@ impl Scratch {
 /// particle, the pairs that touch it in ascending pair order.
 ///
 /// The canonical list (sorted by i, every i < j: what every search returns) needs no list for
-/// the pairs where a particle is the `i`: they are the contiguous row `row_start[a]..row_start[a
-/// + 1]`, and they come after every pair where it is the `j` (those have a smaller i, so an
-/// earlier row). Only the `j` ends are listed then, one [`Inc`] (8 bytes) per pair. Any other
+/// the pairs where a particle is the `i`: they are one contiguous row of the list, and they come
+/// after every pair where it is the `j` (those have a smaller i, so an earlier row). Only the `j` ends are listed then, one [`Inc`] (8 bytes) per pair. Any other
 /// order (a legacy search) lists both ends of every pair, as [`Inc`]s in ascending pair order,
 /// with empty rows.
 #[derive(Debug, Clone, Default)]

@@ -354,7 +354,7 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     }
     let mut parts: Vec<(usize, Ri, &mut [i32])> = Vec::with_capacity(nb);
     let mut rj = &mut pj[..];
-    let mut ri = pi.as_deref_mut().map(|pi| {
+    let mut ri = pi.map(|pi| {
         pi.resize(np, 0);
         &mut pi[..]
     });
