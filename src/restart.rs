@@ -78,7 +78,7 @@ pub(crate) fn write(lp: &mut Loop) -> Result<()> {
         "gauges_csv_bytes": gauges_bytes,
     });
     b.put_text("run.meta", &meta.to_string());
-    crate::rundir::write_atomic(&lp.dir.join(FILE), &b.encode())
+    crate::rundir::write_atomic_with(&lp.dir.join(FILE), |w| b.encode_to(w))
 }
 
 /// What `blastsph resume` is given.
@@ -110,7 +110,7 @@ impl ResumeOptions {
 }
 
 /// Reads and checks the checkpoint of run directory `dir`: its bytes, its header.
-pub fn read(dir: &Path) -> Result<(Blob, Value)> {
+pub fn read(dir: &Path) -> Result<(Blob<'static>, Value)> {
     let path = dir.join(FILE);
     let shown = dir.display();
     let bytes = match std::fs::read(&path) {

@@ -177,6 +177,12 @@ pub fn open_rw(path: &Path) -> Result<File> {
 /// `path`: a reader sees the old file or the new one, and a link at either name is replaced,
 /// never written through.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, |w| w.write_all(bytes))
+}
+
+/// As [`write_atomic`], with the bytes written by `fill` into a buffered writer (a large file is
+/// streamed, never held in memory whole).
+pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>) -> Result<()> {
     use std::io::Write;
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
@@ -186,9 +192,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
     }
-    let mut f = create_new(&tmp)?;
-    f.write_all(bytes).and_then(|_| f.sync_all()).map_err(|e| SphError::Io(format!("{}: {e}", tmp.display())))?;
-    drop(f);
+    let f = create_new(&tmp)?;
+    let mut bw = std::io::BufWriter::with_capacity(1 << 20, f);
+    fill(&mut bw)
+        .and_then(|_| bw.flush())
+        .and_then(|_| bw.get_ref().sync_all())
+        .map_err(|e| SphError::Io(format!("{}: {e}", tmp.display())))?;
+    drop(bw);
     std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
 }
 

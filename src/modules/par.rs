@@ -112,19 +112,57 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
     acc: &mut [f64],
     e: &mut [f64],
 ) {
-    let body = |a: usize, acc: &mut [f64], e: &mut [f64]| {
+    gather_signed_max::<D, W>(pl, terms, W, mass, scale, acc, e, &mut []);
+}
+
+/// [`gather_signed`] over pair rows of `s` ≥ W values (the terms first); when s > W and `mx` is
+/// not empty, also `mx[a]` = the largest `t[W]` over particle a's pairs, from +0 (`t[W] > m`
+/// replaces m: a maximum, whatever the order).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
+    pl: &nnps::PairList,
+    terms: &[f64],
+    s: usize,
+    mass: &[f64],
+    scale: Option<f64>,
+    acc: &mut [f64],
+    e: &mut [f64],
+    mx: &mut [f64],
+) {
+    assert!(s >= W, "pair rows of {s} values, fewer than the {W} terms");
+    let with_max = s > W && !mx.is_empty();
+    let body = |a: usize, acc: &mut [f64], e: &mut [f64], mx: &mut [f64]| {
         let mut sa = [0.0f64; D];
         let mut se = 0.0;
-        for inc in pl.incident(a) {
-            let k = inc.pair();
-            let t = &terms[W * k..W * k + W];
-            let m = mass[inc.other()];
-            let ms = if inc.is_i() { m } else { -m };
+        let mut sm = 0.0f64;
+        let inc = pl.incident(a);
+        // the listed ends (the j ends of a canonical list), then the row of pairs with a as i
+        for r in inc.list {
+            let k = r.pair();
+            let t = &terms[s * k..s * k + s];
+            let m = mass[r.other()];
+            let ms = if r.is_i() { m } else { -m };
             for d in 0..D {
                 sa[d] += ms * t[d];
             }
             if W > D {
-                se += m * t[if W > D + 1 && !inc.is_i() { D + 1 } else { D }];
+                se += m * t[if W > D + 1 && !r.is_i() { D + 1 } else { D }];
+            }
+            if with_max && t[W] > sm {
+                sm = t[W];
+            }
+        }
+        for k in inc.rows {
+            let t = &terms[s * k..s * k + s];
+            let m = mass[inc.pj[k] as usize];
+            for d in 0..D {
+                sa[d] += m * t[d];
+            }
+            if W > D {
+                se += m * t[D];
+            }
+            if with_max && t[W] > sm {
+                sm = t[W];
             }
         }
         match scale {
@@ -138,12 +176,48 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
         if W > D {
             e[0] = se;
         }
+        if with_max {
+            mx[0] = sm;
+        }
     };
     let n = mass.len();
-    if W > D {
-        par_rows2(&mut acc[..D * n], D, &mut e[..n], 1, body);
+    let we = if W > D { 1 } else { 0 };
+    let wm = if with_max { 1 } else { 0 };
+    par_rows3(&mut acc[..D * n], D, &mut e[..we * n], we, &mut mx[..wm * n], wm, body);
+}
+
+/// As [`par_rows`] over three arrays with the same rows: `f(a, row1, row2, row3)`, rows of `w1`,
+/// `w2` and `w3` values (`w2` and `w3` may be 0: those rows are then empty).
+pub(crate) fn par_rows3<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: usize, out3: &mut [f64], w3: usize, f: F)
+where
+    F: Fn(usize, &mut [f64], &mut [f64], &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    if w1 == 0 {
+        return;
+    }
+    let rows = out1.len() / w1;
+    let (out2, out3) = (&mut out2[..w2 * rows], &mut out3[..w3 * rows]);
+    let body = |c: usize, b1: &mut [f64], b2: &mut [f64], b3: &mut [f64]| {
+        let n = b1.len() / w1;
+        for r in 0..n {
+            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
+        }
+    };
+    // (an empty array gives one empty chunk per chunk of the first)
+    let nchunk = rows.div_ceil(CHUNK);
+    fn split(o: &mut [f64], w: usize, nchunk: usize) -> Vec<&mut [f64]> {
+        if w == 0 { (0..nchunk).map(|_| <&mut [f64]>::default()).collect() } else { o.chunks_mut(w * CHUNK).collect() }
+    }
+    let (c2, c3) = (split(out2, w2, nchunk), split(out3, w3, nchunk));
+    if serial() {
+        out1.chunks_mut(w1 * CHUNK).zip(c2).zip(c3).enumerate().for_each(|(c, ((b1, b2), b3))| body(c, b1, b2, b3));
     } else {
-        par_rows(&mut acc[..D * n], D, |a, r| body(a, r, &mut []));
+        out1.par_chunks_mut(w1 * CHUNK)
+            .zip(c2.into_par_iter())
+            .zip(c3.into_par_iter())
+            .enumerate()
+            .for_each(|(c, ((b1, b2), b3))| body(c, b1, b2, b3));
     }
 }
 

@@ -50,19 +50,56 @@ impl Item {
     }
 }
 
-/// Named arrays, written and read as one checksummed file.
+/// One named array of a checkpoint, borrowed from the state being saved (written as the owned
+/// [`Item`] of the same kind would be: the file does not tell them apart).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Ref<'a> {
+    F64(&'a [f64]),
+    I32(&'a [i32]),
+    I64(&'a [i64]),
+    U32(&'a [u32]),
+}
+
+/// Named arrays, written and read as one checksummed file. The state's large arrays are put as
+/// borrowed [`Ref`]s and streamed to the file by [`Blob::encode_to`], so that writing a
+/// checkpoint needs no copy of the state in memory.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Blob {
+pub struct Blob<'a> {
     pub items: BTreeMap<String, Item>,
+    refs: BTreeMap<String, Ref<'a>>,
+}
+
+/// A writer that hashes what goes through it (the checkpoint's SHA-256 of everything before it).
+struct Hashing<'w> {
+    w: &'w mut dyn std::io::Write,
+    sum: sha2::Sha256,
+}
+
+impl std::io::Write for Hashing<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        use sha2::Digest;
+        let n = self.w.write(buf)?;
+        self.sum.update(&buf[..n]);
+        Ok(n)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.w.flush()
+    }
 }
 
 fn bad(what: &str) -> SphError {
     input(format!("checkpoint: {what}"))
 }
 
-impl Blob {
+impl<'a> Blob<'a> {
     pub fn put(&mut self, name: &str, item: Item) {
+        self.refs.remove(name);
         self.items.insert(name.to_string(), item);
+    }
+    /// Puts an array borrowed from the state (no copy; see [`Ref`]).
+    pub fn put_ref(&mut self, name: &str, r: Ref<'a>) {
+        self.items.remove(name);
+        self.refs.insert(name.to_string(), r);
     }
     pub fn put_f64(&mut self, name: &str, v: &[f64]) {
         self.put(name, Item::F64(v.to_vec()));
@@ -71,41 +108,51 @@ impl Blob {
         self.put(name, Item::Text(s.to_string()));
     }
 
-    fn get(&self, name: &str) -> Result<&Item> {
-        self.items.get(name).ok_or_else(|| bad(&format!("no `{name}` in it (written by another version?)")))
+    fn get(&self, name: &str) -> Result<std::borrow::Cow<'_, Item>> {
+        use std::borrow::Cow;
+        if let Some(it) = self.items.get(name) {
+            return Ok(Cow::Borrowed(it));
+        }
+        match self.refs.get(name) {
+            Some(Ref::F64(v)) => Ok(Cow::Owned(Item::F64(v.to_vec()))),
+            Some(Ref::I32(v)) => Ok(Cow::Owned(Item::I32(v.to_vec()))),
+            Some(Ref::I64(v)) => Ok(Cow::Owned(Item::I64(v.to_vec()))),
+            Some(Ref::U32(v)) => Ok(Cow::Owned(Item::U32(v.to_vec()))),
+            None => Err(bad(&format!("no `{name}` in it (written by another version?)"))),
+        }
     }
     pub fn f64(&self, name: &str) -> Result<Vec<f64>> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::F64(v) => Ok(v.clone()),
             _ => Err(bad(&format!("`{name}` is not an array of reals"))),
         }
     }
     pub fn i32(&self, name: &str) -> Result<Vec<i32>> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::I32(v) => Ok(v.clone()),
             _ => Err(bad(&format!("`{name}` is not an array of 32-bit integers"))),
         }
     }
     pub fn i64(&self, name: &str) -> Result<Vec<i64>> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::I64(v) => Ok(v.clone()),
             _ => Err(bad(&format!("`{name}` is not an array of 64-bit integers"))),
         }
     }
     pub fn u32(&self, name: &str) -> Result<Vec<u32>> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::U32(v) => Ok(v.clone()),
             _ => Err(bad(&format!("`{name}` is not an array of unsigned 32-bit integers"))),
         }
     }
     pub fn u64(&self, name: &str) -> Result<Vec<u64>> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::U64(v) => Ok(v.clone()),
             _ => Err(bad(&format!("`{name}` is not an array of unsigned 64-bit integers"))),
         }
     }
     pub fn text(&self, name: &str) -> Result<String> {
-        match self.get(name)? {
+        match &*self.get(name)? {
             Item::Text(s) => Ok(s.clone()),
             _ => Err(bad(&format!("`{name}` is not text"))),
         }
@@ -121,31 +168,69 @@ impl Blob {
 
     /// The file's bytes.
     pub fn encode(&self) -> Vec<u8> {
-        use sha2::{Digest, Sha256};
         let mut b = Vec::new();
-        b.extend_from_slice(MAGIC);
-        b.extend_from_slice(&VERSION.to_le_bytes());
-        b.extend_from_slice(&(self.items.len() as u64).to_le_bytes());
-        for (name, item) in &self.items {
-            b.extend_from_slice(&(name.len() as u64).to_le_bytes());
-            b.extend_from_slice(name.as_bytes());
-            b.push(item.code());
-            match item {
-                Item::F64(v) => words(&mut b, v.iter().map(|x| x.to_bits().to_le_bytes())),
-                Item::I32(v) => words(&mut b, v.iter().map(|x| x.to_le_bytes())),
-                Item::I64(v) => words(&mut b, v.iter().map(|x| x.to_le_bytes())),
-                Item::U32(v) => words(&mut b, v.iter().map(|x| x.to_le_bytes())),
-                Item::U64(v) => words(&mut b, v.iter().map(|x| x.to_le_bytes())),
-                Item::Text(s) => words(&mut b, s.bytes().map(|x| [x])),
-            }
-        }
-        let sum = Sha256::digest(&b);
-        b.extend_from_slice(&sum);
+        // (writing into a Vec does not fail)
+        let _ = self.encode_to(&mut b);
         b
     }
 
+    /// Writes the file's bytes to `w` as they are produced: the arrays in name order (owned and
+    /// borrowed alike), then the SHA-256 of everything before it.
+    pub fn encode_to(&self, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+        use sha2::{Digest, Sha256};
+        use std::io::Write;
+        let mut h = Hashing { w, sum: Sha256::new() };
+        h.write_all(MAGIC)?;
+        h.write_all(&VERSION.to_le_bytes())?;
+        h.write_all(&((self.items.len() + self.refs.len()) as u64).to_le_bytes())?;
+        // both maps in one name order (a name is in one of them only)
+        let (mut a, mut r) = (self.items.iter().peekable(), self.refs.iter().peekable());
+        loop {
+            let own = match (a.peek(), r.peek()) {
+                (None, None) => break,
+                (Some(_), None) => true,
+                (None, Some(_)) => false,
+                (Some((na, _)), Some((nr, _))) => na < nr,
+            };
+            if own {
+                let Some((name, item)) = a.next() else { break };
+                head(&mut h, name, item.code())?;
+                match item {
+                    Item::F64(v) => words(&mut h, v.iter().map(|x| x.to_bits().to_le_bytes()))?,
+                    Item::I32(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
+                    Item::I64(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
+                    Item::U32(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
+                    Item::U64(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
+                    Item::Text(s) => words(&mut h, s.bytes().map(|x| [x]))?,
+                }
+            } else {
+                let Some((name, r)) = r.next() else { break };
+                match *r {
+                    Ref::F64(v) => {
+                        head(&mut h, name, 0)?;
+                        words(&mut h, v.iter().map(|x| x.to_bits().to_le_bytes()))?
+                    }
+                    Ref::I32(v) => {
+                        head(&mut h, name, 1)?;
+                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
+                    }
+                    Ref::I64(v) => {
+                        head(&mut h, name, 2)?;
+                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
+                    }
+                    Ref::U32(v) => {
+                        head(&mut h, name, 3)?;
+                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
+                    }
+                }
+            }
+        }
+        let sum = h.sum.finalize();
+        h.w.write_all(&sum)
+    }
+
     /// Reads the file's bytes: the checksum first, then every array, bounds checked.
-    pub fn decode(bytes: &[u8]) -> Result<Blob> {
+    pub fn decode(bytes: &[u8]) -> Result<Blob<'static>> {
         use sha2::{Digest, Sha256};
         if bytes.len() < MAGIC.len() + 4 + 8 + 32 || &bytes[..MAGIC.len()] != MAGIC {
             return Err(bad("not a blastsph checkpoint (or truncated)"));
@@ -193,11 +278,28 @@ fn one<T: Copy>(name: &str, v: Vec<T>) -> Result<T> {
     }
 }
 
-fn words<const N: usize>(b: &mut Vec<u8>, it: impl ExactSizeIterator<Item = [u8; N]>) {
-    b.extend_from_slice(&(it.len() as u64).to_le_bytes());
-    for w in it {
-        b.extend_from_slice(&w);
+/// An array's name and kind.
+fn head(w: &mut impl std::io::Write, name: &str, code: u8) -> std::io::Result<()> {
+    w.write_all(&(name.len() as u64).to_le_bytes())?;
+    w.write_all(name.as_bytes())?;
+    w.write_all(&[code])
+}
+
+/// An array's length, then its values, through a small buffer.
+fn words<const N: usize>(
+    w: &mut impl std::io::Write,
+    it: impl ExactSizeIterator<Item = [u8; N]>,
+) -> std::io::Result<()> {
+    w.write_all(&(it.len() as u64).to_le_bytes())?;
+    let mut buf = Vec::with_capacity(1 << 16);
+    for x in it {
+        buf.extend_from_slice(&x);
+        if buf.len() >= (1 << 16) {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
     }
+    w.write_all(&buf)
 }
 
 struct Reader<'a> {
@@ -243,7 +345,7 @@ fn usize_of(name: &str, v: u64) -> Result<usize> {
 
 impl Sim {
     /// The state a step and the run loop's solver read, into `b` (names under `sim.`, `p.`, `w.`).
-    pub fn save_state(&self, b: &mut Blob) {
+    pub fn save_state<'a>(&'a self, b: &mut Blob<'a>) {
         let Sim {
             case: _,
             cfg: _,
@@ -299,11 +401,11 @@ impl Sim {
                 u64::from(min_interface_gap_dx.is_some()),
             ]),
         );
-        b.put_f64("sim.h_init", h_init);
-        b.put("sim.region", Item::U32(region.clone()));
-        b.put_f64("sim.x_init", x_init);
+        b.put_ref("sim.h_init", Ref::F64(h_init));
+        b.put_ref("sim.region", Ref::U32(region));
+        b.put_ref("sim.x_init", Ref::F64(x_init));
         b.put_f64("sim.e_initial", &[*e_initial]);
-        b.put("sim.index_of_id", Item::U32(index_of_id.clone()));
+        b.put_ref("sim.index_of_id", Ref::U32(index_of_id));
         let names: Vec<&str> = timers.keys().copied().collect();
         b.put_text("sim.timers.names", &names.join("\n"));
         b.put_f64("sim.timers.seconds", &timers.values().copied().collect::<Vec<_>>());
@@ -352,10 +454,10 @@ impl Sim {
             ("p.rho0", rho0),
             ("p.alpha", alpha),
         ] {
-            b.put_f64(name, a);
+            b.put_ref(name, Ref::F64(a));
         }
-        b.put("p.mat", Item::I32(mat.clone()));
-        b.put("p.id", Item::I64(id.clone()));
+        b.put_ref("p.mat", Ref::I32(mat));
+        b.put_ref("p.id", Ref::I64(id));
 
         let Work {
             pairs,
@@ -385,8 +487,8 @@ impl Sim {
             efloor,
             divv: _, // the viscosity switch's workspace, recomputed before every use
         } = w;
-        b.put("w.pairs.i", Item::I32(pairs.i.clone()));
-        b.put("w.pairs.j", Item::I32(pairs.j.clone()));
+        b.put_ref("w.pairs.i", Ref::I32(&pairs.i));
+        b.put_ref("w.pairs.j", Ref::I32(&pairs.j));
         for (name, a) in [
             ("w.w", ww),
             ("w.dwdx", dwdx),
@@ -411,10 +513,10 @@ impl Sim {
             ("w.mumax", mumax),
             ("w.efloor", efloor),
         ] {
-            b.put_f64(name, a);
+            b.put_ref(name, Ref::F64(a));
         }
-        b.put("w.gsrc", Item::I32(gsrc.clone()));
-        b.put("w.gseg", Item::I32(gseg.clone()));
+        b.put_ref("w.gsrc", Ref::I32(gsrc));
+        b.put_ref("w.gseg", Ref::I32(gseg));
     }
 
     /// Puts the state of `b` into this simulation, built from the same case (or, with
@@ -651,5 +753,42 @@ impl Sim {
             e.seconds = s;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Arrays put borrowed are written exactly as the same arrays put owned, in one name order.
+    #[test]
+    fn borrowed_and_owned_arrays_encode_the_same() {
+        let x = vec![1.5, -0.0, f64::MIN_POSITIVE, 3e300];
+        let m = vec![3i32, -7];
+        let id = vec![1i64 << 40, 2];
+        let r = vec![9u32, 0, 4];
+        let mut own = Blob::default();
+        own.put("b.x", Item::F64(x.clone()));
+        own.put("d.m", Item::I32(m.clone()));
+        own.put("a.id", Item::I64(id.clone()));
+        own.put("c.r", Item::U32(r.clone()));
+        own.put("c.n", Item::U64(vec![5]));
+        own.put_text("e.t", "text");
+        let mut mixed = Blob::default();
+        mixed.put_ref("b.x", Ref::F64(&x));
+        mixed.put_ref("d.m", Ref::I32(&m));
+        mixed.put_ref("a.id", Ref::I64(&id));
+        mixed.put_ref("c.r", Ref::U32(&r));
+        mixed.put("c.n", Item::U64(vec![5]));
+        mixed.put_text("e.t", "text");
+        let bytes = own.encode();
+        assert_eq!(mixed.encode(), bytes);
+        let back = Blob::decode(&bytes).unwrap();
+        assert_eq!(back, own);
+        assert_eq!(mixed.f64("b.x").unwrap(), x);
+        // a name put again replaces the earlier array, borrowed or owned
+        mixed.put("b.x", Item::F64(vec![2.0]));
+        own.put("b.x", Item::F64(vec![2.0]));
+        assert_eq!(mixed.encode(), own.encode());
     }
 }

@@ -24,7 +24,7 @@ pub(crate) mod compat;
 mod rust;
 mod verlet;
 
-use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin, serial};
+use super::{Backend, CHUNK, Contribution, Module, Phase, PlanCtx, Stage, Twin, serial};
 use crate::case::NnpsKind;
 use crate::state::{Clock, Field, Particles, Work};
 use rayon::prelude::*;
@@ -140,6 +140,12 @@ impl Scratch {
 
 /// The pair list shared by both backends, and (for the Rust gathers) the incidence lists: for each
 /// particle, the pairs that touch it in ascending pair order.
+///
+/// The canonical list (sorted by i, every i < j: what every search returns) needs no list for
+/// the pairs where a particle is the `i`: they are one contiguous row of the list, and they come
+/// after every pair where it is the `j` (those have a smaller i, so an earlier row). Only the `j` ends are listed then, one [`Inc`] (8 bytes) per pair. Any other
+/// order (a legacy search) lists both ends of every pair, as [`Inc`]s in ascending pair order,
+/// with empty rows.
 #[derive(Debug, Clone, Default)]
 pub struct PairList {
     pub i: Vec<i32>,
@@ -147,7 +153,37 @@ pub struct PairList {
     inc_start: Vec<u32>,
     inc: Vec<Inc>,
     inc_fill: Vec<u32>,
+    row_start: Vec<u32>,
     pub(crate) scratch: Scratch,
+}
+
+/// The pairs touching one particle, in ascending pair order: the listed ends, then the row of
+/// pairs where it is the `i` (see [`PairList`]).
+#[derive(Debug, Clone)]
+pub struct Incident<'a> {
+    /// The listed ends.
+    pub list: &'a [Inc],
+    /// The row: pairs `rows.start..rows.end`, each with this particle as its `i` and `pj[k]` as
+    /// the other.
+    pub rows: std::ops::Range<usize>,
+    pub pj: &'a [i32],
+}
+
+impl Iterator for Incident<'_> {
+    type Item = Inc;
+    #[inline]
+    fn next(&mut self) -> Option<Inc> {
+        if let Some((&e, rest)) = self.list.split_first() {
+            self.list = rest;
+            return Some(e);
+        }
+        let k = self.rows.next()?;
+        Some(Inc { k: k as u32, o: self.pj[k] as u32 | SIDE_I })
+    }
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        let n = self.list.len() + self.rows.len();
+        (n, Some(n))
+    }
 }
 
 impl PairList {
@@ -164,16 +200,43 @@ impl PairList {
     }
 
     /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
-    /// every pair k, its entry in the list of `i` comes before its entry in the list of `j`.
-    /// With more than one thread the particles are split into a few ranges, each counting and
-    /// placing the entries of its own particles (every range reads the whole pair list, in
-    /// order, so each list is still in ascending pair order).
+    /// every pair k, its `i` end comes before its `j` end in the lists. With more than one
+    /// thread the particles are split into a few ranges, each counting and placing the entries
+    /// of its own particles (every range reads the whole pair list, in order, so each list is
+    /// still in ascending pair order).
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
         assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
+        assert!(np < SIDE_I as usize, "pair list: {np} pairs, more than 2^31");
         let nr = if serial() || np < 4096 { 1 } else { rayon::current_num_threads().min(4) };
-        let rsize = ntotal.div_ceil(nr).max(1);
         let (pi, pj) = (&self.i[..np], &self.j[..np]);
+        // the canonical order: i ascending, every i < j, every index in range
+        let canon_part = |(c, pc): (usize, &[i32])| -> bool {
+            let mut prev = if c == 0 { 0 } else { pi[CHUNK * c - 1] };
+            pc.iter().zip(&pj[CHUNK * c..]).all(|(&a, &b)| {
+                let ok = a >= prev && a < b && (b as usize) < ntotal;
+                prev = a;
+                ok
+            })
+        };
+        let canonical = if nr == 1 {
+            pi.chunks(CHUNK).enumerate().all(canon_part)
+        } else {
+            pi.par_chunks(CHUNK).enumerate().all(canon_part)
+        };
+        let rows = &mut self.row_start;
+        rows.clear();
+        rows.resize(ntotal + 1, 0);
+        if canonical {
+            // row a: the pairs with i = a
+            for &a in pi {
+                rows[a as usize + 1] += 1;
+            }
+            for a in 0..ntotal {
+                rows[a + 1] += rows[a];
+            }
+        }
+        let rsize = ntotal.div_ceil(nr).max(1);
         let start = &mut self.inc_start;
         start.clear();
         start.resize(ntotal + 1, 0);
@@ -181,10 +244,11 @@ impl PairList {
         let count = |(r, cnt): (usize, &mut [u32])| {
             let a0 = r * rsize;
             for (&a, &b) in pi.iter().zip(pj) {
-                for p in [a as usize, b as usize] {
-                    if let Some(c) = p.checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
-                        *c += 1;
-                    }
+                if !canonical && let Some(c) = (a as usize).checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
+                    *c += 1;
+                }
+                if let Some(c) = (b as usize).checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
+                    *c += 1;
                 }
             }
         };
@@ -196,7 +260,13 @@ impl PairList {
         for a in 0..ntotal {
             start[a + 1] += start[a];
         }
-        self.inc.resize(2 * np, Inc::default());
+        let nlist = start[ntotal] as usize;
+        // (never more than it needs: a list sized for both ends is given back when the pair
+        // list becomes canonical)
+        if self.inc.capacity() > nlist + nlist / 4 {
+            self.inc = Vec::new();
+        }
+        self.inc.resize(nlist, Inc::default());
         let fill = &mut self.inc_fill;
         fill.clear();
         fill.extend_from_slice(&start[..ntotal]);
@@ -215,11 +285,13 @@ impl PairList {
             let a0 = r * rsize;
             let off = f.first().copied().unwrap_or(0) as usize;
             for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
-                for (p, q, side) in [(a as usize, b as u32, SIDE_I), (b as usize, a as u32, 0)] {
-                    if let Some(fp) = p.checked_sub(a0).and_then(|l| f.get_mut(l)) {
-                        mine[*fp as usize - off] = Inc { k: k as u32, o: q | side };
-                        *fp += 1;
-                    }
+                if !canonical && let Some(fp) = (a as usize).checked_sub(a0).and_then(|l| f.get_mut(l)) {
+                    mine[*fp as usize - off] = Inc { k: k as u32, o: b as u32 | SIDE_I };
+                    *fp += 1;
+                }
+                if let Some(fp) = (b as usize).checked_sub(a0).and_then(|l| f.get_mut(l)) {
+                    mine[*fp as usize - off] = Inc { k: k as u32, o: a as u32 };
+                    *fp += 1;
                 }
             }
         };
@@ -238,8 +310,12 @@ impl PairList {
 
     /// The pairs touching particle `a`, ascending.
     #[inline]
-    pub fn incident(&self, a: usize) -> &[Inc] {
-        &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize]
+    pub fn incident(&self, a: usize) -> Incident<'_> {
+        Incident {
+            list: &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize],
+            rows: self.row_start[a] as usize..self.row_start[a + 1] as usize,
+            pj: &self.j,
+        }
     }
 }
 

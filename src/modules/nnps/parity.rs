@@ -221,3 +221,55 @@ fn fortran_search_reports_overflow_count_and_keeps_the_prefix() {
         assert_eq!(pj, want.j[..cap], "cell = {cell}: stored prefix (j)");
     }
 }
+
+/// As [`kept_candidates_equal_direct_over_many_calls`], in 3D (where the skin is smaller): a
+/// drifting lattice with a few fast particles, growing h, and mirrors below z = 0.
+#[test]
+fn kept_candidates_equal_direct_over_many_calls_3d() {
+    let mut rng = Rng(0x7654_3210_FEDC_BA98);
+    let (side, dx) = (9usize, 0.01);
+    let nreal = side * side * side;
+    let mut x = Vec::new();
+    let mut h = Vec::new();
+    for k in 0..side {
+        for j in 0..side {
+            for i in 0..side {
+                x.extend([(i as f64 + 0.5) * dx, (j as f64 + 0.5) * dx, (k as f64 + 0.5) * dx]);
+                h.push(dx * (1.0 + 0.2 * rng.f()));
+            }
+        }
+    }
+    let mut pl = PairList::default();
+    let (mut rebuilds, mut incremental) = (0, 0);
+    for call in 0..60 {
+        let shift = if call % 20 == 19 { dx } else { 0.0 };
+        for a in 0..nreal {
+            x[3 * a] += shift;
+            let step = if rng.f() < 0.03 { 0.004 } else { 0.0001 };
+            for d in 0..3 {
+                x[3 * a + d] += step * (rng.f() - 0.5);
+            }
+            if rng.f() < 0.05 {
+                h[a] *= 1.0 + 0.01 * rng.f();
+            }
+        }
+        let (mut xt, mut ht) = (x.clone(), h.clone());
+        for a in 0..nreal {
+            if x[3 * a + 2] < 2.0 * h[a] && x[3 * a + 2] >= 0.0 {
+                xt.extend([x[3 * a], x[3 * a + 1], -x[3 * a + 2]]);
+                ht.push(h[a]);
+            }
+        }
+        let before = pl.scratch.get_mut().verlet.builds;
+        run(Search { cell: true, dim: 3, nreal, x: &xt, h: &ht, kappa: 2.0, pairs: &mut pl }, R);
+        let got: Vec<(i32, i32)> = pl.i.iter().copied().zip(pl.j.iter().copied()).collect();
+        let want = lists(Backend::Fortran, false, 3, nreal, &xt, &ht, 2.0);
+        assert_eq!(got, want, "call {call}: kept candidates differ from the direct search");
+        if pl.scratch.get_mut().verlet.builds == before {
+            incremental += 1;
+        } else {
+            rebuilds += 1;
+        }
+    }
+    assert!(incremental > 10 && rebuilds > 1, "both paths taken: {incremental} incremental, {rebuilds} rebuilds");
+}

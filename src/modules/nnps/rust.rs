@@ -45,9 +45,22 @@ where
 }
 
 pub(super) fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
-    let nt = h.len();
     let PairList { i: pi, j: pj, scratch, .. } = pl;
-    let s = scratch.get_mut();
+    direct_into(dim, nreal, x, h, kappa, scratch.get_mut(), pi, pj);
+}
+
+#[allow(clippy::too_many_arguments)]
+fn direct_into(
+    dim: usize,
+    nreal: usize,
+    x: &[f64],
+    h: &[f64],
+    kappa: f64,
+    s: &mut super::Bufs,
+    pi: &mut Vec<i32>,
+    pj: &mut Vec<i32>,
+) {
+    let nt = h.len();
     let ntask = nreal.div_ceil(64);
     tasks(&mut s.pair_tasks, ntask, |t, buf| {
         for i in 64 * t..(64 * t + 64).min(nreal) {
@@ -66,6 +79,13 @@ pub(super) fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa:
             pj.push(j as i32);
         }
     }
+}
+
+/// Where the cell search puts the canonical pairs: a pair list, or (for the Verlet candidates)
+/// rows: `start[a]..start[a + 1]` (`nreal + 1` offsets) of `cand`, the j of row a ascending.
+pub(super) enum Out<'a> {
+    List(&'a mut Vec<i32>, &'a mut Vec<i32>),
+    Rows(&'a mut Vec<u32>, &'a mut Vec<i32>),
 }
 
 /// Two h are "similar" unless one exceeds the other times ONEP (an exact binary fraction).
@@ -154,10 +174,12 @@ impl Grid<'_> {
 /// (counting sort, ascending index within a cell); each particle looks through the cells that
 /// meet the box of half-width κ h_a around it and keeps the pairs it owns.
 pub(super) fn rust_cell(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+    let PairList { i, j, scratch, .. } = pl;
+    let (s, out) = (scratch.get_mut(), Out::List(i, j));
     match dim {
-        1 => rust_cell_d::<1>(nreal, x, h, kappa, pl),
-        2 => rust_cell_d::<2>(nreal, x, h, kappa, pl),
-        _ => rust_cell_d::<3>(nreal, x, h, kappa, pl),
+        1 => rust_cell_d::<1>(nreal, x, h, kappa, s, out),
+        2 => rust_cell_d::<2>(nreal, x, h, kappa, s, out),
+        _ => rust_cell_d::<3>(nreal, x, h, kappa, s, out),
     }
 }
 
@@ -196,15 +218,23 @@ pub(super) fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n
     (inv, nc)
 }
 
-pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
+pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, s: &mut super::Bufs, out: Out) {
     let nt = h.len();
-    let PairList { i: pi, j: pj, scratch, .. } = pl;
-    pi.clear();
+    let (mut pi, mut rstart, pj) = match out {
+        Out::List(pi, pj) => (Some(pi), None, pj),
+        Out::Rows(start, cand) => (None, Some(start), cand),
+    };
+    if let Some(pi) = pi.as_deref_mut() {
+        pi.clear();
+    }
     pj.clear();
+    if let Some(st) = rstart.as_deref_mut() {
+        st.clear();
+        st.resize(nreal + 1, 0);
+    }
     if nt == 0 || nreal == 0 {
         return;
     }
-    let s = scratch.get_mut();
     // the grid: bounding box, smallest and mean h, in tasks of CHUNK particles (the partial sums
     // added in task order, so h̄ does not depend on the thread count)
     let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
@@ -238,7 +268,12 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     }
     if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
         // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
-        return rust_direct(D, nreal, x, h, kappa, pl);
+        let mut tmp = Vec::new();
+        direct_into(D, nreal, x, h, kappa, s, pi.unwrap_or(&mut tmp), pj);
+        if let Some(st) = rstart {
+            offsets(st, nreal, tmp.iter().map(|&i| i as usize));
+        }
+        return;
     }
     let hmean = hsum / nt as f64;
     let mut cs = 0.5 * kappa * hmean;
@@ -311,19 +346,39 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     let found = &s.pair_tasks[..ntask * nb];
     let size = |b: usize| -> usize { (0..ntask).map(|t| found[t * nb + b].len()).sum() };
     let np: usize = (0..nb).map(size).sum();
-    pi.resize(np, 0);
     pj.resize(np, 0);
-    let mut parts: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nb);
-    let (mut ri, mut rj) = (&mut pi[..], &mut pj[..]);
+    // the rows of each bucket: their i in a list, or their lengths in `start[1..]`
+    enum Ri<'a> {
+        I(&'a mut [i32]),
+        Len(&'a mut [u32]),
+    }
+    let mut parts: Vec<(usize, Ri, &mut [i32])> = Vec::with_capacity(nb);
+    let mut rj = &mut pj[..];
+    let mut ri = pi.map(|pi| {
+        pi.resize(np, 0);
+        &mut pi[..]
+    });
+    let mut rl = rstart.as_deref_mut().map(|st| &mut st[1..]);
     for b in 0..nb {
         let len = size(b);
-        let (head_i, tail_i) = std::mem::take(&mut ri).split_at_mut(len);
         let (head_j, tail_j) = std::mem::take(&mut rj).split_at_mut(len);
-        parts.push((b, head_i, head_j));
-        ri = tail_i;
         rj = tail_j;
+        let r = match (ri.take(), rl.take()) {
+            (Some(all), _) => {
+                let (head, tail) = all.split_at_mut(len);
+                ri = Some(tail);
+                Ri::I(head)
+            }
+            (None, Some(all)) => {
+                let (head, tail) = all.split_at_mut(rows.min(all.len()));
+                rl = Some(tail);
+                Ri::Len(head)
+            }
+            (None, None) => unreachable!("the cell search has an output"),
+        };
+        parts.push((b, r, head_j));
     }
-    let place = |(b, ri, rj): (usize, &mut [i32], &mut [i32])| {
+    let place = |(b, ri, rj): (usize, Ri, &mut [i32])| {
         let a0 = rows * b;
         let nr = rows.min(nreal - a0);
         let mut cnt = vec![0u32; nr + 1];
@@ -343,9 +398,13 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
                 *f += 1;
             }
         }
+        let mut ri = ri;
         for r in 0..nr {
             let (r0, r1) = (cnt[r] as usize, cnt[r + 1] as usize);
-            ri[r0..r1].fill((a0 + r) as i32);
+            match &mut ri {
+                Ri::I(ri) => ri[r0..r1].fill((a0 + r) as i32),
+                Ri::Len(l) => l[r] = (r1 - r0) as u32,
+            }
             rj[r0..r1].sort_unstable();
         }
     };
@@ -353,5 +412,10 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
         parts.into_iter().for_each(place);
     } else {
         parts.into_par_iter().for_each(place);
+    }
+    if let Some(st) = rstart {
+        for a in 0..nreal {
+            st[a + 1] += st[a];
+        }
     }
 }
