@@ -266,7 +266,11 @@ pub fn report(
         }
         plot::lines_with_refs(
             &dir.join("crater_growth.png"),
-            &format!("{}: apparent crater and ejecta (thesis values as triangles)", case.name()),
+            &format!(
+                "{}: apparent crater and ejecta{}",
+                case.name(),
+                if refs.is_empty() { "" } else { " (thesis values as triangles)" }
+            ),
             "t (µs)",
             "cm",
             &grow,
@@ -338,7 +342,11 @@ pub fn report(
         }
         plot::lines_with_refs(
             &dir.join("gauges.png"),
-            &format!("{}: pressure at the gauges (thesis values as triangles)", case.name()),
+            &format!(
+                "{}: pressure at the gauges{}",
+                case.name(),
+                if refs.is_empty() { "" } else { " (thesis values as triangles)" }
+            ),
             "t (µs)",
             "p (MPa)",
             &ps,
@@ -759,11 +767,7 @@ pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
 
 /// What [`bubble_history`]'s radius is, for the plot's title.
 fn bubble_measure(case: &Case) -> &'static str {
-    if case.dim == 3 || case.axisymmetric() {
-        "equivalent radius (3V/4π)^⅓ of their whole volume V (in 3D with the symmetry planes' images)"
-    } else {
-        "equivalent radius √(A/π) of their section"
-    }
+    if case.dim == 3 || case.axisymmetric() { "equivalent radius (3V/4π)^⅓" } else { "equivalent radius √(A/π)" }
 }
 
 /// The charge a report scales its distances by.
@@ -784,7 +788,7 @@ impl Charge {
     fn mass_text(&self) -> String {
         match self.dim {
             2 => format!("{:.3} kg per m of depth", self.mass_kg),
-            _ if self.images > 1.0 => format!("{:.3} kg, the model's {:.0} images", self.mass_kg, self.images),
+            _ if self.images > 1.0 => format!("{:.3} kg: {:.0} × the modelled part", self.mass_kg, self.images),
             _ => format!("{:.3} kg", self.mass_kg),
         }
     }

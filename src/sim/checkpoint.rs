@@ -38,14 +38,15 @@ pub enum Item {
 }
 
 impl Item {
-    fn code(&self) -> u8 {
+    /// The array as a borrowed [`Ref`] (what is written to the file).
+    fn as_ref(&self) -> Ref<'_> {
         match self {
-            Item::F64(_) => 0,
-            Item::I32(_) => 1,
-            Item::I64(_) => 2,
-            Item::U32(_) => 3,
-            Item::U64(_) => 4,
-            Item::Text(_) => 5,
+            Item::F64(v) => Ref::F64(v),
+            Item::I32(v) => Ref::I32(v),
+            Item::I64(v) => Ref::I64(v),
+            Item::U32(v) => Ref::U32(v),
+            Item::U64(v) => Ref::U64(v),
+            Item::Text(s) => Ref::Text(s),
         }
     }
 }
@@ -58,6 +59,45 @@ pub enum Ref<'a> {
     I32(&'a [i32]),
     I64(&'a [i64]),
     U32(&'a [u32]),
+    U64(&'a [u64]),
+    Text(&'a str),
+}
+
+impl Ref<'_> {
+    /// The kind's code in the file.
+    fn code(&self) -> u8 {
+        match self {
+            Ref::F64(_) => 0,
+            Ref::I32(_) => 1,
+            Ref::I64(_) => 2,
+            Ref::U32(_) => 3,
+            Ref::U64(_) => 4,
+            Ref::Text(_) => 5,
+        }
+    }
+    /// An owned copy.
+    fn to_item(self) -> Item {
+        match self {
+            Ref::F64(v) => Item::F64(v.to_vec()),
+            Ref::I32(v) => Item::I32(v.to_vec()),
+            Ref::I64(v) => Item::I64(v.to_vec()),
+            Ref::U32(v) => Item::U32(v.to_vec()),
+            Ref::U64(v) => Item::U64(v.to_vec()),
+            Ref::Text(s) => Item::Text(s.to_string()),
+        }
+    }
+    /// The array's name, kind, length and values.
+    fn write(self, w: &mut impl std::io::Write, name: &str) -> std::io::Result<()> {
+        head(w, name, self.code())?;
+        match self {
+            Ref::F64(v) => words(w, v.iter().map(|x| x.to_bits().to_le_bytes())),
+            Ref::I32(v) => words(w, v.iter().map(|x| x.to_le_bytes())),
+            Ref::I64(v) => words(w, v.iter().map(|x| x.to_le_bytes())),
+            Ref::U32(v) => words(w, v.iter().map(|x| x.to_le_bytes())),
+            Ref::U64(v) => words(w, v.iter().map(|x| x.to_le_bytes())),
+            Ref::Text(s) => words(w, s.bytes().map(|x| [x])),
+        }
+    }
 }
 
 /// Named arrays, written and read as one checksummed file. The state's large arrays are put as
@@ -114,10 +154,7 @@ impl<'a> Blob<'a> {
             return Ok(Cow::Borrowed(it));
         }
         match self.refs.get(name) {
-            Some(Ref::F64(v)) => Ok(Cow::Owned(Item::F64(v.to_vec()))),
-            Some(Ref::I32(v)) => Ok(Cow::Owned(Item::I32(v.to_vec()))),
-            Some(Ref::I64(v)) => Ok(Cow::Owned(Item::I64(v.to_vec()))),
-            Some(Ref::U32(v)) => Ok(Cow::Owned(Item::U32(v.to_vec()))),
+            Some(r) => Ok(Cow::Owned(r.to_item())),
             None => Err(bad(&format!("no `{name}` in it (written by another version?)"))),
         }
     }
@@ -192,38 +229,14 @@ impl<'a> Blob<'a> {
                 (None, Some(_)) => false,
                 (Some((na, _)), Some((nr, _))) => na < nr,
             };
-            if own {
+            let (name, arr) = if own {
                 let Some((name, item)) = a.next() else { break };
-                head(&mut h, name, item.code())?;
-                match item {
-                    Item::F64(v) => words(&mut h, v.iter().map(|x| x.to_bits().to_le_bytes()))?,
-                    Item::I32(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
-                    Item::I64(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
-                    Item::U32(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
-                    Item::U64(v) => words(&mut h, v.iter().map(|x| x.to_le_bytes()))?,
-                    Item::Text(s) => words(&mut h, s.bytes().map(|x| [x]))?,
-                }
+                (name, item.as_ref())
             } else {
-                let Some((name, r)) = r.next() else { break };
-                match *r {
-                    Ref::F64(v) => {
-                        head(&mut h, name, 0)?;
-                        words(&mut h, v.iter().map(|x| x.to_bits().to_le_bytes()))?
-                    }
-                    Ref::I32(v) => {
-                        head(&mut h, name, 1)?;
-                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
-                    }
-                    Ref::I64(v) => {
-                        head(&mut h, name, 2)?;
-                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
-                    }
-                    Ref::U32(v) => {
-                        head(&mut h, name, 3)?;
-                        words(&mut h, v.iter().map(|x| x.to_le_bytes()))?
-                    }
-                }
-            }
+                let Some((name, arr)) = r.next() else { break };
+                (name, *arr)
+            };
+            arr.write(&mut h, name)?;
         }
         let sum = h.sum.finalize();
         h.w.write_all(&sum)

@@ -189,20 +189,26 @@ fn kept_candidates_equal_direct_over_many_calls() {
                 ht.push(h[a]);
             }
         }
-        let before = pl.scratch.get_mut().verlet.builds;
-        run(Search { cell: true, dim: 2, nreal, x: &xt, h: &ht, kappa: 2.0, pairs: &mut pl }, R);
-        let got: Vec<(i32, i32)> = pl.i.iter().copied().zip(pl.j.iter().copied()).collect();
-        let want = lists(Backend::Fortran, false, 2, nreal, &xt, &ht, 2.0);
-        assert_eq!(got, want, "call {call}: kept candidates differ from the direct search");
-        if pl.scratch.get_mut().verlet.builds == before {
-            incremental += 1;
-        } else {
+        if verlet_call_matches_direct(&mut pl, 2, nreal, &xt, &ht, call) {
             rebuilds += 1;
+        } else {
+            incremental += 1;
         }
     }
     assert!(incremental > 10 && rebuilds > 1, "both paths taken: {incremental} incremental, {rebuilds} rebuilds");
 }
 
+
+/// One call of the Rust cell search (with its Verlet candidates kept in `pl` between calls) on
+/// `x`, `h`: its pairs equal the direct search's; returns whether the call rebuilt the candidates.
+fn verlet_call_matches_direct(pl: &mut PairList, dim: usize, nreal: usize, x: &[f64], h: &[f64], call: usize) -> bool {
+    let before = pl.scratch.get_mut().verlet.builds;
+    run(Search { cell: true, dim, nreal, x, h, kappa: 2.0, pairs: pl }, R);
+    let got: Vec<(i32, i32)> = pl.i.iter().copied().zip(pl.j.iter().copied()).collect();
+    let want = lists(Backend::Fortran, false, dim, nreal, x, h, 2.0);
+    assert_eq!(got, want, "{dim}D call {call}: kept candidates differ from the direct search");
+    pl.scratch.get_mut().verlet.builds != before
+}
 
 /// The Fortran search's capacity protocol: with room for a third of the pairs it stores the
 /// prefix of the canonical list and returns the full count (the wrapper then grows the lists).
@@ -260,15 +266,10 @@ fn kept_candidates_equal_direct_over_many_calls_3d() {
                 ht.push(h[a]);
             }
         }
-        let before = pl.scratch.get_mut().verlet.builds;
-        run(Search { cell: true, dim: 3, nreal, x: &xt, h: &ht, kappa: 2.0, pairs: &mut pl }, R);
-        let got: Vec<(i32, i32)> = pl.i.iter().copied().zip(pl.j.iter().copied()).collect();
-        let want = lists(Backend::Fortran, false, 3, nreal, &xt, &ht, 2.0);
-        assert_eq!(got, want, "call {call}: kept candidates differ from the direct search");
-        if pl.scratch.get_mut().verlet.builds == before {
-            incremental += 1;
-        } else {
+        if verlet_call_matches_direct(&mut pl, 3, nreal, &xt, &ht, call) {
             rebuilds += 1;
+        } else {
+            incremental += 1;
         }
     }
     assert!(incremental > 10 && rebuilds > 1, "both paths taken: {incremental} incremental, {rebuilds} rebuilds");
