@@ -5,7 +5,7 @@
 
 use super::{MirrorFill, MirrorMake, WallCoef, WallForce};
 use crate::modules::param::{NSTR, Segments, seg_len};
-use crate::modules::{CHUNK, ipow, par_rows, serial};
+use crate::modules::{CHUNK, ipow, par_rows, par_rows2, serial};
 use rayon::prelude::*;
 
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
@@ -329,93 +329,101 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
     }
 }
 
-/// Fills the mirror slots `n..n+ng` of the arrays.
+/// Fills the mirror slots `n..n+ng` of the arrays: each mirror a copy of its source, reflected
+/// in its walls in turn (position and, free-slip, the normal velocity; no-slip, the velocity
+/// reversed; the stress rotated as R τ R, R = I − 2 n nᵀ). One parallel pass per field (the
+/// slots are disjoint, the sources are real particles).
 pub(super) fn mirror_fill(a: &mut MirrorFill) {
     let (dim, n, gsrc, gseg, segs, noslip) = (a.dim, a.n, a.gsrc, a.gseg, a.segs, a.noslip);
-    let with_tau = !a.tau.is_empty();
+    let ng = gsrc.len();
     let (ngen, no) = (2 + dim / 3, seg_len(dim) - dim);
-    for (g, &src) in gsrc.iter().enumerate() {
-        let i = src as usize;
-        let m = n + g;
-        for d in 0..dim {
-            a.x[d + dim * m] = a.x[d + dim * i];
-            a.v[d + dim * m] = a.v[d + dim * i];
-        }
-        a.rho[m] = a.rho[i];
-        a.p[m] = a.p[i];
-        a.c[m] = a.c[i];
-        a.e[m] = a.e[i];
-        a.h[m] = a.h[i];
-        a.mass[m] = a.mass[i];
-        a.mat[m] = a.mat[i];
-        let mut t3 = [[0.0f64; 3]; 3];
-        if with_tau {
-            for al in 0..3 {
-                for be in 0..3 {
-                    t3[al][be] = a.tau[IV[al][be] + NSTR * i];
+    // the walls of mirror g, in order
+    let walls = move |g: usize| {
+        gseg[ngen * g..ngen * g + ngen].iter().filter(|&&s| s >= 0).map(move |&s| segs.get(dim, s as usize))
+    };
+    let src = |g: usize| gsrc[g] as usize;
+    {
+        let (xr, xg) = a.x.split_at_mut(dim * n);
+        let (vr, vg) = a.v.split_at_mut(dim * n);
+        par_rows2(&mut xg[..dim * ng], dim, &mut vg[..dim * ng], dim, |g, xm, vm| {
+            let i = src(g);
+            xm.copy_from_slice(&xr[dim * i..dim * i + dim]);
+            vm.copy_from_slice(&vr[dim * i..dim * i + dim]);
+            for sg in walls(g) {
+                reflect(dim, sg, xm);
+                if !noslip {
+                    let nrm = &sg[no..no + dim];
+                    let mut vn = 0.0;
+                    for d in 0..dim {
+                        vn += vm[d] * nrm[d];
+                    }
+                    for d in 0..dim {
+                        vm[d] -= 2.0 * vn * nrm[d];
+                    }
                 }
             }
-        }
-        for l in 0..ngen {
-            let s = gseg[l + ngen * g];
-            if s < 0 {
-                continue;
+            if noslip {
+                for d in 0..dim {
+                    vm[d] = -vr[d + dim * i];
+                }
             }
-            let sg = segs.get(dim, s as usize);
-            reflect(dim, sg, &mut a.x[dim * m..dim * m + dim]);
+        });
+    }
+    for f in [&mut *a.rho, &mut *a.p, &mut *a.c, &mut *a.e, &mut *a.h, &mut *a.mass] {
+        let (fr, fg) = f.split_at_mut(n);
+        par_rows(&mut fg[..ng], 1, |g, o| o[0] = fr[src(g)]);
+    }
+    for g in 0..ng {
+        a.mat[n + g] = a.mat[src(g)];
+    }
+    if a.tau.is_empty() {
+        return;
+    }
+    let (tr, tg) = a.tau.split_at_mut(NSTR * n);
+    par_rows(&mut tg[..NSTR * ng], NSTR, |g, out| {
+        let i = src(g);
+        let mut t3 = [[0.0f64; 3]; 3];
+        for al in 0..3 {
+            for be in 0..3 {
+                t3[al][be] = tr[IV[al][be] + NSTR * i];
+            }
+        }
+        for sg in walls(g) {
             let mut nrm = [0.0; 3];
             nrm[..dim].copy_from_slice(&sg[no..no + dim]);
-            if !noslip {
-                let mut vn = 0.0;
-                for d in 0..dim {
-                    vn += a.v[d + dim * m] * nrm[d];
-                }
-                for d in 0..dim {
-                    a.v[d + dim * m] -= 2.0 * vn * nrm[d];
-                }
-            }
-            if with_tau {
-                let mut rm = [[0.0f64; 3]; 3];
-                for al in 0..3 {
-                    for be in 0..3 {
-                        rm[al][be] = -2.0 * nrm[al] * nrm[be];
-                        if al == be {
-                            rm[al][be] += 1.0;
-                        }
-                    }
-                }
-                let mut u3 = [[0.0f64; 3]; 3];
-                for al in 0..3 {
-                    for be in 0..3 {
-                        let mut sm = 0.0;
-                        for q in 0..3 {
-                            sm += t3[al][q] * rm[q][be];
-                        }
-                        u3[al][be] = sm;
-                    }
-                }
-                for al in 0..3 {
-                    for be in 0..3 {
-                        let mut sm = 0.0;
-                        for q in 0..3 {
-                            sm += rm[al][q] * u3[q][be];
-                        }
-                        t3[al][be] = sm;
-                    }
-                }
-            }
-        }
-        if noslip {
-            for d in 0..dim {
-                a.v[d + dim * m] = -a.v[d + dim * i];
-            }
-        }
-        if with_tau {
+            let mut rm = [[0.0f64; 3]; 3];
             for al in 0..3 {
-                for be in al..3 {
-                    a.tau[IV[al][be] + NSTR * m] = t3[al][be];
+                for be in 0..3 {
+                    rm[al][be] = -2.0 * nrm[al] * nrm[be];
+                    if al == be {
+                        rm[al][be] += 1.0;
+                    }
+                }
+            }
+            let mut u3 = [[0.0f64; 3]; 3];
+            for al in 0..3 {
+                for be in 0..3 {
+                    let mut sm = 0.0;
+                    for q in 0..3 {
+                        sm += t3[al][q] * rm[q][be];
+                    }
+                    u3[al][be] = sm;
+                }
+            }
+            for al in 0..3 {
+                for be in 0..3 {
+                    let mut sm = 0.0;
+                    for q in 0..3 {
+                        sm += rm[al][q] * u3[q][be];
+                    }
+                    t3[al][be] = sm;
                 }
             }
         }
-    }
+        for al in 0..3 {
+            for be in al..3 {
+                out[IV[al][be]] = t3[al][be];
+            }
+        }
+    });
 }

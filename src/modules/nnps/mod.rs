@@ -143,45 +143,123 @@ impl Scratch {
 ///
 /// The canonical list (sorted by i, every i < j: what every search returns) needs no list for
 /// the pairs where a particle is the `i`: they are one contiguous row of the list, and they come
-/// after every pair where it is the `j` (those have a smaller i, so an earlier row). Only the `j` ends are listed then, one [`Inc`] (8 bytes) per pair. Any other
-/// order (a legacy search) lists both ends of every pair, as [`Inc`]s in ascending pair order,
-/// with empty rows.
+/// after every pair where it is the `j` (those have a smaller i, so an earlier row). Only the `j`
+/// ends are listed then, one [`Inc`] (8 bytes) per pair. Any other order (a legacy search) lists
+/// both ends of every pair, as [`Inc`]s in ascending pair order, with empty rows.
+///
+/// The listed ends are kept in one or more parts, part p holding those of a contiguous range of
+/// pairs (the ranges in ascending order): a particle's listed ends are its ends in part 0, then in
+/// part 1, …, so still in ascending pair order whatever the number of parts (one per thread, up to
+/// four: each part is built by its own thread from its own pairs).
 #[derive(Debug, Clone, Default)]
 pub struct PairList {
     pub i: Vec<i32>,
     pub j: Vec<i32>,
-    inc_start: Vec<u32>,
-    inc: Vec<Inc>,
-    inc_fill: Vec<u32>,
+    parts: Vec<IncPart>,
     row_start: Vec<u32>,
     pub(crate) scratch: Scratch,
 }
 
-/// The pairs touching one particle, in ascending pair order: the listed ends, then the row of
-/// pairs where it is the `i` (see [`PairList`]).
+/// The listed ends of one range of pairs, by particle: particle a's are `inc[start[a]..start[a + 1]]`.
+#[derive(Debug, Clone, Default)]
+struct IncPart {
+    start: Vec<u32>,
+    inc: Vec<Inc>,
+}
+
+impl IncPart {
+    /// Lists the ends of the pairs `pi`, `pj` (the pairs `k0..` of the list) by particle, for
+    /// `ntotal` particles: the `j` ends, and the `i` ends too unless `canonical` (a counting sort;
+    /// an end outside `0..ntotal` is not listed).
+    fn build(&mut self, pi: &[i32], pj: &[i32], k0: usize, canonical: bool, ntotal: usize) {
+        // counts of particle a in start[a + 2]; their sum up to a in start[a + 1] (the first slot
+        // of a); placing moves start[a + 1] to the first slot of a + 1, so it ends as start[a]
+        let slot = |a: i32| usize::try_from(a).ok().filter(|&a| a < ntotal);
+        let start = &mut self.start;
+        start.clear();
+        start.resize(ntotal + 2, 0);
+        for (&a, &b) in pi.iter().zip(pj) {
+            if !canonical && let Some(a) = slot(a) {
+                start[a + 2] += 1;
+            }
+            if let Some(b) = slot(b) {
+                start[b + 2] += 1;
+            }
+        }
+        for a in 1..ntotal + 2 {
+            start[a] += start[a - 1];
+        }
+        let n = start[ntotal + 1] as usize;
+        // (never more than it needs: a list sized for both ends is given back when the pair
+        // list becomes canonical)
+        if self.inc.capacity() > n + n / 4 {
+            self.inc = Vec::new();
+        }
+        self.inc.resize(n, Inc::default());
+        let inc = &mut self.inc;
+        for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
+            let k = (k0 + k) as u32;
+            if !canonical && let Some(ia) = slot(a) {
+                inc[start[ia + 1] as usize] = Inc { k, o: b as u32 | SIDE_I };
+                start[ia + 1] += 1;
+            }
+            if let Some(ib) = slot(b) {
+                inc[start[ib + 1] as usize] = Inc { k, o: a as u32 };
+                start[ib + 1] += 1;
+            }
+        }
+        start.truncate(ntotal + 1);
+    }
+
+    #[inline]
+    fn of(&self, a: usize) -> &[Inc] {
+        &self.inc[self.start[a] as usize..self.start[a + 1] as usize]
+    }
+}
+
+/// The pairs touching one particle, in ascending pair order: the listed ends (part by part),
+/// then the row of pairs where it is the `i` (see [`PairList`]).
 #[derive(Debug, Clone)]
 pub struct Incident<'a> {
-    /// The listed ends.
-    pub list: &'a [Inc],
+    cur: &'a [Inc],
+    more: &'a [IncPart],
+    a: usize,
     /// The row: pairs `rows.start..rows.end`, each with this particle as its `i` and `pj[k]` as
     /// the other.
     pub rows: std::ops::Range<usize>,
     pub pj: &'a [i32],
 }
 
+impl<'a> Incident<'a> {
+    /// The listed ends, as one slice per part (ascending pair order within and across them).
+    #[inline]
+    pub fn listed(&self) -> impl Iterator<Item = &'a [Inc]> + use<'a> {
+        let a = self.a;
+        std::iter::once(self.cur).chain(self.more.iter().map(move |p| p.of(a)))
+    }
+}
+
 impl Iterator for Incident<'_> {
     type Item = Inc;
     #[inline]
     fn next(&mut self) -> Option<Inc> {
-        if let Some((&e, rest)) = self.list.split_first() {
-            self.list = rest;
-            return Some(e);
+        loop {
+            if let Some((&e, rest)) = self.cur.split_first() {
+                self.cur = rest;
+                return Some(e);
+            }
+            let (p, rest) = self.more.split_first().unzip();
+            self.cur = p.map_or(&[][..], |p| p.of(self.a));
+            self.more = rest.unwrap_or(&[]);
+            if p.is_none() {
+                break;
+            }
         }
         let k = self.rows.next()?;
         Some(Inc { k: k as u32, o: self.pj[k] as u32 | SIDE_I })
     }
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.list.len() + self.rows.len();
+        let n = self.listed().map(<[Inc]>::len).sum::<usize>() + self.rows.len();
         (n, Some(n))
     }
 }
@@ -199,11 +277,10 @@ impl PairList {
         self.i.is_empty()
     }
 
-    /// Builds the incidence lists for `ntotal` particles (a counting sort, deterministic). For
+    /// Builds the incidence lists for `ntotal` particles (counting sorts, deterministic). For
     /// every pair k, its `i` end comes before its `j` end in the lists. With more than one
-    /// thread the particles are split into a few ranges, each counting and placing the entries
-    /// of its own particles (every range reads the whole pair list, in order, so each list is
-    /// still in ascending pair order).
+    /// thread the pairs are split into a few contiguous ranges, one part each (see
+    /// [`PairList`]): the lists do not depend on the number of parts.
     pub fn build_incidence(&mut self, ntotal: usize) {
         let np = self.i.len();
         assert_eq!(np, self.j.len(), "pair list: i and j differ in length");
@@ -228,77 +305,32 @@ impl PairList {
         rows.clear();
         rows.resize(ntotal + 1, 0);
         if canonical {
-            // row a: the pairs with i = a
-            for &a in pi {
-                rows[a as usize + 1] += 1;
-            }
-            for a in 0..ntotal {
-                rows[a + 1] += rows[a];
+            // row a: the pairs with i = a, from the first pair with i ≥ a
+            let first = |(c, rc): (usize, &mut [u32])| {
+                let a0 = c * CHUNK;
+                let mut k = pi.partition_point(|&x| (x as usize) < a0);
+                for (a, r) in (a0..).zip(rc) {
+                    while k < np && (pi[k] as usize) < a {
+                        k += 1;
+                    }
+                    *r = k as u32;
+                }
+            };
+            if nr == 1 {
+                rows.chunks_mut(CHUNK).enumerate().for_each(first);
+            } else {
+                rows.par_chunks_mut(CHUNK).enumerate().for_each(first);
             }
         }
-        let rsize = ntotal.div_ceil(nr).max(1);
-        let start = &mut self.inc_start;
-        start.clear();
-        start.resize(ntotal + 1, 0);
-        // counts of range r's particles, in start[a + 1]
-        let count = |(r, cnt): (usize, &mut [u32])| {
-            let a0 = r * rsize;
-            for (&a, &b) in pi.iter().zip(pj) {
-                if !canonical && let Some(c) = (a as usize).checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
-                    *c += 1;
-                }
-                if let Some(c) = (b as usize).checked_sub(a0).and_then(|l| cnt.get_mut(l)) {
-                    *c += 1;
-                }
-            }
+        self.parts.resize_with(nr, IncPart::default);
+        let build = |(r, part): (usize, &mut IncPart)| {
+            let (k0, k1) = (np * r / nr, np * (r + 1) / nr);
+            part.build(&pi[k0..k1], &pj[k0..k1], k0, canonical, ntotal);
         };
         if nr == 1 {
-            count((0, &mut start[1..]));
+            self.parts.iter_mut().enumerate().for_each(build);
         } else {
-            start[1..].par_chunks_mut(rsize).enumerate().for_each(count);
-        }
-        for a in 0..ntotal {
-            start[a + 1] += start[a];
-        }
-        let nlist = start[ntotal] as usize;
-        // (never more than it needs: a list sized for both ends is given back when the pair
-        // list becomes canonical)
-        if self.inc.capacity() > nlist + nlist / 4 {
-            self.inc = Vec::new();
-        }
-        self.inc.resize(nlist, Inc::default());
-        let fill = &mut self.inc_fill;
-        fill.clear();
-        fill.extend_from_slice(&start[..ntotal]);
-        // range r writes the slots of its particles, start[a0] .. start[a1]
-        let mut parts: Vec<(usize, &mut [u32], &mut [Inc])> = Vec::with_capacity(nr);
-        let mut rest = &mut self.inc[..];
-        let mut base = 0usize;
-        for (r, f) in fill.chunks_mut(rsize).enumerate() {
-            let a1 = ((r + 1) * rsize).min(ntotal);
-            let (mine, tail) = std::mem::take(&mut rest).split_at_mut(start[a1] as usize - base);
-            base = start[a1] as usize;
-            parts.push((r, f, mine));
-            rest = tail;
-        }
-        let place = |(r, f, mine): (usize, &mut [u32], &mut [Inc])| {
-            let a0 = r * rsize;
-            let off = f.first().copied().unwrap_or(0) as usize;
-            for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
-                if !canonical && let Some(fp) = (a as usize).checked_sub(a0).and_then(|l| f.get_mut(l)) {
-                    mine[*fp as usize - off] = Inc { k: k as u32, o: b as u32 | SIDE_I };
-                    *fp += 1;
-                }
-                if let Some(fp) = (b as usize).checked_sub(a0).and_then(|l| f.get_mut(l)) {
-                    mine[*fp as usize - off] = Inc { k: k as u32, o: a as u32 };
-                    *fp += 1;
-                }
-            }
-        };
-        if nr == 1 {
-            parts.into_iter().for_each(place);
-        } else {
-            parts.into_par_iter().for_each(place);
+            self.parts.par_iter_mut().enumerate().for_each(build);
         }
     }
 
@@ -311,11 +343,11 @@ impl PairList {
     /// The pairs touching particle `a`, ascending.
     #[inline]
     pub fn incident(&self, a: usize) -> Incident<'_> {
-        Incident {
-            list: &self.inc[self.inc_start[a] as usize..self.inc_start[a + 1] as usize],
-            rows: self.row_start[a] as usize..self.row_start[a + 1] as usize,
-            pj: &self.j,
-        }
+        let (cur, more) = match self.parts.split_first() {
+            Some((p, more)) => (p.of(a), more),
+            None => (&[][..], &[][..]),
+        };
+        Incident { cur, more, a, rows: self.row_start[a] as usize..self.row_start[a + 1] as usize, pj: &self.j }
     }
 }
 
