@@ -274,3 +274,60 @@ fn kept_candidates_equal_direct_over_many_calls_3d() {
     }
     assert!(incremental > 10 && rebuilds > 1, "both paths taken: {incremental} incremental, {rebuilds} rebuilds");
 }
+
+/// The pairs touching each particle, as the gathers read them.
+fn incidence_of(pl: &PairList, n: usize) -> Vec<Vec<(usize, usize, bool)>> {
+    (0..n).map(|a| pl.incident(a).map(|e| (e.pair(), e.other(), e.is_i())).collect()).collect()
+}
+
+#[test]
+fn incidence_lists_do_not_depend_on_the_number_of_threads() {
+    // a canonical list (i ascending, i < j) and a legacy one (any order, both ends listed, with
+    // ends beyond n that must not be listed; the legacy bridge refuses negative indices), each built on 1, 2 and 3 threads
+    let n = 1500;
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut canon = Vec::new();
+    for i in 0..n {
+        for _ in 0..(rng.f() * 12.0) as usize {
+            let j = i + 1 + (rng.f() * 40.0) as usize;
+            if j < n {
+                canon.push((i as i32, j as i32));
+            }
+        }
+    }
+    canon.sort();
+    canon.dedup();
+    let mut legacy: Vec<(i32, i32)> = canon.iter().map(|&(i, j)| if rng.f() < 0.5 { (j, i) } else { (i, j) }).collect();
+    for k in (0..legacy.len()).rev().step_by(97) {
+        legacy.swap(k, (rng.f() * k as f64) as usize);
+    }
+    legacy.push((n as i32 + 3, 7));
+    legacy.push((5, n as i32));
+    assert!(canon.len() > 4096 && legacy.len() > 4096, "too few pairs to split: {}", canon.len());
+    for pairs in [&canon, &legacy] {
+        let build = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut pl = PairList::new(pairs.iter().map(|p| p.0).collect(), pairs.iter().map(|p| p.1).collect());
+                pl.build_incidence(n);
+                incidence_of(&pl, n)
+            })
+        };
+        let one = build(1);
+        // every pair in range at both ends, once at each, in ascending pair order
+        let listed: usize = one.iter().map(Vec::len).sum();
+        let ok = |a: i32| a >= 0 && (a as usize) < n;
+        assert_eq!(listed, pairs.iter().map(|p| ok(p.0) as usize + ok(p.1) as usize).sum::<usize>());
+        for (a, l) in one.iter().enumerate() {
+            assert!(l.windows(2).all(|w| w[0].0 < w[1].0), "particle {a}: not in pair order");
+            for &(k, o, is_i) in l {
+                let (i, j) = pairs[k];
+                let (me, other) = if is_i { (i, j) } else { (j, i) };
+                assert_eq!(me as usize, a);
+                assert!(!ok(other) || other as usize == o);
+            }
+        }
+        assert_eq!(build(2), one);
+        assert_eq!(build(3), one);
+    }
+}
