@@ -23,6 +23,9 @@ pub struct Family {
     pub backend: String,
     pub nnps: String,
     pub kernel: String,
+    /// The thread count, when it is an axis of the matrix (`--threads` as a list).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threads: Option<usize>,
     /// Resolutions that finished.
     pub ks: Vec<f64>,
     /// Blast: the reference, the finest run that finished (a Riemann case's reference is the
@@ -57,7 +60,7 @@ pub fn exact_order(e: [f64; 2], r: f64) -> Option<f64> {
 /// Groups the rows into configurations, fills each row's reference errors, and returns the
 /// configurations with their references and orders.
 pub(super) fn analyse(rows: &mut [Row]) -> Vec<Family> {
-    let mut keys: Vec<(String, String, String, String)> = Vec::new();
+    let mut keys: Vec<super::run::Key> = Vec::new();
     for r in rows.iter() {
         if !keys.contains(&r.family()) {
             keys.push(r.family());
@@ -76,6 +79,7 @@ pub(super) fn analyse(rows: &mut [Row]) -> Vec<Family> {
             backend: key.1.clone(),
             nnps: key.2.clone(),
             kernel: key.3.clone(),
+            threads: key.4,
             ks: ks.clone(),
             reference_k: if crater { ks.last().copied() } else { None },
             second_k: if crater && ks.len() >= 2 { Some(ks[ks.len() - 2]) } else { None },

@@ -43,6 +43,8 @@ pub struct Planned {
     /// Every region holds exactly its unrefined count × k^dim.
     pub count_exact: bool,
     pub sets: Vec<String>,
+    /// The run's own pool of this many threads (`--threads` as a list), else the bench's pool.
+    pub threads: Option<usize>,
     pub dir: PathBuf,
     /// Why the run is skipped.
     pub skip: Option<String>,
@@ -52,8 +54,13 @@ pub(super) fn k_tag(k: f64) -> String {
     format!("{k}")
 }
 
-pub(super) fn family_label(backend: &str, nnps: &str, kernel: &str) -> String {
-    format!("{backend}/{nnps}/{kernel}")
+/// A configuration's label: `backend/search/kernel`, and ` ×N` threads when the thread count is
+/// an axis of the matrix.
+pub(super) fn family_label(backend: &str, nnps: &str, kernel: &str, threads: Option<usize>) -> String {
+    match threads {
+        Some(t) => format!("{backend}/{nnps}/{kernel} ×{t}"),
+        None => format!("{backend}/{nnps}/{kernel}"),
+    }
 }
 
 pub(super) fn read_cases(o: &BenchOptions) -> Result<Vec<CaseFile>> {
@@ -136,29 +143,39 @@ pub(super) fn plan(o: &BenchOptions, cases: &[CaseFile]) -> Result<(Vec<Planned>
                                 o.max_direct_particles
                             )
                         });
-                        let dir = o.out.join(&cf.name).join(format!(
-                            "k{}_{}_{}_{}",
-                            k_tag(*k),
-                            backend.name(),
-                            nnps_name(nnps),
-                            kernel.name()
-                        ));
-                        cells.push(Planned {
-                            case: cf.name.clone(),
-                            ci,
-                            k: *k,
-                            backend,
-                            nnps,
-                            kernel,
-                            refined: refined.clone(),
-                            dx_m: *dx,
-                            particles: *particles,
-                            particles_expected: *expected,
-                            count_exact: *exact,
-                            sets: sets.clone(),
-                            dir,
-                            skip,
-                        });
+                        // the Rust runs once per thread count of a `--threads` list
+                        let per_thread: Vec<Option<usize>> = if backend == Backend::Rust && !o.thread_axis.is_empty() {
+                            o.thread_axis.iter().map(|&t| Some(t)).collect()
+                        } else {
+                            vec![None]
+                        };
+                        for threads in per_thread {
+                            let dir = o.out.join(&cf.name).join(format!(
+                                "k{}_{}_{}_{}{}",
+                                k_tag(*k),
+                                backend.name(),
+                                nnps_name(nnps),
+                                kernel.name(),
+                                threads.map_or(String::new(), |t| format!("_t{t}"))
+                            ));
+                            cells.push(Planned {
+                                case: cf.name.clone(),
+                                ci,
+                                k: *k,
+                                backend,
+                                nnps,
+                                kernel,
+                                refined: refined.clone(),
+                                dx_m: *dx,
+                                particles: *particles,
+                                particles_expected: *expected,
+                                count_exact: *exact,
+                                sets: sets.clone(),
+                                threads,
+                                dir,
+                                skip: skip.clone(),
+                            });
+                        }
                     }
                 }
             }

@@ -151,7 +151,7 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
             c.case,
             k_tag(c.k),
             c.particles,
-            family_label(c.backend.name(), nnps_name(c.nnps), c.kernel.name())
+            family_label(c.backend.name(), nnps_name(c.nnps), c.kernel.name(), c.threads)
         );
         let mut row = run_one(c, &cases[c.ci], o)?;
         let mut runs: Vec<f64> = row.wall_s.into_iter().collect();

@@ -28,8 +28,9 @@ pub struct BenchArgs {
     /// Kernels
     #[arg(long, value_delimiter = ',', default_value = "cubic", value_name = "cubic|gauss|quintic|wendland,..")]
     pub kernels: Vec<String>,
-    /// Worker threads of the Rust modules (the Fortran core is serial)
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    /// Worker threads of the Rust modules (the Fortran core is serial); a list (`1,2`) runs every
+    /// Rust configuration on each, one after the other (the thread count an axis of the matrix)
+    #[arg(long, value_name = "N[,N..]", allow_hyphen_values = true)]
     pub threads: Option<String>,
     /// Stop every run at this time (s) instead of the case's end time
     #[arg(long = "end-time", value_name = "SECONDS", allow_hyphen_values = true)]
@@ -62,7 +63,10 @@ pub struct BenchOptions {
     pub backends: Vec<Backend>,
     pub nnps: Vec<NnpsKind>,
     pub kernels: Vec<KernelKind>,
+    /// The pool's threads: the one `--threads` value, or the largest of a list.
     pub threads: Option<usize>,
+    /// `--threads` as a list of more than one value: each Rust configuration runs on each.
+    pub thread_axis: Vec<usize>,
     pub end_time: Option<f64>,
     pub out: PathBuf,
     pub max_direct_particles: usize,
@@ -137,16 +141,23 @@ impl BenchOptions {
             },
             "must be cubic, gauss, quintic or wendland",
         )?;
-        let threads = match &a.threads {
-            None => None,
-            Some(s) => Some(
-                s.trim()
-                    .parse::<usize>()
-                    .ok()
-                    .filter(|n| *n > 0)
-                    .ok_or_else(|| input(format!("--threads {s}: need a whole number of threads, at least 1")))?,
-            ),
+        let thread_list = match &a.threads {
+            None => Vec::new(),
+            Some(s) => s
+                .split(',')
+                .map(|t| t.trim().parse::<usize>().ok().filter(|n| *n > 0))
+                .collect::<Option<Vec<usize>>>()
+                .filter(|l| !l.is_empty())
+                .ok_or_else(|| {
+                    input(format!("--threads {s}: need whole numbers of threads, at least 1 (e.g. 2, or 1,2)"))
+                })?,
         };
+        let threads = thread_list.iter().copied().max();
+        let mut thread_axis = thread_list;
+        thread_axis.dedup();
+        if thread_axis.len() < 2 {
+            thread_axis.clear();
+        }
         let end_time = match &a.end_time {
             None => None,
             Some(s) => Some(
@@ -196,6 +207,7 @@ impl BenchOptions {
             nnps,
             kernels,
             threads,
+            thread_axis,
             end_time,
             out: a.out.clone(),
             max_direct_particles,

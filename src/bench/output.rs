@@ -358,7 +358,7 @@ pub(super) fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &
                 s,
                 "| {} | {} | {} | {} | - | - | - | - |",
                 fm.case,
-                family_label(&fm.backend, &fm.nnps, &fm.kernel),
+                family_label(&fm.backend, &fm.nnps, &fm.kernel, fm.threads),
                 reference(fm),
                 fm.second_k.map_or("-".into(), k_tag)
             );
@@ -368,7 +368,7 @@ pub(super) fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &
                 s,
                 "| {} | {} | {} | {} | {} | {} | {} | {} |",
                 fm.case,
-                family_label(&fm.backend, &fm.nnps, &fm.kernel),
+                family_label(&fm.backend, &fm.nnps, &fm.kernel, fm.threads),
                 reference(fm),
                 fm.second_k.map_or("-".into(), k_tag),
                 q,

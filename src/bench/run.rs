@@ -1,6 +1,7 @@
 //! One run of the matrix and what it measures.
 
 use crate::error::Result;
+use crate::error::input;
 use serde::Serialize;
 
 use super::matrix::CaseFile;
@@ -47,6 +48,10 @@ pub struct Row {
     pub threads: usize,
     /// The Rust worker pool of the process.
     pub pool_threads: usize,
+    /// The thread count of this row when `--threads` was a list (an axis of the matrix: the
+    /// row's configuration includes it), else absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub thread_axis: Option<usize>,
     pub end_time_s: f64,
     pub steps: Option<u64>,
     pub wall_s: Option<f64>,
@@ -89,12 +94,15 @@ pub struct Row {
     pub pareto: Option<bool>,
 }
 
+/// A configuration: case, backend, search, kernel, and the thread count when it is an axis.
+pub(super) type Key = (String, String, String, String, Option<usize>);
+
 impl Row {
-    pub(super) fn family(&self) -> (String, String, String, String) {
-        (self.case.clone(), self.backend.clone(), self.nnps.clone(), self.kernel.clone())
+    pub(super) fn family(&self) -> Key {
+        (self.case.clone(), self.backend.clone(), self.nnps.clone(), self.kernel.clone(), self.thread_axis)
     }
     pub(super) fn label(&self) -> String {
-        family_label(&self.backend, &self.nnps, &self.kernel)
+        family_label(&self.backend, &self.nnps, &self.kernel, self.thread_axis)
     }
     pub(super) fn ok(&self) -> bool {
         self.status == "ok"
@@ -159,8 +167,22 @@ pub(super) fn load_avg() -> Option<f64> {
     std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
 }
 
+/// Stack of a row's own pool's threads (the run executes on one of them, as on the CLI's pool).
+const STACK_BYTES: usize = 16 << 20;
+
 pub(super) fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Row> {
-    let pool = rayon::current_num_threads();
+    // a row of a `--threads` list runs on its own pool of that many threads
+    let own = match p.threads {
+        Some(t) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .stack_size(STACK_BYTES)
+                .build()
+                .map_err(|e| input(format!("--threads {t}: {e}")))?,
+        ),
+        None => None,
+    };
+    let pool = own.as_ref().map_or_else(rayon::current_num_threads, |p| p.current_num_threads());
     let mut row = Row {
         case: p.case.clone(),
         analysis: analysis_name(p.refined.analysis.kind).into(),
@@ -174,6 +196,7 @@ pub(super) fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Ro
         kernel: p.kernel.name().into(),
         threads: if p.backend == Backend::Fortran { 1 } else { pool },
         pool_threads: pool,
+        thread_axis: p.threads,
         end_time_s: o.end_time.unwrap_or(p.refined.time.end_s),
         steps: None,
         wall_s: None,
@@ -210,14 +233,17 @@ pub(super) fn run_one(p: &Planned, cf: &CaseFile, o: &BenchOptions) -> Result<Ro
             ..Default::default()
         },
         quiet: true,
-        threads: o.threads,
+        threads: p.threads.or(o.threads),
         // the bench's folders are its own: each run replaces its last
         force: true,
         ..Default::default()
     };
     row.load_avg = load_avg();
     let cpu0 = cpu_seconds();
-    let result = runner::run(&cf.path, &opts);
+    let result = match &own {
+        Some(pool) => pool.install(|| runner::run(&cf.path, &opts)),
+        None => runner::run(&cf.path, &opts),
+    };
     row.cpu_s = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
     let summary = match result {
         Ok(r) => r.summary,

@@ -322,8 +322,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
     }
     let np = v.off[nreal] as usize;
     let PairList { i: pi, j: pj, .. } = pl;
-    pi.clear();
-    pj.clear();
+    // (every slot is written below: no clearing, only the length set)
     pi.resize(np, 0);
     pj.resize(np, 0);
     let mut slices: Vec<(usize, &mut [i32], &mut [i32])> = Vec::with_capacity(nchunk);
