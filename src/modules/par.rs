@@ -137,21 +137,19 @@ pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
         let mut sm = 0.0f64;
         let inc = pl.incident(a);
         // the listed ends (the j ends of a canonical list), then the row of pairs with a as i
-        for l in inc.listed() {
-            for r in l {
-                let k = r.pair();
-                let t = &terms[s * k..s * k + s];
-                let m = mass[r.other()];
-                let ms = if r.is_i() { m } else { -m };
-                for d in 0..D {
-                    sa[d] += ms * t[d];
-                }
-                if W > D {
-                    se += m * t[if W > D + 1 && !r.is_i() { D + 1 } else { D }];
-                }
-                if with_max && t[W] > sm {
-                    sm = t[W];
-                }
+        for r in inc.list {
+            let k = r.pair();
+            let t = &terms[s * k..s * k + s];
+            let m = mass[r.other()];
+            let ms = if r.is_i() { m } else { -m };
+            for d in 0..D {
+                sa[d] += ms * t[d];
+            }
+            if W > D {
+                se += m * t[if W > D + 1 && !r.is_i() { D + 1 } else { D }];
+            }
+            if with_max && t[W] > sm {
+                sm = t[W];
             }
         }
         for k in inc.rows {

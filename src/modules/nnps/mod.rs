@@ -147,14 +147,16 @@ impl Scratch {
 /// ends are listed then, one [`Inc`] (8 bytes) per pair. Any other order (a legacy search) lists
 /// both ends of every pair, as [`Inc`]s in ascending pair order, with empty rows.
 ///
-/// The listed ends are kept in one or more parts, part p holding those of a contiguous range of
-/// pairs (the ranges in ascending order): a particle's listed ends are its ends in part 0, then in
-/// part 1, …, so still in ascending pair order whatever the number of parts (one per thread, up to
-/// four: each part is built by its own thread from its own pairs).
+/// With more than one thread the listed ends are first built in parts, part p from a contiguous
+/// range of pairs (the ranges in ascending order) by its own thread, then merged: a particle's
+/// ends from part 0, then part 1, …, so in ascending pair order whatever the number of parts.
 #[derive(Debug, Clone, Default)]
 pub struct PairList {
     pub i: Vec<i32>,
     pub j: Vec<i32>,
+    /// The listed ends, particle a's at `inc.inc[inc.start[a]..inc.start[a + 1]]`.
+    inc: IncPart,
+    /// With more than one thread: the parts built in parallel, then merged into `inc`.
     parts: Vec<IncPart>,
     row_start: Vec<u32>,
     pub(crate) scratch: Scratch,
@@ -217,49 +219,31 @@ impl IncPart {
     }
 }
 
-/// The pairs touching one particle, in ascending pair order: the listed ends (part by part),
-/// then the row of pairs where it is the `i` (see [`PairList`]).
+/// The pairs touching one particle, in ascending pair order: the listed ends, then the row of
+/// pairs where it is the `i` (see [`PairList`]).
 #[derive(Debug, Clone)]
 pub struct Incident<'a> {
-    cur: &'a [Inc],
-    more: &'a [IncPart],
-    a: usize,
+    /// The listed ends.
+    pub list: &'a [Inc],
     /// The row: pairs `rows.start..rows.end`, each with this particle as its `i` and `pj[k]` as
     /// the other.
     pub rows: std::ops::Range<usize>,
     pub pj: &'a [i32],
 }
 
-impl<'a> Incident<'a> {
-    /// The listed ends, as one slice per part (ascending pair order within and across them).
-    #[inline]
-    pub fn listed(&self) -> impl Iterator<Item = &'a [Inc]> + use<'a> {
-        let a = self.a;
-        std::iter::once(self.cur).chain(self.more.iter().map(move |p| p.of(a)))
-    }
-}
-
 impl Iterator for Incident<'_> {
     type Item = Inc;
     #[inline]
     fn next(&mut self) -> Option<Inc> {
-        loop {
-            if let Some((&e, rest)) = self.cur.split_first() {
-                self.cur = rest;
-                return Some(e);
-            }
-            let (p, rest) = self.more.split_first().unzip();
-            self.cur = p.map_or(&[][..], |p| p.of(self.a));
-            self.more = rest.unwrap_or(&[]);
-            if p.is_none() {
-                break;
-            }
+        if let Some((&e, rest)) = self.list.split_first() {
+            self.list = rest;
+            return Some(e);
         }
         let k = self.rows.next()?;
         Some(Inc { k: k as u32, o: self.pj[k] as u32 | SIDE_I })
     }
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.listed().map(<[Inc]>::len).sum::<usize>() + self.rows.len();
+        let n = self.list.len() + self.rows.len();
         (n, Some(n))
     }
 }
@@ -322,16 +306,51 @@ impl PairList {
                 rows.par_chunks_mut(CHUNK).enumerate().for_each(first);
             }
         }
+        if nr == 1 {
+            self.parts = Vec::new();
+            self.inc.build(pi, pj, 0, canonical, ntotal);
+            return;
+        }
         self.parts.resize_with(nr, IncPart::default);
-        let build = |(r, part): (usize, &mut IncPart)| {
+        self.parts.par_iter_mut().enumerate().for_each(|(r, part)| {
             let (k0, k1) = (np * r / nr, np * (r + 1) / nr);
             part.build(&pi[k0..k1], &pj[k0..k1], k0, canonical, ntotal);
-        };
-        if nr == 1 {
-            self.parts.iter_mut().enumerate().for_each(build);
-        } else {
-            self.parts.par_iter_mut().enumerate().for_each(build);
+        });
+        // the merge: particle a's first slot is the sum of its first slots in the parts; ranges
+        // of particles, each copying its particles' ends part by part into its own slice
+        let parts = &self.parts;
+        let start = &mut self.inc.start;
+        start.resize(ntotal + 1, 0);
+        start.par_chunks_mut(CHUNK).enumerate().for_each(|(c, sc)| {
+            for (a, s) in (CHUNK * c..).zip(sc) {
+                *s = parts.iter().map(|p| p.start[a]).sum();
+            }
+        });
+        let n = start[ntotal] as usize;
+        let inc = &mut self.inc.inc;
+        if inc.capacity() > n + n / 4 {
+            *inc = Vec::new();
         }
+        inc.resize(n, Inc::default());
+        let start = &self.inc.start;
+        let mut pieces: Vec<(usize, &mut [Inc])> = Vec::with_capacity(ntotal.div_ceil(CHUNK));
+        let mut rest = &mut inc[..];
+        for c in 0..ntotal.div_ceil(CHUNK) {
+            let (a0, a1) = (CHUNK * c, (CHUNK * c + CHUNK).min(ntotal));
+            let (mine, tail) = std::mem::take(&mut rest).split_at_mut((start[a1] - start[a0]) as usize);
+            pieces.push((a0, mine));
+            rest = tail;
+        }
+        pieces.into_par_iter().for_each(|(a0, mine)| {
+            let mut w = 0;
+            for a in a0..(a0 + CHUNK).min(ntotal) {
+                for p in parts {
+                    let src = p.of(a);
+                    mine[w..w + src.len()].copy_from_slice(src);
+                    w += src.len();
+                }
+            }
+        });
     }
 
     /// Forgets the candidate lists the Rust cell search keeps between calls: to be called when
@@ -343,11 +362,7 @@ impl PairList {
     /// The pairs touching particle `a`, ascending.
     #[inline]
     pub fn incident(&self, a: usize) -> Incident<'_> {
-        let (cur, more) = match self.parts.split_first() {
-            Some((p, more)) => (p.of(a), more),
-            None => (&[][..], &[][..]),
-        };
-        Incident { cur, more, a, rows: self.row_start[a] as usize..self.row_start[a + 1] as usize, pj: &self.j }
+        Incident { list: self.inc.of(a), rows: self.row_start[a] as usize..self.row_start[a + 1] as usize, pj: &self.j }
     }
 }
 
