@@ -567,7 +567,7 @@ pub fn surface_map(
     let zlo = range(&a1[2]).0.max(za - reach).min(za);
     let lims = [(lo[0], hi[0]), (lo[1], hi[1]), (zlo, zb + reach)];
     let voxels: f64 = lims.iter().map(|l| ((l.1 - l.0) / ds).ceil() + 4.0).product();
-    if voxels > 2e8 {
+    if voxels > 5e7 {
         return Err(format!("the scene is {voxels:.1e} cells of {:.1} cm: too many for the surface map", 100.0 * ds));
     }
     let height = |a: &[Vec<f64>; 3]| {
@@ -578,13 +578,15 @@ pub fn surface_map(
     let (nx, ny) = (nc[0], nc[1]);
     let centre = |k: usize| [lo[0] + ((k % nx) as f64 + 0.5) * ds, lo[1] + ((k / nx) as f64 + 0.5) * ds];
     // a charge in a pit of the ground: the original level over it from the nearest cells
-    let covered: Vec<bool> = (0..nx * ny)
-        .map(|k| {
-            let c = centre(k);
-            s0[k].is_finite()
-                && c0.iter().any(|p| (p[0] - c[0]).abs() < 0.5 * ds && (p[1] - c[1]).abs() < 0.5 * ds && p[2] > s0[k])
-        })
-        .collect();
+    let mut charge_top = vec![f64::NEG_INFINITY; nx * ny];
+    for p in &c0 {
+        let (u, v) = ((p[0] - lo[0]) / ds, (p[1] - lo[1]) / ds);
+        if u >= 0.0 && v >= 0.0 && u < nx as f64 && v < ny as f64 {
+            let k = u as usize + nx * v as usize;
+            charge_top[k] = charge_top[k].max(p[2]);
+        }
+    }
+    let covered: Vec<bool> = (0..nx * ny).map(|k| s0[k].is_finite() && charge_top[k] > s0[k]).collect();
     let base = s0.clone();
     for k in (0..nx * ny).filter(|&k| covered[k]) {
         let (i, j) = ((k % nx) as i64, (k / nx) as i64);
