@@ -1,13 +1,14 @@
 //! The blast part of `blastsph report`: crater growth and profile (with the cavity of a
 //! contained charge), ejecta, gauge histories (pressure and particle velocity), peak pressure
 //! against scaled distance, and particle maps: by material, pressure, velocity magnitude and
-//! peak particle velocity. Reference values the case carries (`analysis.thesis_*`) are drawn on
-//! the plots and printed beside ours. `--animate` adds animation.gif.
+//! peak particle velocity; in 3D the crater's plan view (`crater_map.png`). Reference values
+//! the case carries (`analysis.thesis_*`) are drawn on the plots and printed beside ours.
+//! `--animate` adds animation.gif.
 //!
 //! Units on every plot: m, cm, µs, MPa, m/s. Colour maps are viridis (perceptually uniform),
 //! logarithmic for pressure and speeds, with a colour bar in those units.
 
-use crate::analysis::crater::{Crater, CraterInput, explosive_mask, measure_xy, soil_mask, soil_spacing};
+use crate::analysis::crater::{Crater, CraterInput, SurfaceMap, explosive_mask, measure_xy, soil_mask, soil_spacing};
 use crate::case::Case;
 use crate::error::Result;
 use crate::output::Frame;
@@ -19,58 +20,158 @@ use std::path::Path;
 
 /// Crater of every frame: Ok, or the reason it cannot be measured.
 pub fn crater_history(case: &Case, frames: &[Frame]) -> Vec<(f64, std::result::Result<Crater, String>)> {
-    let soil = soil_mask(case);
-    let expl = explosive_mask(case);
     let Some(ds) = soil_spacing(case) else {
         return frames.iter().map(|f| (f.time, Err("no region of a soil material".to_string()))).collect();
     };
     let f0 = &frames[0];
-    let idx0: HashMap<i64, usize> = f0.id.iter().enumerate().map(|(k, id)| (*id, k)).collect();
+    let idx0 = ids(f0);
     // 3D (z up): every point as (r, z) about the charge's vertical axis (crater::measure)
     let d3 = case.dim == 3;
-    let is_expl = |k: usize| expl.get(f0.mat[k] as usize).copied().unwrap_or(false);
     let ax = if d3 {
-        let ch: Vec<(f64, f64)> = (0..f0.x.len()).filter(|&k| is_expl(k)).map(|k| (f0.x[k], f0.y[k])).collect();
-        match crate::analysis::crater::axis_3d(case, &ch) {
+        match axis_of(case, f0) {
             Ok(a) => a,
             Err(why) => return frames.iter().map(|f| (f.time, Err(why.clone()))).collect(),
         }
     } else {
         (0.0, 0.0)
     };
-    let pt = |f: &Frame, k: usize| -> (f64, f64) {
-        if d3 { crate::analysis::crater::about_axis(ax, f.x[k], f.y[k], f.z[k]) } else { (f.x[k], f.y[k]) }
+    let pt = |p: &[f64; 3]| -> (f64, f64) {
+        if d3 { crate::analysis::crater::about_axis(ax, p[0], p[1], p[2]) } else { (p[0], p[1]) }
     };
-    let mut charge0 = (Vec::new(), Vec::new());
-    for k in 0..f0.x.len() {
-        if is_expl(k) {
-            let a = pt(f0, k);
-            charge0.0.push(a.0);
-            charge0.1.push(a.1);
-        }
-    }
+    let charge0: (Vec<f64>, Vec<f64>) = charge_points(case, f0).iter().map(pt).unzip();
     frames
         .iter()
         .map(|f| {
-            let mut inp = CraterInput { charge0: charge0.clone(), ..Default::default() };
-            for i in 0..f.x.len() {
-                if !soil.get(f.mat[i] as usize).copied().unwrap_or(false) {
-                    continue;
-                }
-                if let Some(&k) = idx0.get(&f.id[i]) {
-                    let (a, b) = (pt(f0, k), pt(f, i));
-                    inp.soil0.0.push(a.0);
-                    inp.soil0.1.push(a.1);
-                    inp.soil1.0.push(b.0);
-                    inp.soil1.1.push(b.1);
-                }
-            }
+            let (s0, s1) = soil_points(case, f0, &idx0, f);
+            let mut inp = CraterInput {
+                soil0: s0.iter().map(pt).unzip(),
+                soil1: s1.iter().map(pt).unzip(),
+                charge0: charge0.clone(),
+            };
             if case.axisymmetric() || d3 {
                 inp = inp.through_the_axis();
             }
             (f.time, measure_xy(&inp, ds))
         })
         .collect()
+}
+
+/// Each particle's index in a frame by its id.
+fn ids(f: &Frame) -> HashMap<i64, usize> {
+    f.id.iter().enumerate().map(|(k, id)| (*id, k)).collect()
+}
+
+/// A particle's position (x, y, z; m; z = 0 below 3D).
+fn point(f: &Frame, k: usize) -> [f64; 3] {
+    [f.x[k], f.y[k], f.z.get(k).copied().unwrap_or(0.0)]
+}
+
+/// The explosive's positions in frame `f`.
+fn charge_points(case: &Case, f: &Frame) -> Vec<[f64; 3]> {
+    let expl = explosive_mask(case);
+    (0..f.x.len()).filter(|&k| expl.get(f.mat[k] as usize).copied().unwrap_or(false)).map(|k| point(f, k)).collect()
+}
+
+/// The soil's particles of frame `f` that the first frame `f0` holds (matched by id through
+/// `idx0`, [`ids`] of `f0`): their positions at t = 0 and in `f`.
+fn soil_points(case: &Case, f0: &Frame, idx0: &HashMap<i64, usize>, f: &Frame) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let soil = soil_mask(case);
+    (0..f.x.len())
+        .filter(|&i| soil.get(f.mat[i] as usize).copied().unwrap_or(false))
+        .filter_map(|i| idx0.get(&f.id[i]).map(|&k| (point(f0, k), point(f, i))))
+        .unzip()
+}
+
+/// The vertical axis (x, y; m) of a 3D crater ([`crate::analysis::crater::axis_3d`]) from the
+/// first frame.
+fn axis_of(case: &Case, f0: &Frame) -> std::result::Result<(f64, f64), String> {
+    let ch: Vec<(f64, f64)> = charge_points(case, f0).iter().map(|p| (p[0], p[1])).collect();
+    crate::analysis::crater::axis_3d(case, &ch)
+}
+
+/// The 3D crater of frame `f` as a surface ([`crate::analysis::crater::surface_map`]), the
+/// scene completed across its symmetry planes.
+pub fn surface_map_of(case: &Case, f0: &Frame, f: &Frame) -> std::result::Result<SurfaceMap, String> {
+    let ds = soil_spacing(case).ok_or("no region of a soil material")?;
+    let ax = axis_of(case, f0)?;
+    let (s0, s1) = soil_points(case, f0, &ids(f0), f);
+    let mirrors = crate::analysis::crater::mirror_planes(case, ax, ds);
+    crate::analysis::crater::surface_map(ax, ds, &mirrors, &s0, &s1, &charge_points(case, f0))
+}
+
+/// The plan view of a 3D crater: s − s0 in each cell (cm), the crater's outline and the
+/// charge's axis.
+fn draw_surface_map(path: &Path, case: &Case, t: f64, m: &SurfaceMap) -> Result<()> {
+    let (nx, ny) = (m.x_m.len(), m.y_m.len());
+    let ds = m.cell_m;
+    let cells: Vec<usize> = (0..nx * ny).filter(|&k| m.change_m.get(k).is_some_and(|v| v.is_finite())).collect();
+    let x: Vec<f64> = cells.iter().map(|&k| m.x_m[k % nx]).collect();
+    let y: Vec<f64> = cells.iter().map(|&k| m.y_m[k / nx]).collect();
+    let cm: Vec<f64> = cells.iter().map(|&k| 100.0 * m.change_m[k]).collect();
+    // a scale symmetric about 0 (the undisturbed ground in its middle colour), to a round number
+    let top = cm.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let step = if top > 20.0 {
+        10.0
+    } else if top > 4.0 {
+        2.0
+    } else {
+        0.5
+    };
+    let top = (top / step).ceil().max(1.0) * step;
+    let scale = Scale { lo: -top, hi: top, log: false, label: "s − s0 (cm)".into() };
+    // the outline: the sides between a crater cell and one that is not
+    let inside = |i: i64, j: i64| {
+        i >= 0 && j >= 0 && i < nx as i64 && j < ny as i64 && m.crater_cells[i as usize + nx * j as usize]
+    };
+    let mut ov = plot::Overlay { marks: vec![(m.axis_m[0], m.axis_m[1])], ..Default::default() };
+    for k in (0..nx * ny).filter(|&k| m.crater_cells[k]) {
+        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+        let (xa, xb, ya, yb) =
+            (m.x_m[k % nx] - 0.5 * ds, m.x_m[k % nx] + 0.5 * ds, m.y_m[k / nx] - 0.5 * ds, m.y_m[k / nx] + 0.5 * ds);
+        for (di, dj, side) in [
+            (-1, 0, [(xa, ya), (xa, yb)]),
+            (1, 0, [(xb, ya), (xb, yb)]),
+            (0, -1, [(xa, ya), (xb, ya)]),
+            (0, 1, [(xa, yb), (xb, yb)]),
+        ] {
+            if !inside(i + di, j + dj) {
+                ov.segments.push(side);
+            }
+        }
+    }
+    let pad = 0.02 * ds;
+    let bounds = (
+        (m.x_m[0] - 0.5 * ds - pad, m.x_m[nx - 1] + 0.5 * ds + pad),
+        (m.y_m[0] - 0.5 * ds - pad, m.y_m[ny - 1] + 0.5 * ds + pad),
+    );
+    let side = vec![ds; cells.len()];
+    let what = match &m.note {
+        None => format!(
+            "red: the crater (> {:.1} cm below the original ground), equivalent diameter {} cm; ×: the charge's axis",
+            50.0 * ds,
+            cm1(m.equivalent_diameter_m)
+        ),
+        Some(why) => format!("{why}; ×: the charge's axis"),
+    };
+    plot::map_png(
+        path,
+        &MapSpec {
+            title: format!(
+                "{}  t = {:.0} µs: ground surface s − s0, plan view (cells {:.1} cm)",
+                case.name(),
+                us(t),
+                100.0 * ds
+            ),
+            x: &x,
+            y: &y,
+            side: &side,
+            colouring: Colouring::Field { values: &cm, scale: &scale },
+            bounds,
+            note: Some(what),
+            axes: ["x (m)", "y (m)"],
+            overlay: Some(&ov),
+        },
+    )
 }
 
 /// A gauge's record read back from gauges.csv: (time s, pressure Pa, speed |v| m/s).
@@ -189,6 +290,8 @@ pub fn report(
     // the crater is measured on the whole scene (3D: about the charge's axis); the plots below
     // are drawn on the plane section, in 3D the vertical section through the charge's axis
     let hist = if crater { crater_history(case, frames) } else { Vec::new() };
+    // 3D: the final crater as a surface, on the whole scene
+    let map = if crater && case.dim == 3 { frames.last().map(|f| surface_map_of(case, &frames[0], f)) } else { None };
     let charge = charge_of(case, frames);
     let bubble = bubble_history(case, frames);
     let sections;
@@ -320,6 +423,10 @@ pub fn report(
         )?;
         written.push("crater_profile.png".into());
     }
+    if let Some(Ok(m)) = &map {
+        draw_surface_map(&dir.join("crater_map.png"), case, frames[n - 1].time, m)?;
+        written.push("crater_map.png".into());
+    }
     // gauges
     let gpath = dir.join("gauges.csv");
     let mut peaks_out = Vec::new();
@@ -446,6 +553,7 @@ pub fn report(
                 bounds,
                 note: None,
                 axes,
+                overlay: None,
             },
         )?;
         let pmpa: Vec<f64> = f.p.iter().map(|p| p / 1e6).collect();
@@ -461,6 +569,7 @@ pub fn report(
                 bounds,
                 note: None,
                 axes,
+                overlay: None,
             },
         )?;
         let sp = speeds(f);
@@ -476,6 +585,7 @@ pub fn report(
                 bounds,
                 note: None,
                 axes,
+                overlay: None,
             },
         )?;
         snaps.extend([pm, pp, pv]);
@@ -502,6 +612,7 @@ pub fn report(
                 bounds: ((bounds.0.0, bounds.0.1), (bounds.1.0, yhi + 0.03 * wdt)),
                 note: None,
                 axes,
+                overlay: None,
             },
         )?;
         written.push("ppv_map.png".into());
@@ -521,6 +632,7 @@ pub fn report(
                 bounds,
                 note: None,
                 axes,
+                overlay: None,
             })
             .collect();
         plot::animate(&dir.join("animation.gif"), &maps, 150)?;
@@ -528,7 +640,10 @@ pub fn report(
         println!("animation: {} ({} frames)", dir.join("animation.gif").display(), maps.len());
     }
     // text
-    let (crater_json, growth, gauges) = print_text(case, summary, &hist);
+    let (mut crater_json, growth, gauges) = print_text(case, summary, &hist, map.as_ref());
+    if let (Some(Ok(m)), Some(c)) = (&map, crater_json.as_object_mut()) {
+        c.insert("surface".into(), serde_json::to_value(m).unwrap_or(Value::Null));
+    }
     println!("plots in {}: {}", dir.display(), written.iter().chain(&snaps).cloned().collect::<Vec<_>>().join(", "));
     Ok(json!({
         "crater": crater_json,
@@ -551,6 +666,7 @@ fn print_text(
     case: &Case,
     summary: &Value,
     hist: &[(f64, std::result::Result<Crater, String>)],
+    map: Option<&std::result::Result<SurfaceMap, String>>,
 ) -> (Value, Vec<Value>, Vec<Value>) {
     let last = hist.last().map(|h| h.1.clone());
     let crater_json = match &last {
@@ -607,6 +723,26 @@ fn print_text(
             })
             .collect();
         println!("crater in sections through the charge's axis (the run's end): {}", each.join("; "));
+    }
+    // 3D: the final crater as a surface (crater_map.png)
+    match map {
+        Some(Ok(m)) => match &m.note {
+            None => println!(
+                "crater as a surface (the run's end, cells {:.1} cm, the whole scene): equivalent diameter {} cm (plan area {:.0} cm²), depth {} cm at ({}, {}) cm from the charge's axis, volume {:.2} L, its edge {} to {} cm from the axis",
+                100.0 * m.cell_m,
+                cm1(m.equivalent_diameter_m),
+                m.plan_area_m2 * 1e4,
+                cm1(m.depth_m),
+                cm1(m.deepest_m[0] - m.axis_m[0]),
+                cm1(m.deepest_m[1] - m.axis_m[1]),
+                m.volume_m3 * 1e3,
+                cm1(m.radius_min_m),
+                cm1(m.radius_max_m)
+            ),
+            Some(why) => println!("crater as a surface (the run's end): {why}"),
+        },
+        Some(Err(why)) => println!("crater as a surface: cannot be measured: {why}"),
+        None => {}
     }
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2

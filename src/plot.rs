@@ -362,6 +362,16 @@ pub struct MapSpec<'a> {
     pub note: Option<String>,
     /// Axis titles: "x (m)", "y (m)" in 2D plane; r and z in RZ; x and z on a 3D section.
     pub axes: [&'a str; 2],
+    /// Lines and marks drawn over the map (an outline, a point), if any.
+    pub overlay: Option<&'a Overlay>,
+}
+
+/// What is drawn over a map (m): line segments in red, 2 px wide, and marks as crosses, white
+/// on black so that they show on any colour.
+#[derive(Debug, Clone, Default)]
+pub struct Overlay {
+    pub segments: Vec<[(f64, f64); 2]>,
+    pub marks: Vec<(f64, f64)>,
 }
 
 /// Pixel size of a map of `bounds` at a plot width of `w` pixels.
@@ -395,14 +405,14 @@ where
     if outside > 0 {
         caption += &format!("  ({outside} particles outside the frame)");
     }
-    let mut ch = ChartBuilder::on(&left)
-        .caption(&caption, ("sans-serif", 17))
-        .margin(10)
-        .margin_top(if m.note.is_some() { 30 } else { 10 })
-        .x_label_area_size(40)
-        .y_label_area_size(56)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(perr)?;
+    // with a note, the title and the note under it are written above the chart
+    let mut builder = ChartBuilder::on(&left);
+    builder.margin(10).x_label_area_size(40).y_label_area_size(56);
+    match &m.note {
+        None => builder.caption(&caption, ("sans-serif", 17)),
+        Some(_) => builder.margin_top(50),
+    };
+    let mut ch = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(perr)?;
     ch.configure_mesh()
         .x_desc(m.axes[0])
         .y_desc(m.axes[1])
@@ -421,8 +431,16 @@ where
         Rectangle::new([(m.x[i] - a, m.y[i] - a), (m.x[i] + a, m.y[i] + a)], c.filled())
     }))
     .map_err(perr)?;
+    if let Some(ov) = m.overlay {
+        let red = RGBColor(220, 20, 60);
+        ch.draw_series(ov.segments.iter().map(|s| PathElement::new(s.to_vec(), red.stroke_width(2)))).map_err(perr)?;
+        for (colour, size, width) in [(BLACK, 9, 4), (WHITE, 8, 2)] {
+            ch.draw_series(ov.marks.iter().map(|p| Cross::new(*p, size, colour.stroke_width(width)))).map_err(perr)?;
+        }
+    }
     if let Some(n) = &m.note {
-        left.draw(&Text::new(n.clone(), (70, 34), ("sans-serif", 13).into_font())).map_err(perr)?;
+        left.draw(&Text::new(caption, (66, 8), ("sans-serif", 17).into_font())).map_err(perr)?;
+        left.draw(&Text::new(n.clone(), (66, 31), ("sans-serif", 13).into_font())).map_err(perr)?;
     }
     match &m.colouring {
         Colouring::Material { names, colours, .. } => {

@@ -390,11 +390,28 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
     // the quarter's two symmetry planes: the sections along x and along y read the same crater
     assert_eq!(secs[0]["diameter_m"], secs[2]["diameter_m"], "{secs:?}");
     assert!(secs[0]["diameter_m"].as_f64().unwrap() > 0.1, "a crater by 120 µs: {secs:?}");
+    // the crater as a surface: the whole scene (the quarter and its 3 images) in cells of 23 mm
+    let map = summary(&r)["crater"]["surface"].clone();
+    assert!(map.is_object(), "crater.surface in 3D: {map}");
+    assert!(map["note"].is_null(), "{map}");
+    let num = |k: &str| map[k].as_f64().filter(|v| v.is_finite()).unwrap_or_else(|| panic!("{k}: {map}"));
+    assert_eq!(num("cell_m"), 0.023);
+    assert_eq!(map["cells"], serde_json::json!([48, 48]), "{map}");
+    for k in ["depth_m", "volume_m3", "plan_area_m2", "radius_min_m", "radius_max_m"] {
+        assert!(num(k) > 0.0, "{k}: {map}");
+    }
+    assert!(num("radius_min_m") <= num("radius_max_m"), "{map}");
+    let eq = num("equivalent_diameter_m");
+    assert!((eq - 2.0 * (num("plan_area_m2") / std::f64::consts::PI).sqrt()).abs() < 1e-12, "{map}");
+    // the same crater as the sections' within two cells
+    let mean = secs.iter().map(|s| s["diameter_m"].as_f64().unwrap()).sum::<f64>() / 4.0;
+    assert!((eq - mean).abs() <= 2.0 * 0.023, "equivalent diameter {eq}, sections {secs:?}");
     let o = blastsph(&["report", r.to_str().unwrap()]);
     ok(&o);
     let so = text(&o.stdout);
     assert!(so.contains("sections through the charge's axis"), "{so}");
-    for f in ["peaks.png", "crater_profile.png", "gauges.png", "bubble_growth.png", "ppv_map.png"] {
+    assert!(so.contains("crater as a surface") && so.contains("equivalent diameter"), "{so}");
+    for f in ["peaks.png", "crater_profile.png", "crater_map.png", "gauges.png", "bubble_growth.png", "ppv_map.png"] {
         assert!(r.join(f).exists(), "{f} not drawn:\n{so}");
     }
     let snaps = std::fs::read_dir(&r).unwrap().filter_map(|e| e.ok()).filter(|e| {
