@@ -209,6 +209,45 @@ fn bench_of_the_shock_tube_with_both_backends() {
 }
 
 #[test]
+fn a_list_of_thread_counts_runs_each_rust_configuration_on_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bench");
+    let o = out.to_str().unwrap();
+    let res = blastsph(&[
+        "bench",
+        "--cases",
+        "shock_tube",
+        "--resolutions",
+        "1",
+        "--backends",
+        "rust,fortran",
+        "--threads",
+        "1,2",
+        "--out",
+        o,
+    ]);
+    let shown = format!("stdout:\n{}\nstderr:\n{}", text(&res.stdout), text(&res.stderr));
+    assert_eq!(res.status.code(), Some(0), "{shown}");
+    let (_, rows) = read_csv(&out.join("bench.csv"));
+    // the Rust configuration once per thread count, the (serial) Fortran core once
+    let th: Vec<(&str, &str)> = rows.iter().map(|r| (r["backend"].as_str(), r["threads"].as_str())).collect();
+    assert_eq!(th, [("rust", "1"), ("rust", "2"), ("fortran", "1")], "{shown}");
+    for r in &rows {
+        assert_eq!(r["status"], "ok");
+        assert_eq!(r["steps"], rows[0]["steps"]);
+        for q in ["l1_rho", "l1_v", "l1_p", "l1_e"] {
+            assert_eq!(r[q], rows[0][q], "bitwise the same on 1 and 2 threads and in Fortran ({q})");
+        }
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("rust/cell/cubic ×1") && md.contains("rust/cell/cubic ×2"), "{md}");
+    let js: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).expect("bench.json");
+    assert_eq!(js["configurations"].as_array().map(|a| a.len()), Some(3), "one configuration per thread count");
+    assert!(out.join("shock_tube/k1_rust_cell_cubic_t1").is_dir() && out.join("shock_tube/k1_rust_cell_cubic_t2").is_dir());
+}
+
+#[test]
 fn dry_run_lists_the_matrix_and_the_skipped_runs() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
@@ -247,6 +286,8 @@ fn bad_flags_get_one_line_and_status_2() {
         (vec!["--kernels", "lucy"], "--kernels lucy"),
         (vec!["--cases", "no_such_case"], "no_such_case"),
         (vec!["--threads", "0"], "--threads 0"),
+        (vec!["--threads", "1,x"], "--threads 1,x"),
+        (vec!["--threads", "1,0"], "--threads 1,0"),
         (vec!["--end-time", "-1"], "--end-time -1"),
         (vec!["--resolutions", "-2"], "--resolutions -2"),
         (vec!["--max-direct-particles", "many"], "--max-direct-particles many"),
