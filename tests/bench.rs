@@ -244,7 +244,9 @@ fn a_list_of_thread_counts_runs_each_rust_configuration_on_each() {
     let js: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("bench.json")).unwrap()).expect("bench.json");
     assert_eq!(js["configurations"].as_array().map(|a| a.len()), Some(3), "one configuration per thread count");
-    assert!(out.join("shock_tube/k1_rust_cell_cubic_t1").is_dir() && out.join("shock_tube/k1_rust_cell_cubic_t2").is_dir());
+    assert!(
+        out.join("shock_tube/k1_rust_cell_cubic_t1").is_dir() && out.join("shock_tube/k1_rust_cell_cubic_t2").is_dir()
+    );
 }
 
 #[test]

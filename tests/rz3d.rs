@@ -360,7 +360,8 @@ fn rz_and_3d_compact_charge_agree_at_23_mm() {
 
 /// The same at 23 and 11.5 mm (the 3D run at 11.5 mm is 1.1 × 10⁵ particles, about 3 minutes):
 /// the largest first-pulse impulse difference shrinks (measured 14.9 % → 5.7 %) and is within 7 %
-/// at 11.5 mm; the arrivals within 5 %; the crater within 8 % (measured +3.4 % / +7.0 %). The
+/// at 11.5 mm; the arrivals within 5 %; the crater within 5 % (measured +3.2 % / +3.6 %; the depth
+/// was +7.0 % before the 3D revolution measure's pit test took the column's ±Δs band). The
 /// peaks do not converge to each other (−4.7 … +11.4 % → −13.5 … −3.2 %, the 3D higher on the
 /// axis): stated in docs/validation.md, asserted only within 15 %.
 #[test]
@@ -373,5 +374,5 @@ fn rz_and_3d_compact_charge_agreement_shrinks_with_resolution() {
     assert!(worst(&fine, 2) < 0.07, "impulse difference at 11.5 mm: {}", worst(&fine, 2));
     assert!(worst(&fine, 1) < 0.05, "arrival difference at 11.5 mm: {}", worst(&fine, 1));
     assert!(worst(&fine, 0) < 0.15, "peak difference at 11.5 mm: {}", worst(&fine, 0));
-    assert!(crater[0].abs() < 0.08 && crater[1].abs() < 0.08, "crater RZ/3D − 1 at 11.5 mm: {crater:?}");
+    assert!(crater[0].abs() < 0.05 && crater[1].abs() < 0.05, "crater RZ/3D − 1 at 11.5 mm: {crater:?}");
 }

@@ -15,8 +15,8 @@
 //!   border, enclosed otherwise;
 //! - the original ground surface s0(x) is the same measure at t = 0, except over a charge that
 //!   sits in a pit of the ground (an explosive particle above the soil's top in that column at
-//!   t = 0): there the ground level is interpolated linearly between the nearest columns on each
-//!   side with no explosive above them;
+//!   t = 0, within ±Δs of its centre as its soil is gathered): there the ground level is
+//!   interpolated linearly between the nearest columns on each side with no explosive above them;
 //! - apparent crater depth = max over columns of s0 − s; diameter = width of the run of columns
 //!   around the deepest one whose surface lies more than Δs/2 below the original surface; bowl
 //!   width = the same where it lies more than half the depth below;
@@ -791,7 +791,7 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
         .map(|k| {
             let xc = lo + (k as f64 + 0.5) * ds;
             s0[k].is_finite()
-                && inp.charge0.0.iter().zip(&inp.charge0.1).any(|(x, y)| (x - xc).abs() < 0.5 * ds && *y > s0[k])
+                && inp.charge0.0.iter().zip(&inp.charge0.1).any(|(x, y)| (x - xc).abs() < ds && *y > s0[k])
         })
         .collect();
     if covered.iter().any(|c| *c) {
@@ -1008,6 +1008,45 @@ mod tests {
             }
         }
         v
+    }
+
+    #[test]
+    fn a_quarter_in_revolution_reads_the_ground_over_the_charge_pit_on_the_axis() {
+        // a quarter x, y > 0 of ground at z = 0.4 with a 6 x 6 x 4 cm pit about the axis holding
+        // a charge (its nearest particles Δs/√2 from the axis), later a round bowl 12 cm in radius
+        // and 10 cm deep: measured in revolution (r, z) about the axis, completed through it, the
+        // depth is the bowl's against the ground, not against the pit's floor (before the pit
+        // test took the column's ±Δs band, the column on the axis kept the floor, z = 0.355)
+        let ds = 0.01;
+        let pit = |p: [f64; 3]| p[0].abs() < 0.03 && p[1].abs() < 0.03 && p[2] > 0.36;
+        let bowl = |p: [f64; 3]| (p[0].hypot(p[1]) / 0.12).powi(2) + ((p[2] - 0.4) / 0.1).powi(2) < 1.0;
+        let rz = |pts: Vec<[f64; 3]>| -> (Vec<f64>, Vec<f64>) {
+            pts.iter().map(|p| about_axis((0.0, 0.0), p[0], p[1], p[2])).unzip()
+        };
+        let charge: Vec<[f64; 3]> = (0..4)
+            .flat_map(|k| (0..3).flat_map(move |j| (0..3).map(move |i| (i, j, k))))
+            .map(|(i, j, k)| [(i as f64 + 0.5) * ds, (j as f64 + 0.5) * ds, 0.36 + (k as f64 + 0.5) * ds])
+            .collect();
+        // one more soil particle, deep and far out at r = 45 Δs: the columns then lie centred on
+        // whole multiples of Δs from the axis, one centred on the axis itself, with no charge
+        // particle within Δs/2 of its centre (as on the 3D case's quarter lattice)
+        let with_far = |mut v: Vec<[f64; 3]>| {
+            v.push([45.0 * ds, 0.0, 0.5 * ds]);
+            v
+        };
+        let inp = CraterInput {
+            soil0: rz(with_far(block3(ds, 0, 40, &pit))),
+            soil1: rz(with_far(block3(ds, 0, 40, &bowl))),
+            charge0: rz(charge),
+        }
+        .through_the_axis();
+        let c = measure_xy(&inp, ds).unwrap();
+        let k = c.columns_m.iter().position(|x| x.abs() < 1e-9).expect("a column centred on the axis");
+        assert!((c.surface0_m[k] - 0.395).abs() < 1e-9, "original ground on the axis {}", c.surface0_m[k]);
+        assert!((c.depth_m - 0.10).abs() <= ds, "depth {} (the bowl's 0.10)", c.depth_m);
+        // (the bowl's floor is nearly flat: its deepest column lies within a few cells of the axis)
+        assert!(c.centre_m.abs() <= 4.0 * ds, "deepest column {} from the axis", c.centre_m);
+        assert!((c.diameter_m - 0.24).abs() <= 2.0 * ds, "diameter {}", c.diameter_m);
     }
 
     #[test]
