@@ -290,6 +290,7 @@ fn bad_flags_get_one_line_and_status_2() {
         (vec!["--threads", "0"], "--threads 0"),
         (vec!["--threads", "1,x"], "--threads 1,x"),
         (vec!["--threads", "1,0"], "--threads 1,0"),
+        (vec!["--threads", "1,2,1"], "1 threads twice"),
         (vec!["--end-time", "-1"], "--end-time -1"),
         (vec!["--resolutions", "-2"], "--resolutions -2"),
         (vec!["--max-direct-particles", "many"], "--max-direct-particles many"),

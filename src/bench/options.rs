@@ -152,9 +152,11 @@ impl BenchOptions {
                     input(format!("--threads {s}: need whole numbers of threads, at least 1 (e.g. 2, or 1,2)"))
                 })?,
         };
+        if let Some(t) = thread_list.iter().enumerate().find_map(|(i, t)| thread_list[..i].contains(t).then_some(t)) {
+            return Err(input(format!("--threads {}: {t} threads twice", a.threads.as_deref().unwrap_or(""))));
+        }
         let threads = thread_list.iter().copied().max();
         let mut thread_axis = thread_list;
-        thread_axis.dedup();
         if thread_axis.len() < 2 {
             thread_axis.clear();
         }
