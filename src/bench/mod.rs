@@ -99,12 +99,15 @@ pub(super) fn commit() -> Option<String> {
 pub(super) fn dry_run_text(cells: &[Planned], warnings: &[String]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "blastsph bench --dry-run: {} runs\n", cells.len());
-    let _ = writeln!(s, "| # | case | k | dx (m) | particles | k^dim × unrefined | backend | nnps | kernel | run |");
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "| # | case | k | dx (m) | particles | k^dim × unrefined | backend | nnps | kernel | threads | run |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|");
     for (i, c) in cells.iter().enumerate() {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.4e} | {} | {}{} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {:.4e} | {} | {}{} | {} | {} | {} | {} | {} |",
             i + 1,
             c.case,
             k_tag(c.k),
@@ -115,6 +118,12 @@ pub(super) fn dry_run_text(cells: &[Planned], warnings: &[String]) -> String {
             c.backend.name(),
             nnps_name(c.nnps),
             c.kernel.name(),
+            // the run's own pool, the Fortran core's one, or the bench's pool
+            match (c.threads, c.backend) {
+                (Some(t), _) => t.to_string(),
+                (None, crate::modules::Backend::Fortran) => "1".into(),
+                (None, _) => "pool".into(),
+            },
             match &c.skip {
                 Some(w) => format!("skipped: {w}"),
                 None => c.dir.display().to_string(),
