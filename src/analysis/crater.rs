@@ -539,7 +539,7 @@ pub fn sections_3d(
 /// ground's height on a horizontal grid of `ds` × `ds` cells covering the soil at t = 0, each
 /// cell read as a 2D column ([`measure_xy`]) on the particles within ±ds of its centre along x
 /// and y, with the enclosed voids on a voxel raster; at t = 0 a cell with an explosive particle
-/// over its footprint above the soil (a charge in a pit) takes the mean original height of the
+/// within ±Δs of its centre (x and y) above the soil (a charge in a pit) takes the mean original height of the
 /// nearest cells (the nearest square ring of cells around it) that have none. The crater is the
 /// region of cells deeper than ds/2, connected through their sides to the deepest cell.
 pub fn surface_map(
@@ -578,12 +578,27 @@ pub fn surface_map(
     let (nx, ny) = (nc[0], nc[1]);
     let centre = |k: usize| [lo[0] + ((k % nx) as f64 + 0.5) * ds, lo[1] + ((k / nx) as f64 + 0.5) * ds];
     // a charge in a pit of the ground: the original level over it from the nearest cells
+    // (the charge over a cell: within ±Δs of its centre along x and y, the band its soil is
+    // gathered from, as for a 2D column)
     let mut charge_top = vec![f64::NEG_INFINITY; nx * ny];
+    // the cells i whose centre i + 1/2 lies within 1 of u (in cells): floor(u − 1/2) and the next
+    let near = |u: f64, n: usize| {
+        let i0 = (u - 0.5).floor() as i64;
+        [i0, i0 + 1]
+            .into_iter()
+            .filter(move |&i| i >= 0 && i < n as i64 && (i as f64 + 0.5 - u).abs() < 1.0)
+            .map(|i| i as usize)
+    };
     for p in &c0 {
         let (u, v) = ((p[0] - lo[0]) / ds, (p[1] - lo[1]) / ds);
-        if u >= 0.0 && v >= 0.0 && u < nx as f64 && v < ny as f64 {
-            let k = u as usize + nx * v as usize;
-            charge_top[k] = charge_top[k].max(p[2]);
+        if !(u.is_finite() && v.is_finite()) {
+            continue;
+        }
+        for j in near(v, ny) {
+            for i in near(u, nx) {
+                let k = i + nx * j;
+                charge_top[k] = charge_top[k].max(p[2]);
+            }
         }
     }
     let covered: Vec<bool> = (0..nx * ny).map(|k| s0[k].is_finite() && charge_top[k] > s0[k]).collect();

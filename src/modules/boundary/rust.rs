@@ -329,6 +329,21 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
     }
 }
 
+/// The 3 × 3 product a b, each entry summed over q = 0, 1, 2 from +0 (the Fortran's order).
+fn mul3(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0f64; 3]; 3];
+    for al in 0..3 {
+        for be in 0..3 {
+            let mut sm = 0.0;
+            for q in 0..3 {
+                sm += a[al][q] * b[q][be];
+            }
+            c[al][be] = sm;
+        }
+    }
+    c
+}
+
 /// Fills the mirror slots `n..n+ng` of the arrays: each mirror a copy of its source, reflected
 /// in its walls in turn (position and, free-slip, the normal velocity; no-slip, the velocity
 /// reversed; the stress rotated as R τ R, R = I − 2 n nᵀ). One parallel pass per field (the
@@ -400,25 +415,7 @@ pub(super) fn mirror_fill(a: &mut MirrorFill) {
                     }
                 }
             }
-            let mut u3 = [[0.0f64; 3]; 3];
-            for al in 0..3 {
-                for be in 0..3 {
-                    let mut sm = 0.0;
-                    for q in 0..3 {
-                        sm += t3[al][q] * rm[q][be];
-                    }
-                    u3[al][be] = sm;
-                }
-            }
-            for al in 0..3 {
-                for be in 0..3 {
-                    let mut sm = 0.0;
-                    for q in 0..3 {
-                        sm += rm[al][q] * u3[q][be];
-                    }
-                    t3[al][be] = sm;
-                }
-            }
+            t3 = mul3(&rm, &mul3(&t3, &rm));
         }
         for al in 0..3 {
             for be in al..3 {
