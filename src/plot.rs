@@ -374,11 +374,15 @@ pub struct Overlay {
     pub marks: Vec<(f64, f64)>,
 }
 
-/// Pixel size of a map of `bounds` at a plot width of `w` pixels.
+/// Pixel size of a map of `bounds` at a width of `w` pixels for the map's part (without the
+/// colour bar): the plotting area's height is set so that a metre along y is as long as a metre
+/// along x (the chart takes 2 × 10 px of margins and 56 px of y labels from the width, 40 px of x
+/// labels and 10 + 50 px of margins, or a title, from the height; see [`draw_map`]).
 pub fn map_size(bounds: ((f64, f64), (f64, f64)), w: u32) -> (u32, u32) {
     let ((x0, x1), (y0, y1)) = bounds;
-    let plot_h = ((w as f64) * (y1 - y0) / (x1 - x0)).clamp(200.0, 1400.0) as u32;
-    (w + 260, plot_h + 110)
+    let plot_w = w.saturating_sub(66) as f64;
+    let plot_h = (plot_w * (y1 - y0) / (x1 - x0)).clamp(200.0, 1400.0) as u32;
+    (w + 260, plot_h + 102)
 }
 
 /// Draws a particle map on `area` (which [`map_size`] sized): the map on the left, the colour
