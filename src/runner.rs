@@ -124,6 +124,13 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
         }
     };
     let sim = Sim::new(case, &opts.ov)?;
+    if !opts.quiet {
+        // the settings known to fail, as `blastsph check` lists them
+        for w in crate::advice::warnings(&sim.case).into_iter().chain(crate::advice::deposit_warning(&sim.case, &sim.p))
+        {
+            eprintln!("warning: {w}");
+        }
+    }
     rundir::prepare(&dir, clear)?;
     Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
