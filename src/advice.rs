@@ -92,7 +92,10 @@ pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
     if hot.is_empty() || hot.len() > 32 || hot.len() * 50 > n {
         return None;
     }
-    let dx = p.h0[hot[0]] / case.sph.h_over_dx;
+    let dx = p.h[hot[0]] / case.sph.h_over_dx;
+    if !(dx > 0.0 && dx.is_finite()) {
+        return None;
+    }
     let mut c = vec![0.0; d];
     for &i in &hot {
         for k in 0..d {
@@ -249,6 +252,9 @@ mod tests {
         assert!(w.as_deref().is_some_and(|l| l.contains("1 hot particle ") && l.contains("h_over_dx = 1.2")), "{w:?}");
         // the nine of a 3 x 3 block about it (41 x 41) are centred on it too; at h = 1.2 dx no warning
         assert!(deposit(2, 41, -0.15, 0.15, -2.05, "").is_some_and(|l| l.contains("9 hot particles")));
+        // whatever the smoothing-length rule (the thesis's "rate" keeps no initial h0)
+        assert!(deposit(2, 21, -0.05, 0.05, -1.05, "[sph]\nsmoothing = \"rate\"").is_some());
+        assert!(deposit(2, 21, -0.05, 0.05, -1.05, "[sph]\nsmoothing = \"constant\"").is_some());
         assert!(deposit(2, 21, -0.05, 0.05, -1.05, "[sph]\nh_over_dx = 1.2").is_none());
         // 20 x 20 from -1.0: the four about the origin (a lattice corner)
         assert!(deposit(2, 20, -0.1, 0.1, -1.0, "").is_none());
