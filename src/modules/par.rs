@@ -112,7 +112,23 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
     acc: &mut [f64],
     e: &mut [f64],
 ) {
-    gather_signed_max::<D, W>(pl, terms, W, mass, scale, acc, e, &mut []);
+    gather_core::<D, W, false>(pl, terms, W, mass, scale, acc, e, &mut [], (&[], 0));
+}
+
+/// [`gather_signed`] with W = D + 1 whose energy term is completed by a per-particle factor of
+/// the receiving end: `e += m_other (f_a t[D])` at either end a, f_a = `own[stride a]` (the
+/// product formed first, as a pair term f_a t[D] would have been: the same IEEE operations).
+pub(crate) fn gather_signed_own<const D: usize, const W: usize>(
+    pl: &nnps::PairList,
+    terms: &[f64],
+    mass: &[f64],
+    own: &[f64],
+    stride: usize,
+    acc: &mut [f64],
+    e: &mut [f64],
+) {
+    assert!(W == D + 1, "a per-particle energy factor needs one energy column");
+    gather_core::<D, W, true>(pl, terms, W, mass, None, acc, e, &mut [], (own, stride));
 }
 
 /// [`gather_signed`] over pair rows of `s` ≥ W values (the terms first); when s > W and `mx` is
@@ -129,12 +145,30 @@ pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
     e: &mut [f64],
     mx: &mut [f64],
 ) {
+    gather_core::<D, W, false>(pl, terms, s, mass, scale, acc, e, mx, (&[], 0));
+}
+
+/// The gathers above; OWN: the energy term times the receiving end's `own.0[own.1 a]` (a
+/// separate instance, so that the other gathers' loops carry no test for it).
+#[allow(clippy::too_many_arguments)]
+fn gather_core<const D: usize, const W: usize, const OWN: bool>(
+    pl: &nnps::PairList,
+    terms: &[f64],
+    s: usize,
+    mass: &[f64],
+    scale: Option<f64>,
+    acc: &mut [f64],
+    e: &mut [f64],
+    mx: &mut [f64],
+    own: (&[f64], usize),
+) {
     assert!(s >= W, "pair rows of {s} values, fewer than the {W} terms");
     let with_max = s > W && !mx.is_empty();
     let body = |a: usize, acc: &mut [f64], e: &mut [f64], mx: &mut [f64]| {
         let mut sa = [0.0f64; D];
         let mut se = 0.0;
         let mut sm = 0.0f64;
+        let fa = if OWN { own.0[own.1 * a] } else { 0.0 };
         let inc = pl.incident(a);
         // the listed ends (the j ends of a canonical list), then the row of pairs with a as i
         for r in inc.list {
@@ -146,7 +180,8 @@ pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
                 sa[d] += ms * t[d];
             }
             if W > D {
-                se += m * t[if W > D + 1 && !r.is_i() { D + 1 } else { D }];
+                let te = t[if W > D + 1 && !r.is_i() { D + 1 } else { D }];
+                se += m * if OWN { fa * te } else { te };
             }
             if with_max && t[W] > sm {
                 sm = t[W];
@@ -159,7 +194,7 @@ pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
                 sa[d] += m * t[d];
             }
             if W > D {
-                se += m * t[D];
+                se += m * if OWN { fa * t[D] } else { t[D] };
             }
             if with_max && t[W] > sm {
                 sm = t[W];

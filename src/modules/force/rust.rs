@@ -2,7 +2,8 @@
 //! expression (p_i/ρ_i², and (τ_i − p_i δ)/ρ_i² with strength; the same operations, so the same
 //! values) are computed once per particle; one parallel pass over the pairs then forms each pair's
 //! force term f (their sums in the Fortran's order, i and j in pair order) and energy term
-//! ½ p̄ v_ij·∇W into a reused buffer; one parallel pass over the particles then adds, over each
+//! ½ p̄ v_ij·∇W (in the plane asymmetric form v_ij·∇W alone: the gather multiplies it by the
+//! receiving end's own p/ρ², the product the Fortran forms per pair) into a reused buffer; one parallel pass over the particles then adds, over each
 //! particle's pairs in ascending pair order (the Fortran's scatter order), ∓ m_other f and
 //! m_other × the energy term, writing both outputs. Where the Fortran subtracts m f, the buffer
 //! holds −f and the gather adds (x − m f and x + m (−f) are the same IEEE operation). 0 ULP,
@@ -10,13 +11,14 @@
 
 use super::Internal;
 use crate::modules::param::NSTR;
-use crate::modules::{by_dim, gather_signed, par_rows};
+use crate::modules::{by_dim, gather_signed, gather_signed_own, par_rows};
 
 const IV: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
 
 pub(super) fn internal(a: &mut Internal) {
-    // two energy columns (one per end) in the asymmetric form and in RZ
-    if a.asym || !a.rinv.is_empty() { by_dim!(a.dim, 2, run(a)) } else { by_dim!(a.dim, 1, run(a)) }
+    // two energy columns (one per end) in RZ; in plane geometry one: ½ p̄ v_ij·∇W, or in the
+    // asymmetric form v_ij·∇W, which the gather multiplies by the receiving end's own p/ρ²
+    if !a.rinv.is_empty() { by_dim!(a.dim, 2, run(a)) } else { by_dim!(a.dim, 1, run(a)) }
 }
 
 fn run<const D: usize, const W: usize>(a: &mut Internal) {
@@ -89,13 +91,16 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
                 t[D] = 0.5 * pr * vdi;
                 t[D + 1] = 0.5 * pr * vdj;
             }
-        } else if W == D + 1 {
-            t[D] = 0.5 * pr * vd;
+        } else if asym {
+            // the asymmetric form: each end its own p/ρ² times v_ij·∇W (the gather's factor)
+            t[D] = vd;
         } else {
-            // the asymmetric form: each end its own p/ρ² times v_ij·∇W
-            t[D] = si[0] * vd;
-            t[D + 1] = sj[0] * vd;
+            t[D] = 0.5 * pr * vd;
         }
     });
-    gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
+    if asym && !rz {
+        gather_signed_own::<D, W>(pl, &buf.pair, mass, sig, wp, dvdt, dedt);
+    } else {
+        gather_signed::<D, W>(pl, &buf.pair, mass, None, dvdt, dedt);
+    }
 }
