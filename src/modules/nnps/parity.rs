@@ -148,6 +148,49 @@ fn cell_search_equals_direct() {
         assert_eq!(lists(Backend::Rust, true, 1, 6, &x, &h, 2.0), want);
     }
 }
+/// Ejecta: a lattice with about 4 % of its particles thrown far above it (up to 60 m over a box
+/// 0.3 m wide), some of them in small groups within each other's reach: the cell grid keeps
+/// its cells and lets the far ones fall into its border cells; the list is still the Fortran's
+/// direct one.
+#[test]
+fn cell_search_with_far_ejecta_equals_direct() {
+    let mut rng = Rng(0x2545_F491_4F6C_DD1D);
+    for dim in 2..=3 {
+        let side: usize = [0, 0, 30, 10][dim];
+        let n = side.pow(dim as u32);
+        let mut x = Vec::new();
+        for i in 0..n {
+            let mut r = i;
+            for _ in 0..dim {
+                x.push(0.01 * (r % side) as f64);
+                r /= side;
+            }
+        }
+        let mut h = vec![0.01; n];
+        let far = n / 25;
+        for g in 0..far {
+            // a group leader far up, and every third one with a partner 0.5 h away
+            let base: Vec<f64> = (0..dim)
+                .map(|d| if d == dim - 1 { 1.0 + 59.0 * rng.f() } else { 0.3 * rng.f() - 0.1 + 5.0 * (rng.f() - 0.5) })
+                .collect();
+            x.extend(&base);
+            h.push(0.01 * (1.0 + rng.f()));
+            if g % 3 == 0 {
+                x.extend(base.iter().enumerate().map(|(d, &b)| if d == 0 { b + 0.005 } else { b }));
+                h.push(0.01);
+            }
+        }
+        let nt = h.len();
+        let nreal = nt - 3;
+        for kappa in [2.0, 3.0] {
+            let want = lists(Backend::Fortran, false, dim, nreal, &x, &h, kappa);
+            let far_pairs = want.iter().filter(|&&(i, _)| i as usize >= n).count();
+            assert!(far_pairs >= far / 3 - 1, "{dim}D: {far_pairs} pairs among the ejecta");
+            assert_eq!(lists(Backend::Rust, true, dim, nreal, &x, &h, kappa), want, "{dim}D kappa {kappa}");
+        }
+    }
+}
+
 /// The candidate lists kept between calls give the Fortran's list at every call: a 2D cloud
 /// whose particles mostly drift slowly, a few jump far (fast), some h grow, and a changing
 /// set of virtual particles is appended each call.

@@ -1,7 +1,7 @@
 //! Verlet candidate lists kept between calls of the Rust cell search.
 
 use super::PairList;
-use super::rust::{Out, grid_dims, offsets, rust_cell, rust_cell_d, tasks};
+use super::rust::{Out, grid_dims, offsets, rust_cell, rust_cell_d, tasks, trim_box};
 use crate::modules::{CHUNK, serial};
 use rayon::prelude::*;
 
@@ -210,7 +210,9 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
             }
             hmax = hmax.max(pm);
         }
-        let (inv, nc) = grid_dims::<D>(&lo, &hi, 0.5 * kappa * (hsum / nreal as f64), nreal);
+        let cs = 0.5 * kappa * (hsum / nreal as f64);
+        trim_box::<D>(x, nreal, cs, &mut lo, &mut hi);
+        let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nreal);
         let ncell = nc[0] * nc[1] * nc[2];
         let cell_at = |p: &[f64]| -> [usize; 3] {
             let mut c = [0usize; 3];
