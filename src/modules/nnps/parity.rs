@@ -188,6 +188,16 @@ fn cell_search_with_far_ejecta_equals_direct() {
             assert!(far_pairs >= far / 3 - 1, "{dim}D: {far_pairs} pairs among the ejecta");
             assert_eq!(lists(Backend::Rust, true, dim, nreal, &x, &h, kappa), want, "{dim}D kappa {kappa}");
         }
+        // the Verlet lists (their second grid, for fast particles and the 3 virtual ones), over
+        // calls in which the ejecta fly on (fast) and the lattice barely moves
+        let mut pl = PairList::default();
+        for call in 0..6 {
+            for a in 0..nreal {
+                let step = if a >= n { 0.02 } else { 0.0001 };
+                x[dim * a + dim - 1] += step * rng.f();
+            }
+            verlet_call_matches_direct(&mut pl, dim, nreal, &x, &h, call);
+        }
     }
 }
 
