@@ -3,7 +3,8 @@
 //! values) are computed once per particle; one parallel pass over the pairs then forms each pair's
 //! force term f (their sums in the Fortran's order, i and j in pair order) and energy term
 //! ½ p̄ v_ij·∇W (in the plane asymmetric form v_ij·∇W alone: the gather multiplies it by the
-//! receiving end's own p/ρ², the product the Fortran forms per pair) into a reused buffer; one parallel pass over the particles then adds, over each
+//! receiving end's own p/ρ², the product the Fortran forms per pair) into a reused buffer; one
+//! parallel pass over the particles then adds, over each
 //! particle's pairs in ascending pair order (the Fortran's scatter order), ∓ m_other f and
 //! m_other × the energy term, writing both outputs. Where the Fortran subtracts m f, the buffer
 //! holds −f and the gather adds (x − m f and x + m (−f) are the same IEEE operation). 0 ULP,

@@ -223,9 +223,9 @@ pub(super) fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n
 /// grid's box shrinks to the 1st … 99th percentile of the particles along each axis (2 cells of
 /// margin): the others fall into its border cells. Every pair is still found (the cell map
 /// clamps to the border, so it stays monotone in x and a box query still covers every partner),
-/// while the cells keep their edge instead of doubling until the sparse box fits: one ejecta
-/// particle 65 m up made the grid's cells 8 times wider, and every particle's candidates 64
-/// times more.
+/// while the cells keep their edge instead of doubling until the sparse box fits (ejecta
+/// hundreds of metres up made a crater run's search 9 times slower: docs/performance.md, "Far
+/// ejecta and the search grid").
 pub(super) fn trim_box<const D: usize>(x: &[f64], nt: usize, cs: f64, lo: &mut [f64; 3], hi: &mut [f64; 3]) {
     let cells = |lo: &[f64; 3], hi: &[f64; 3]| -> u64 {
         (0..D).fold(1u64, |p, d| p.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1)))
