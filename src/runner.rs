@@ -124,14 +124,15 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
         }
     };
     let sim = Sim::new(case, &opts.ov)?;
+    rundir::prepare(&dir, clear)?;
     if !opts.quiet {
-        // the settings known to fail, as `blastsph check` lists them
+        // the settings known to fail, as `blastsph check` lists them (once the run directory is
+        // ready: a refused run stays one line)
         for w in crate::advice::warnings(&sim.case).into_iter().chain(crate::advice::deposit_warning(&sim.case, &sim.p))
         {
             eprintln!("warning: {w}");
         }
     }
-    rundir::prepare(&dir, clear)?;
     Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
 
