@@ -86,8 +86,7 @@ pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
     if es.len() < n {
         return None;
     }
-    es.sort_by(f64::total_cmp);
-    let med = es[n / 2].max(f64::MIN_POSITIVE);
+    let med = es.select_nth_unstable_by(n / 2, f64::total_cmp).1.max(f64::MIN_POSITIVE);
     let hot: Vec<usize> = (0..n).filter(|&i| p.e[i] > 100.0 * med).collect();
     if hot.is_empty() || hot.len() > 32 || hot.len() * 50 > n {
         return None;
