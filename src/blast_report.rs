@@ -342,14 +342,28 @@ pub fn report(
         }
     }
     if crater && !ok_hist.is_empty() {
-        let grow = vec![
+        let mut grow = vec![
             ("diameter (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect()),
             ("depth (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
-            (
-                "ejecta height (cm)".to_string(),
-                ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect::<Vec<_>>(),
-            ),
         ];
+        let ejecta: Vec<(f64, f64)> = ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect();
+        // ejecta flying far above a crater (a long run: metres against decimetres) would flatten
+        // the crater's curves: then they get a plot of their own
+        let widest = ok_hist.iter().map(|(_, c)| c.diameter_m).fold(0.0, f64::max);
+        let ejecta_apart = ok_hist.iter().any(|(_, c)| c.ejecta_height_m > 5.0 * widest);
+        if ejecta_apart {
+            plot::lines(
+                &dir.join("ejecta_height.png"),
+                &format!("{}: ejecta height (the highest soil particle above the original ground)", case.name()),
+                "t (µs)",
+                "cm",
+                &[("ejecta height (cm)".to_string(), ejecta)],
+                false,
+            )?;
+            written.push("ejecta_height.png".into());
+        } else {
+            grow.push(("ejecta height (cm)".to_string(), ejecta));
+        }
         let mut refs = Vec::new();
         let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
         let mut dref: Vec<(f64, f64)> = rows.iter().map(|r| (us(r[0]), 100.0 * r[1])).collect();
@@ -370,8 +384,9 @@ pub fn report(
         plot::lines_with_refs(
             &dir.join("crater_growth.png"),
             &format!(
-                "{}: apparent crater and ejecta{}",
+                "{}: apparent crater{}{}",
                 case.name(),
+                if ejecta_apart { " (ejecta: ejecta_height.png)" } else { " and ejecta" },
                 if refs.is_empty() { "" } else { " (thesis values as triangles)" }
             ),
             "t (µs)",

@@ -112,7 +112,7 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
     acc: &mut [f64],
     e: &mut [f64],
 ) {
-    gather_core::<D, W, false>(pl, terms, W, mass, scale, acc, e, &mut [], (&[], 0));
+    gather_signed_max::<D, W, false>(pl, terms, W, mass, scale, acc, e, &mut [], (&[], 0));
 }
 
 /// [`gather_signed`] with W = D + 1 whose energy term is completed by a per-particle factor of
@@ -128,30 +128,16 @@ pub(crate) fn gather_signed_own<const D: usize, const W: usize>(
     e: &mut [f64],
 ) {
     assert!(W == D + 1, "a per-particle energy factor needs one energy column");
-    gather_core::<D, W, true>(pl, terms, W, mass, None, acc, e, &mut [], (own, stride));
+    gather_signed_max::<D, W, true>(pl, terms, W, mass, None, acc, e, &mut [], (own, stride));
 }
 
 /// [`gather_signed`] over pair rows of `s` ≥ W values (the terms first); when s > W and `mx` is
 /// not empty, also `mx[a]` = the largest `t[W]` over particle a's pairs, from +0 (`t[W] > m`
-/// replaces m: a maximum, whatever the order).
+/// replaces m: a maximum, whatever the order). OWN: the energy term times the receiving end's
+/// `own.0[own.1 a]` ([`gather_signed_own`]); a const, so that the other gathers' loops carry no
+/// test for it.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn gather_signed_max<const D: usize, const W: usize>(
-    pl: &nnps::PairList,
-    terms: &[f64],
-    s: usize,
-    mass: &[f64],
-    scale: Option<f64>,
-    acc: &mut [f64],
-    e: &mut [f64],
-    mx: &mut [f64],
-) {
-    gather_core::<D, W, false>(pl, terms, s, mass, scale, acc, e, mx, (&[], 0));
-}
-
-/// The gathers above; OWN: the energy term times the receiving end's `own.0[own.1 a]` (a
-/// separate instance, so that the other gathers' loops carry no test for it).
-#[allow(clippy::too_many_arguments)]
-fn gather_core<const D: usize, const W: usize, const OWN: bool>(
+pub(crate) fn gather_signed_max<const D: usize, const W: usize, const OWN: bool>(
     pl: &nnps::PairList,
     terms: &[f64],
     s: usize,

@@ -226,7 +226,15 @@ pub(super) fn grid_dims<const D: usize>(lo: &[f64; 3], hi: &[f64; 3], cs: f64, n
 /// while the cells keep their edge instead of doubling until the sparse box fits (ejecta
 /// hundreds of metres up made a crater run's search 9 times slower: docs/performance.md, "Far
 /// ejecta and the search grid").
-pub(super) fn trim_box<const D: usize>(x: &[f64], nt: usize, cs: f64, lo: &mut [f64; 3], hi: &mut [f64; 3]) {
+/// `v` is scratch (kept by the caller: this runs every step of a run with far ejecta).
+pub(super) fn trim_box<const D: usize>(
+    x: &[f64],
+    nt: usize,
+    cs: f64,
+    lo: &mut [f64; 3],
+    hi: &mut [f64; 3],
+    v: &mut Vec<f64>,
+) {
     let cells = |lo: &[f64; 3], hi: &[f64; 3]| -> u64 {
         (0..D).fold(1u64, |p, d| p.saturating_mul((((hi[d] - lo[d]) / cs) as u64).saturating_add(1)))
     };
@@ -234,7 +242,7 @@ pub(super) fn trim_box<const D: usize>(x: &[f64], nt: usize, cs: f64, lo: &mut [
     if k == 0 || cells(lo, hi) <= (4 * nt as u64).max(64) {
         return;
     }
-    let mut v = vec![0.0; nt];
+    v.resize(nt, 0.0);
     for d in 0..D {
         for (i, c) in v.iter_mut().enumerate() {
             *c = x[d + D * i];
@@ -310,7 +318,8 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     if !(cs > 0.0 && cs.is_finite()) {
         cs = (0..D).map(|d| hi[d] - lo[d]).fold(1.0, f64::max);
     }
-    trim_box::<D>(x, nt, cs, &mut lo, &mut hi);
+    // (hs is filled below, after the grid is laid out: free until then)
+    trim_box::<D>(x, nt, cs, &mut lo, &mut hi, &mut s.hs);
     let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nt);
     let ncell = nc[0] * nc[1] * nc[2];
     // a particle's cell; the box search below uses the same map, which is monotone in x

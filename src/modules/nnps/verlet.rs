@@ -34,6 +34,8 @@ pub(crate) struct Verlet {
     fast_list: Vec<u32>,
     /// Raised h of a rebuild.
     hraise: Vec<f64>,
+    /// Scratch of the second grid's box (percentiles, with far ejecta).
+    trim: Vec<f64>,
     /// Pairs with a fast particle or a mirror, per task, then merged, as keys i·2³² + j (which
     /// sort as the pairs do).
     extra_tasks: Vec<Vec<u64>>,
@@ -211,7 +213,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
             hmax = hmax.max(pm);
         }
         let cs = 0.5 * kappa * (hsum / nreal as f64);
-        trim_box::<D>(x, nreal, cs, &mut lo, &mut hi);
+        trim_box::<D>(x, nreal, cs, &mut lo, &mut hi, &mut v.trim);
         let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nreal);
         let ncell = nc[0] * nc[1] * nc[2];
         let cell_at = |p: &[f64]| -> [usize; 3] {

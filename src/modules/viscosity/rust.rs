@@ -138,7 +138,7 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     // the sums, and the largest −μ over each particle's pairs (a maximum: independent of the
     // order)
     let nt = a.mass.len();
-    gather_signed_max::<D, W>(pl, &buf.pair, W + 1, a.mass, None, a.dvdt, a.dedt, &mut a.mumax[..nt]);
+    gather_signed_max::<D, W, false>(pl, &buf.pair, W + 1, a.mass, None, a.dvdt, a.dedt, &mut a.mumax[..nt], (&[], 0));
 }
 
 /// The switch: −∇·v_i ρ_i = Σ_j m_j v_ij·∇_i W_ij is the density module's continuity sum (its
