@@ -777,7 +777,8 @@ fn print_text(
             ),
         }
     }
-    for g in summary["gauges"].as_array().cloned().unwrap_or_default() {
+    let gauge_list = summary["gauges"].as_array().cloned().unwrap_or_default();
+    for g in &gauge_list {
         let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
             g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
         };
@@ -790,6 +791,11 @@ fn print_text(
             f("arrival_s", 1e6, "µs", 0),
             f("impulse_pa_s", 1e-3, "kPa·s", 3),
             f("ppv_ms", 1.0, "m/s", 2)
+        );
+    }
+    if !gauge_list.is_empty() {
+        println!(
+            "gauges: the peaks rise as the spacing shrinks (the shock's front is smeared over a few smoothing lengths); arrival and impulse converge first (docs/validation.md, \"Why the peaks do not agree\")"
         );
     }
     let growth = thesis_growth(case, hist);
