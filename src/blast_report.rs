@@ -5,7 +5,8 @@
 //! the case carries (`analysis.thesis_*`) are drawn on the plots and printed beside ours.
 //! `--animate` adds animation.gif.
 //!
-//! Units on every plot: m, cm, µs, MPa, m/s. Colour maps are viridis (perceptually uniform),
+//! Units on every plot: m, cm, MPa, m/s, and time in µs (ms for a run of 20 ms or more, s from 20 s:
+//! `TimeUnit`). Colour maps are viridis (perceptually uniform),
 //! logarithmic for pressure and speeds, with a colour bar in those units.
 
 use crate::analysis::crater::{Crater, CraterInput, SurfaceMap, explosive_mask, measure_xy, soil_mask, soil_spacing};
@@ -157,9 +158,9 @@ fn draw_surface_map(path: &Path, case: &Case, t: f64, m: &SurfaceMap) -> Result<
         path,
         &MapSpec {
             title: format!(
-                "{}  t = {:.0} µs: ground surface s − s0, plan view (cells {:.1} cm)",
+                "{}  t = {}: ground surface s − s0, plan view (cells {:.1} cm)",
                 case.name(),
-                us(t),
+                TimeUnit::for_end(t).text(t),
                 100.0 * ds
             ),
             x: &x,
@@ -233,8 +234,41 @@ fn material_colours(case: &Case) -> Vec<RGBColor> {
         .collect()
 }
 
-fn us(t: f64) -> f64 {
-    t * 1e6
+/// The unit of the report's times (plot axes, titles, the crater's and the products' lines): µs
+/// for a blast's first milliseconds, ms for a run to a fraction of a second (a late crater), s
+/// beyond; chosen from the run's end time. Gauges' peak and arrival times stay in µs.
+#[derive(Debug, Clone, Copy)]
+struct TimeUnit {
+    per_s: f64,
+    name: &'static str,
+    decimals: usize,
+}
+
+impl TimeUnit {
+    fn for_end(t_end: f64) -> TimeUnit {
+        let (per_s, name) = if t_end < 0.02 {
+            (1e6, "µs")
+        } else if t_end < 20.0 {
+            (1e3, "ms")
+        } else {
+            (1.0, "s")
+        };
+        // whole units from 200 up (and always in µs, as before), else one decimal
+        let decimals = if per_s == 1e6 || t_end * per_s >= 200.0 { 0 } else { 1 };
+        TimeUnit { per_s, name, decimals }
+    }
+    /// `t` (s) in this unit.
+    fn of(self, t: f64) -> f64 {
+        t * self.per_s
+    }
+    /// The axis label, "t (ms)".
+    fn axis(self) -> String {
+        format!("t ({})", self.name)
+    }
+    /// "t" as text: "300 ms", "1250 µs", "75.0 ms".
+    fn text(self, t: f64) -> String {
+        format!("{:.*} {}", self.decimals, self.of(t), self.name)
+    }
 }
 
 /// A length in cm with one decimal, or "-" when not a number.
@@ -294,6 +328,8 @@ pub fn report(
     let map = if crater && case.dim == 3 { frames.last().map(|f| surface_map_of(case, &frames[0], f)) } else { None };
     let charge = charge_of(case, frames);
     let bubble = bubble_history(case, frames);
+    let tu = TimeUnit::for_end(frames[frames.len() - 1].time);
+    let t_axis = tu.axis();
     let sections;
     let frames: &[Frame] = if case.dim == 3 {
         sections = section_frames(case, frames);
@@ -331,22 +367,22 @@ pub fn report(
         plot::lines(
             &dir.join("bubble_growth.png"),
             &format!("{}: detonation products, {}", case.name(), bubble_measure(case)),
-            "t (µs)",
+            &t_axis,
             "radius (cm)",
-            &[("products".to_string(), bubble.iter().map(|(t, r)| (us(*t), 100.0 * r)).collect())],
+            &[("products".to_string(), bubble.iter().map(|(t, r)| (tu.of(*t), 100.0 * r)).collect())],
             false,
         )?;
         written.push("bubble_growth.png".into());
         if let Some((t, r)) = bubble.last() {
-            println!("detonation products at t = {:.0} µs: equivalent radius {:.1} cm", us(*t), 100.0 * r);
+            println!("detonation products at t = {}: equivalent radius {:.1} cm", tu.text(*t), 100.0 * r);
         }
     }
     if crater && !ok_hist.is_empty() {
         let mut grow = vec![
-            ("diameter (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.diameter_m)).collect()),
-            ("depth (cm)".to_string(), ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.depth_m)).collect()),
+            ("diameter (cm)".to_string(), ok_hist.iter().map(|(t, c)| (tu.of(*t), 100.0 * c.diameter_m)).collect()),
+            ("depth (cm)".to_string(), ok_hist.iter().map(|(t, c)| (tu.of(*t), 100.0 * c.depth_m)).collect()),
         ];
-        let ejecta: Vec<(f64, f64)> = ok_hist.iter().map(|(t, c)| (us(*t), 100.0 * c.ejecta_height_m)).collect();
+        let ejecta: Vec<(f64, f64)> = ok_hist.iter().map(|(t, c)| (tu.of(*t), 100.0 * c.ejecta_height_m)).collect();
         // ejecta flying far above a crater (a long run: metres against decimetres) would flatten
         // the crater's curves: then they get a plot of their own
         let widest = ok_hist.iter().map(|(_, c)| c.diameter_m).fold(0.0, f64::max);
@@ -355,7 +391,7 @@ pub fn report(
             plot::lines(
                 &dir.join("ejecta_height.png"),
                 &format!("{}: ejecta height (the highest soil particle above the original ground)", case.name()),
-                "t (µs)",
+                &t_axis,
                 "cm",
                 &[("ejecta height (cm)".to_string(), ejecta)],
                 false,
@@ -366,12 +402,12 @@ pub fn report(
         }
         let mut refs = Vec::new();
         let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
-        let mut dref: Vec<(f64, f64)> = rows.iter().map(|r| (us(r[0]), 100.0 * r[1])).collect();
-        let mut zref: Vec<(f64, f64)> = rows.iter().map(|r| (us(r[0]), 100.0 * r[2])).collect();
+        let mut dref: Vec<(f64, f64)> = rows.iter().map(|r| (tu.of(r[0]), 100.0 * r[1])).collect();
+        let mut zref: Vec<(f64, f64)> = rows.iter().map(|r| (tu.of(r[0]), 100.0 * r[2])).collect();
         if let Some(th) = &case.analysis.thesis_crater_m
             && th.len() == 2
         {
-            let tend = us(frames[n - 1].time);
+            let tend = tu.of(frames[n - 1].time);
             dref.push((tend, 100.0 * th[0]));
             zref.push((tend, 100.0 * th[1]));
         }
@@ -389,7 +425,7 @@ pub fn report(
                 if ejecta_apart { " (ejecta: ejecta_height.png)" } else { " and ejecta" },
                 if refs.is_empty() { "" } else { " (thesis values as triangles)" }
             ),
-            "t (µs)",
+            &t_axis,
             "cm",
             &grow,
             &refs,
@@ -410,7 +446,7 @@ pub fn report(
         for &k in quarters.iter().skip(1) {
             if let Ok(c) = &hist[k].1 {
                 prof.push((
-                    format!("t = {:.0} µs", us(hist[k].0)),
+                    format!("t = {}", tu.text(hist[k].0)),
                     c.columns_m.iter().zip(&c.surface_m).filter(|p| p.1.is_finite()).map(|(x, y)| (*x, *y)).collect(),
                 ));
             }
@@ -450,7 +486,7 @@ pub fn report(
         let recs = read_gauges(&gpath)?;
         let ps: Vec<(String, Vec<(f64, f64)>)> = recs
             .iter()
-            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, p, _)| (us(*t), p / 1e6)).collect()))
+            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, p, _)| (tu.of(*t), p / 1e6)).collect()))
             .collect();
         let sg: Vec<Value> = summary["gauges"].as_array().cloned().unwrap_or_default();
         let mut refs = Vec::new();
@@ -459,7 +495,7 @@ pub fn report(
             let y = tg.peak_pa.map(|p| p / 1e6).or_else(|| ours.and_then(|g| g["peak_pa"].as_f64()).map(|p| p / 1e6));
             if let (Some(t), Some(y)) = (tg.peak_time_s, y) {
                 let what = if tg.peak_pa.is_some() { "peak" } else { "time of the peak (height: ours)" };
-                refs.push(Reference { label: format!("thesis {}: {what}", tg.gauge), points: vec![(us(t), y)] });
+                refs.push(Reference { label: format!("thesis {}: {what}", tg.gauge), points: vec![(tu.of(t), y)] });
             }
         }
         plot::lines_with_refs(
@@ -469,7 +505,7 @@ pub fn report(
                 case.name(),
                 if refs.is_empty() { "" } else { " (thesis values as triangles)" }
             ),
-            "t (µs)",
+            &t_axis,
             "p (MPa)",
             &ps,
             &refs,
@@ -477,12 +513,12 @@ pub fn report(
         written.push("gauges.png".into());
         let vs: Vec<(String, Vec<(f64, f64)>)> = recs
             .iter()
-            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, _, v)| (us(*t), *v)).collect()))
+            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, _, v)| (tu.of(*t), *v)).collect()))
             .collect();
         plot::lines_with_refs(
             &dir.join("gauges_velocity.png"),
             &format!("{}: particle velocity |v| at the gauges", case.name()),
-            "t (µs)",
+            &t_axis,
             "|v| (m/s)",
             &vs,
             &[],
@@ -553,14 +589,14 @@ pub fn report(
     let mut snaps = Vec::new();
     for &k in &picks {
         let f = &frames[k];
-        let tag = format!("{:05.0}us", us(f.time));
+        let tag = format!("{:05.0}us", f.time * 1e6);
         let side = sides(f, case.axisymmetric());
         let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
         let pm = format!("snap_material_{tag}.png");
         plot::map_png(
             &dir.join(&pm),
             &MapSpec {
-                title: format!("{}  t = {:.0} µs: materials", case.name(), us(f.time)),
+                title: format!("{}  t = {}: materials", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
@@ -576,7 +612,7 @@ pub fn report(
         plot::map_png(
             &dir.join(&pp),
             &MapSpec {
-                title: format!("{}  t = {:.0} µs: pressure", case.name(), us(f.time)),
+                title: format!("{}  t = {}: pressure", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
@@ -592,7 +628,7 @@ pub fn report(
         plot::map_png(
             &dir.join(&pv),
             &MapSpec {
-                title: format!("{}  t = {:.0} µs: velocity magnitude", case.name(), us(f.time)),
+                title: format!("{}  t = {}: velocity magnitude", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
@@ -616,9 +652,9 @@ pub fn report(
             &dir.join("ppv_map.png"),
             &MapSpec {
                 title: format!(
-                    "{}: peak particle velocity max |v| to t = {:.0} µs, at initial positions",
+                    "{}: peak particle velocity max |v| to t = {}, at initial positions",
                     case.name(),
-                    us(fl.time)
+                    tu.text(fl.time)
                 ),
                 x: &f0.x,
                 y: &f0.y,
@@ -639,7 +675,7 @@ pub fn report(
             .iter()
             .enumerate()
             .map(|(k, f)| MapSpec {
-                title: format!("{}  t = {:.0} µs: pressure", case.name(), us(f.time)),
+                title: format!("{}  t = {}: pressure", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &sides_all[k],
@@ -686,10 +722,11 @@ fn print_text(
     let last = hist.last().map(|h| h.1.clone());
     let crater_json = match &last {
         Some(Ok(c)) => {
-            let t_end = us(hist.last().map(|h| h.0).unwrap_or(0.0));
+            let t_last = hist.last().map(|h| h.0).unwrap_or(0.0);
+            let t_end = TimeUnit::for_end(t_last).text(t_last);
             match &c.note {
                 None => println!(
-                    "crater at t = {:.0} µs: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} cm (columns {:.1} cm wide, the soil's spacing)",
+                    "crater at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} cm (columns {:.1} cm wide, the soil's spacing)",
                     t_end,
                     cm1(c.diameter_m),
                     cm1(c.depth_m),
@@ -697,7 +734,7 @@ fn print_text(
                     cm1(c.ejecta_height_m),
                     100.0 * c.column_m
                 ),
-                Some(why) => println!("crater at t = {t_end:.0} µs: {why}"),
+                Some(why) => println!("crater at t = {t_end}: {why}"),
             }
             if let Some(cv) = &c.cavity {
                 println!(
@@ -1038,4 +1075,23 @@ fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TimeUnit;
+
+    #[test]
+    fn report_times_are_in_the_unit_of_the_run_length() {
+        // a blast's first millisecond: µs, whole (as before the unit was chosen)
+        assert_eq!(TimeUnit::for_end(5.0e-4).text(2.5e-4), "250 µs");
+        assert_eq!(TimeUnit::for_end(5.0e-4).axis(), "t (µs)");
+        // a late crater: ms, whole from 200 ms up, one decimal below
+        assert_eq!(TimeUnit::for_end(0.3).text(0.075001), "75 ms");
+        assert_eq!(TimeUnit::for_end(0.05).text(0.0125), "12.5 ms");
+        assert_eq!(TimeUnit::for_end(0.05).of(0.05), 50.0);
+        // beyond 20 s: s
+        assert_eq!(TimeUnit::for_end(30.0).axis(), "t (s)");
+        assert_eq!(TimeUnit::for_end(30.0).text(7.5), "7.5 s");
+    }
 }
