@@ -276,6 +276,11 @@ fn cm1(v: f64) -> String {
     if v.is_finite() { format!("{:.1}", 100.0 * v) } else { "-".into() }
 }
 
+/// A height as text: in cm below 10 m ("29.0 cm"), in m from 10 m (a late run's ejecta: "124.2 m").
+fn height_text(v: f64) -> String {
+    if v.is_finite() && v.abs() >= 10.0 { format!("{v:.1} m") } else { format!("{} cm", cm1(v)) }
+}
+
 /// The side of each particle's square on a map: √(m/ρ) in 2D (its area); axisymmetric, the
 /// area of the ring's section √(m/(2π r ρ)) (m/ρ is the ring's volume); capped at twice the
 /// median so a stretched particle does not cover its neighbours.
@@ -726,12 +731,12 @@ fn print_text(
             let t_end = TimeUnit::for_end(t_last).text(t_last);
             match &c.note {
                 None => println!(
-                    "crater at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} cm (columns {:.1} cm wide, the soil's spacing)",
+                    "crater at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {:.1} cm wide, the soil's spacing)",
                     t_end,
                     cm1(c.diameter_m),
                     cm1(c.depth_m),
                     cm1(c.width_half_depth_m),
-                    cm1(c.ejecta_height_m),
+                    height_text(c.ejecta_height_m),
                     100.0 * c.column_m
                 ),
                 Some(why) => println!("crater at t = {t_end}: {why}"),
@@ -1093,5 +1098,12 @@ mod tests {
         // beyond 20 s: s
         assert_eq!(TimeUnit::for_end(30.0).axis(), "t (s)");
         assert_eq!(TimeUnit::for_end(30.0).text(7.5), "7.5 s");
+    }
+
+    #[test]
+    fn heights_from_ten_metres_are_in_metres() {
+        assert_eq!(super::height_text(0.29), "29.0 cm");
+        assert_eq!(super::height_text(124.237), "124.2 m");
+        assert_eq!(super::height_text(f64::NAN), "- cm");
     }
 }
