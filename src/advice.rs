@@ -82,6 +82,12 @@ pub fn warnings(case: &Case) -> Vec<String> {
     w
 }
 
+/// Every warning of a case with its particles generated: [`warnings`], then [`deposit_warning`]
+/// (what `blastsph check` prints, and `run` before it starts).
+pub fn all(case: &Case, p: &Particles) -> Vec<String> {
+    warnings(case).into_iter().chain(deposit_warning(case, p)).collect()
+}
+
 /// A point deposit (a few particles far hotter than the rest) centred on a particle, in 2D plane
 /// or 3D at h < 1.15 Δx: one line naming the evidence, or None. The deposit is the particles
 /// whose specific energy e exceeds 100 × the median e (at most 32 of them, and at most 2 % of

@@ -128,8 +128,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     if !opts.quiet {
         // the settings known to fail, as `blastsph check` lists them (once the run directory is
         // ready: a refused run stays one line)
-        for w in crate::advice::warnings(&sim.case).into_iter().chain(crate::advice::deposit_warning(&sim.case, &sim.p))
-        {
+        for w in crate::advice::all(&sim.case, &sim.p) {
             eprintln!("warning: {w}");
         }
     }

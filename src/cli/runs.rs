@@ -62,7 +62,7 @@ pub fn check_text(sim: &Sim) -> String {
         },
         det
     );
-    for w in crate::advice::warnings(c).into_iter().chain(crate::advice::deposit_warning(c, &sim.p)) {
+    for w in crate::advice::all(c, &sim.p) {
         s += &format!("warning: {w}\n");
     }
     s + &sim.plan.text()
