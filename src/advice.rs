@@ -197,6 +197,10 @@ pub fn hint(case: &Case, msg: &str) -> String {
     if msg.contains("smoothing length") {
         out.push("cap h with sph.h_max_ratio, or use sph.smoothing = \"density\"");
     }
+    if msg.contains("max_steps reached") {
+        // not a blow-up: the step limit (lowering the CFL number would only need more steps)
+        out.push("raise time.max_steps (a safety limit: t over the steps taken shows whether the step has collapsed)");
+    }
     if msg.contains("crossed wall") {
         out.push("raise boundary.d_m2s2 towards the square of the largest speed, or use kind = \"both\" walls");
     }
@@ -224,6 +228,13 @@ mod tests {
             "dim = 1\n{extra}\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.0]\ncount = [10]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n"
         );
         crate::case::parse(&text, "test", &[], Some("t")).unwrap()
+    }
+
+    #[test]
+    fn the_step_limit_is_not_answered_with_a_smaller_step() {
+        let h = hint(&case(""), "step 40: time.max_steps reached at t = 6.4e-5 s before the end time");
+        assert!(h.contains("raise time.max_steps"), "{h}");
+        assert!(!h.contains("lower time.cfl"), "{h}");
     }
 
     #[test]

@@ -14,7 +14,7 @@ mod parity;
 pub(crate) mod compat;
 mod rust;
 
-pub use rust::point;
+pub use rust::{point, point_ref};
 
 use super::param::MatTable;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Tolerance, Twin};
@@ -31,6 +31,9 @@ pub struct Eval<'a> {
     pub e: &'a [f64],
     pub p: &'a mut [f64],
     pub c: &'a mut [f64],
+    /// Reference density (kg/m³) of each particle, read and lowered where a soil dilates; empty
+    /// when no material dilates (theory.md §8).
+    pub rref: &'a mut [f64],
 }
 
 impl Twin for Eval<'_> {
@@ -42,9 +45,11 @@ impl Twin for Eval<'_> {
     }
 }
 
-/// p and c of the real particles.
+/// p and c of the real particles (and their reference densities where a soil dilates).
 pub struct EosStage {
-    mt: MatTable,
+    pub(super) mt: MatTable,
+    /// Some material is a soil with `rho_loose_kgm3`.
+    pub(super) dilates: bool,
 }
 
 impl Stage for EosStage {
@@ -55,16 +60,36 @@ impl Stage for EosStage {
         "eos.eval"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::Rho, Field::E, Field::Mat, Field::Burn]
+        if self.dilates {
+            &[Field::Rho, Field::E, Field::Mat, Field::Burn, Field::RhoRef]
+        } else {
+            &[Field::Rho, Field::E, Field::Mat, Field::Burn]
+        }
     }
     fn writes(&self) -> &[Field] {
-        &[Field::P, Field::C]
+        if self.dilates { &[Field::P, Field::C, Field::RhoRef] } else { &[Field::P, Field::C] }
+    }
+    fn register(&self, p: &mut Particles) {
+        if self.dilates && p.rho_ref.len() != p.nreal {
+            // each particle starts at its material's reference density ρ0
+            p.rho_ref = p.mat[..p.nreal].iter().map(|&m| self.mt.column(m as usize)[0]).collect();
+        }
     }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         let burn: &[f64] = if p.burn.is_empty() { &[] } else { &p.burn[..n] };
-        Eval { mt: &self.mt, mat: &p.mat[..n], burn, rho: &p.rho[..n], e: &p.e[..n], p: &mut p.p[..n], c: &mut p.c[..n] }
-            .run(b);
+        let rref: &mut [f64] = if self.dilates { &mut p.rho_ref[..n] } else { &mut [] };
+        Eval {
+            mt: &self.mt,
+            mat: &p.mat[..n],
+            burn,
+            rho: &p.rho[..n],
+            e: &p.e[..n],
+            p: &mut p.p[..n],
+            c: &mut p.c[..n],
+            rref,
+        }
+        .run(b);
     }
     fn tolerance(&self) -> Tolerance {
         if self.mt.has_jwl() {
@@ -75,9 +100,23 @@ impl Stage for EosStage {
     }
 }
 
+/// Some material of the case is a soil that dilates (`rho_loose_kgm3`).
+pub(crate) fn dilates(ctx: &PlanCtx) -> bool {
+    ctx.case.materials.iter().any(|m| matches!(m.eos, crate::case::EosCfg::Soil { rho_loose_kgm3: Some(_), .. }))
+}
+
 /// Every case evaluates its EOS: once before the first step and at every step.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
-    let kinds: Vec<&str> = ctx.case.materials.iter().map(|m| m.eos.kind()).collect();
-    let stage = || Box::new(EosStage { mt: ctx.mt.clone() }) as Box<dyn Stage>;
+    let kinds: Vec<String> = ctx
+        .case
+        .materials
+        .iter()
+        .map(|m| match m.eos {
+            crate::case::EosCfg::Soil { rho_loose_kgm3: Some(r), .. } => format!("soil (dilating to {r} kg/m3)"),
+            _ => m.eos.kind().to_string(),
+        })
+        .collect();
+    let dilates = dilates(ctx);
+    let stage = || Box::new(EosStage { mt: ctx.mt.clone(), dilates }) as Box<dyn Stage>;
     Contribution::run(kinds.join(", "), vec![(Phase::Init, stage()), (Phase::Eos, stage())])
 }
