@@ -465,10 +465,15 @@ impl Loop {
             let emin = if emin.is_finite() { json!(emin) } else { json!(null) };
             summary["negative_e"] = json!({ "count": count, "min_e_jkg": emin, "by_material": by });
         }
-        if matches!(
-            sim.case.analysis.kind,
-            AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation
-        ) {
+        // the analyses measure what the run made: nothing before its first step (and the summary
+        // written at the start stays out of the run's time)
+        let made = sim.nstep > 0;
+        if made
+            && matches!(
+                sim.case.analysis.kind,
+                AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation
+            )
+        {
             // the measures of the current state (a detonation's history needs the outputs: report)
             let f = analysis::verify::frame_of(sim);
             if let Ok((v, _)) = analysis::verify::measure(&sim.case, std::slice::from_ref(&f)) {
@@ -478,7 +483,7 @@ impl Loop {
         if !self.gauges.names.is_empty() {
             summary["gauges"] = json!(self.gauges.summary());
         }
-        if sim.case.analysis.kind == AnalysisKind::Crater {
+        if made && sim.case.analysis.kind == AnalysisKind::Crater {
             match analysis::crater::measure(sim) {
                 Ok(c) => {
                     summary["crater"] = serde_json::to_value(&c).unwrap_or(serde_json::Value::Null);
