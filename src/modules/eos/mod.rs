@@ -3,7 +3,9 @@
 //! the unreacted explosive's Mie–Grüneisen pressure (linear Us–Up, energy above e_chem) when it has
 //! one, c² blended the same way (theory.md §8, §9); water polynomial (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
 //! the isentropic c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ, floored at 1 % of the reference speed; p is
-//! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
+//! floored at the material's pmin. A soil with `rho_loose_kgm3` dilates: each particle's reference
+//! density ρ_r (kg/m³, state field `rho_ref`) is lowered to max(ρ, ρ_loose) whenever ρ < ρ_r, and
+//! the soil's form reads ρ_r in place of ρ0 (theory.md §8). Fortran twin: `fortran/src/sph_eos.f90`.
 //!
 //! Tier: 0 ULP where only + − × ÷ √ are involved (ideal gas, water, soil); JWL calls `exp`, which
 //! both sides take from the same C library, so it is 0 ULP too (see docs/migration.md).
