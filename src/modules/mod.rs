@@ -26,7 +26,7 @@ pub(crate) mod testkit;
 
 pub(crate) mod ffi_util;
 pub(crate) use par::{
-    CHUNK, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, ipow, par_rows, par_rows2,
+    CHUNK, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, grow, ipow, par_rows, par_rows2,
     par_rows3, serial,
 };
 pub(crate) use stage::as_its_normal_stage;

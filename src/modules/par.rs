@@ -36,6 +36,16 @@ where
     }
 }
 
+/// Makes a reused scratch buffer hold at least `n` values. It never shrinks: the stages that share
+/// the pair list's scratch ask for different sizes in turn (the density 1 value per pair, the
+/// force 4, the viscosity 5 in 3D), and `Vec::resize` would zero the growth at every turn; each
+/// user writes every value of its own `[..n]` before it reads it.
+pub(crate) fn grow(v: &mut Vec<f64>, n: usize) {
+    if v.len() < n {
+        v.resize(n, 0.0);
+    }
+}
+
 /// As [`par_rows`] over two arrays with the same rows: `f(a, row1, row2)`, rows of `w1` and `w2`
 /// values (`w2` may be 0: `row2` is then empty).
 pub(crate) fn par_rows2<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: usize, f: F)

@@ -4,6 +4,7 @@
 //! pairs in ascending pair order (the Fortran's scatter order). A coincident pair adds ±0, which
 //! leaves a sum that starts at +0 unchanged. 0 ULP, independent of the thread count.
 
+use crate::modules::grow;
 use super::Price;
 use crate::modules::{by_dim, gather_signed, par_rows};
 
@@ -21,7 +22,7 @@ fn run<const D: usize, const W: usize>(a: &mut Price) {
     // RZ: three terms a pair (0, the i end's q r̄/r_i, the j end's −q r̄/r_j), gathered as the
     // energy column of a 1-component sum (+ m_j at the i end, + m_i at the j end)
     let wd = if rinv.is_empty() { 1 } else { 3 };
-    buf.pair.resize(wd * np, 0.0);
+    grow(&mut buf.pair, wd * np);
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut buf.pair[..wd * np], wd, |k, t| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
@@ -56,7 +57,7 @@ fn run<const D: usize, const W: usize>(a: &mut Price) {
     } else {
         // + m_j (q r̄/r_i) at the i end, + m_i (−q r̄/r_j) at the j end (the Fortran's − m_i (q r̄/r_j))
         let nt = mass.len();
-        buf.part.resize(nt, 0.0);
+        grow(&mut buf.part, nt);
         gather_signed::<1, 3>(pl, &buf.pair, mass, None, &mut buf.part[..nt], dedt);
     }
 }

@@ -3,6 +3,7 @@
 //! form: (m/ρ)_other × term, then × ρ_i) over its pairs in ascending pair order — the order of the
 //! Fortran scatter — so 0 ULP and independent of the thread count.
 
+use crate::modules::grow;
 use super::{Rate, Summation};
 use crate::modules::nnps::PairList;
 use crate::modules::{by_dim, par_rows};
@@ -21,7 +22,7 @@ pub(super) fn summation(a: &mut Summation) {
 
 /// v_ij·∇_i W_ij of every pair into `out`, in the Fortran's order.
 fn vdotw(dim: usize, pl: &PairList, dwdx: &[f64], v: &[f64], out: &mut Vec<f64>) {
-    out.resize(pl.len(), 0.0);
+    grow(out, pl.len());
     by_dim!(dim, 0, vdotw_d(pl, dwdx, v, out));
 }
 
@@ -55,7 +56,7 @@ pub(super) fn rate(a: &mut Rate) {
         });
         return;
     }
-    buf.part.resize(nt, 0.0);
+    grow(&mut buf.part, nt);
     par_rows(&mut buf.part[..nt], 1, |i, r| r[0] = mass[i] / rho[i]);
     let vol: &[f64] = &buf.part;
     par_rows(&mut drho[..nt], 1, |i, r| {

@@ -9,6 +9,7 @@
 //! Fluids only (the book has no stress): with strength the module keeps blastsph's twin. No
 //! Fortran twin in blastsph's core.
 
+use crate::modules::grow;
 use super::ForceStage;
 use crate::migration::compat::{Flags, Item};
 use crate::modules::{
@@ -31,7 +32,7 @@ fn run_pa1_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, slots:
     let np = pl.len();
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
-    buf.pair.resize(W * np, 0.0);
+    grow(&mut buf.pair, W * np);
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut buf.pair[..W * np], W, |k, t| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
@@ -60,10 +61,10 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, slots: Slo
     let np = pl.len();
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
-    buf.part.resize(nt, 0.0);
+    grow(&mut buf.part, nt);
     // p(i)/rho(i)**2 per particle: the same operations as per pair
     par_rows(&mut buf.part[..nt], 1, |i, s| s[0] = pr[i] / (rho[i] * rho[i]));
-    buf.pair.resize(W * np, 0.0);
+    grow(&mut buf.pair, W * np);
     let sig: &[f64] = &buf.part;
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut buf.pair[..W * np], W, |k, t| {

@@ -10,6 +10,7 @@
 //! holds −f and the gather adds (x − m f and x + m (−f) are the same IEEE operation). 0 ULP,
 //! independent of the thread count.
 
+use crate::modules::grow;
 use super::Internal;
 use crate::modules::param::NSTR;
 use crate::modules::{by_dim, gather_signed, gather_signed_own, par_rows};
@@ -33,7 +34,7 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
     let buf = &mut *guard;
     // per particle, the values the Fortran computes per pair: p/ρ², then (τ − p δ)/ρ² (D × D)
     let wp = if strength { 1 + D * D } else { 1 };
-    buf.part.resize(wp * nt, 0.0);
+    grow(&mut buf.part, wp * nt);
     par_rows(&mut buf.part[..wp * nt], wp, |i, sg| {
         let ri2 = rho[i] * rho[i];
         sg[0] = p[i] / ri2;
@@ -47,7 +48,7 @@ fn run<const D: usize, const W: usize>(a: &mut Internal) {
             }
         }
     });
-    buf.pair.resize(W * np, 0.0);
+    grow(&mut buf.pair, W * np);
     let sig: &[f64] = &buf.part;
     let (pi, pj) = (&pl.i, &pl.j);
     // pair terms: t (D values; the i end gets + m_j t, the j end − m_i t), then de

@@ -3,6 +3,7 @@
 //! Fortran's scatter order), with v_j − v_i taken in pair order; then ε̇, R and the Jaumann rate.
 //! 0 ULP, independent of the thread count.
 
+use crate::modules::grow;
 use super::{Rates, Yield};
 use crate::modules::nnps::PairList;
 use crate::modules::param::{NPAR, NSTR, SPH_MP_ALPHA_PHI, SPH_MP_COHESION, SPH_MP_SHEAR};
@@ -16,7 +17,7 @@ pub(super) fn rates(a: &mut Rates) {
     let nt = mass.len();
     let shear = (SPH_MP_SHEAR - 1) as usize;
     let mut buf = pl.scratch.lock();
-    buf.part.resize(nt, 0.0);
+    grow(&mut buf.part, nt);
     par_rows(&mut buf.part[..nt], 1, |a, r| r[0] = mass[a] / rho[a]);
     let vol: &[f64] = &buf.part;
     by_dim!(dim, 0, velocity_gradient(pl, dwdx, vol, v, rinv, &mut eps[..NSTR * nt], &mut rot[..3 * nt]));

@@ -6,6 +6,7 @@
 //! case's α, β and φ/h (the book's `etq = 0.1e0`) are single precision
 //! (`migration::compat::apply_case`). No Fortran twin in blastsph's core.
 
+use crate::modules::grow;
 use super::{Coef, ViscosityStage};
 use crate::migration::compat::{Flags, Item};
 use crate::modules::{
@@ -31,7 +32,7 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, coef: Coef
     let wd = 2 * D + 1;
     let mut guard = pl.scratch.lock();
     let buf = &mut *guard;
-    buf.pair.resize(wd * np, 0.0);
+    grow(&mut buf.pair, wd * np);
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut buf.pair[..wd * np], wd, |k, t| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);

@@ -9,6 +9,7 @@
 //! it recedes); mumax_i is their largest over particle i's pairs (a maximum: independent of the
 //! order). 0 ULP, independent of the thread count.
 
+use crate::modules::grow;
 use super::{Coef, Monaghan, Switch};
 use crate::modules::{CHUNK, Twin, by_dim, gather_signed_max, par_rows, serial};
 use rayon::prelude::*;
@@ -106,7 +107,7 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     let buf = &mut *guard;
     // each particle's record: x, v, h, c, ρ
     let (nt, nr) = (a.h.len(), rec_len(D));
-    buf.part.resize(nr * nt, 0.0);
+    grow(&mut buf.part, nr * nt);
     let (x, v, h, c, rho) = (a.x, a.v, a.h, a.c, a.rho);
     par_rows(&mut buf.part[..nr * nt], nr, |i, r| {
         r[..D].copy_from_slice(&x[D * i..D * i + D]);
@@ -126,7 +127,7 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
         coef: a.coef,
     };
     // per pair: the W terms, then −μ (+0 where it recedes), for the viscous signal speed
-    buf.pair.resize((W + 1) * np, 0.0);
+    grow(&mut buf.pair, (W + 1) * np);
     // pair terms: −Π ∇W (the i end gets + m_j t, the j end − m_i t), then ½ Π v·∇W, then −μ
     let body = |b: usize, t: &mut [f64]| pairs::<D, W>(&inp, CHUNK * b, t);
     let tc = &mut buf.pair[..(W + 1) * np];

@@ -3,6 +3,7 @@
 //! ascending pair order (the Fortran's scatter order) and scales by ε. 0 ULP, independent of the
 //! thread count.
 
+use crate::modules::grow;
 use super::Average;
 use crate::modules::{by_dim, gather_signed, par_rows};
 
@@ -15,7 +16,7 @@ fn run<const D: usize, const W: usize>(a: &mut Average) {
     let (w, rho, v) = (a.w, a.rho, a.v);
     let np = pl.len();
     let mut buf = pl.scratch.lock();
-    buf.pair.resize(W * np, 0.0);
+    grow(&mut buf.pair, W * np);
     let (pi, pj) = (&pl.i, &pl.j);
     par_rows(&mut buf.pair[..W * np], W, |k, t| {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
