@@ -88,10 +88,10 @@ pub fn material_table(case: &Case) -> MatTable {
                 col[0] = *rho0_kgm3;
                 col[1..7].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
             }
-            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma, rho_loose_kgm3 } => {
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
                 mtype[m] = SPH_EOS_SOIL as i32;
                 col[0] = *rho0_kgm3;
-                col[1..5].copy_from_slice(&[*c_ms, *s, *gamma, rho_loose_kgm3.unwrap_or(0.0)]);
+                col[1..4].copy_from_slice(&[*c_ms, *s, *gamma]);
             }
         }
         col[7] = mc.pmin_pa.unwrap_or(-f64::MAX);

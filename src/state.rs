@@ -48,10 +48,6 @@ pub struct Particles {
     /// Viscosity coefficient α of each particle (Morris–Monaghan switch), ntotal (the mirrors
     /// hold their source's); empty without the switch.
     pub alpha: Vec<f64>,
-    /// Reference density (kg/m³) of each real particle of a soil that dilates (`rho_loose_kgm3`):
-    /// its ρ0 at the start, lowered with the soil when it is loosened (theory.md §8); empty when
-    /// no material dilates.
-    pub rho_ref: Vec<f64>,
 }
 
 impl Particles {
@@ -193,7 +189,6 @@ pub enum Field {
     Mumax,
     Efloor,
     Alpha,
-    RhoRef,
 }
 
 /// A field's array, borrowed.
@@ -289,7 +284,6 @@ impl Field {
             Mumax => &w.mumax,
             Efloor => &w.efloor,
             Alpha => &p.alpha,
-            RhoRef => &p.rho_ref,
         })
     }
 
@@ -344,7 +338,6 @@ impl Field {
             Mumax => &mut w.mumax,
             Efloor => &mut w.efloor,
             Alpha => &mut p.alpha,
-            RhoRef => &mut p.rho_ref,
         })
     }
 

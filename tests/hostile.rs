@@ -155,12 +155,8 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("inf sound speed", s1, "material.loose_sand.eos.c_ms=inf"),
         set("NaN density", s1, "material.loose_sand.eos.rho0_kgm3=nan"),
         set("a negative density", s1, "material.loose_sand.eos.rho0_kgm3=-1450"),
-        set("a density of 1e300", s1, "material.loose_sand.eos.rho0_kgm3=1e300"),
         // the value is shown short: 1e300, not its 301 digits
-        set_n("a loosest packing of 1e300", s1, "material.loose_sand.eos.rho_loose_kgm3=1e300", "= 1e300: "),
-        set("a loosest packing above rho0", s1, "material.loose_sand.eos.rho_loose_kgm3=1500"),
-        set("a loosest packing of 0", s1, "material.loose_sand.eos.rho_loose_kgm3=0"),
-        set("a NaN loosest packing", s1, "material.loose_sand.eos.rho_loose_kgm3=nan"),
+        set_n("a density of 1e300", s1, "material.loose_sand.eos.rho0_kgm3=1e300", "rho0_kgm3 = 1e300: "),
         set("NaN JWL omega", s1, "material.tnt.eos.omega=nan"),
         set("inf JWL A", s1, "material.tnt.eos.a_pa=inf"),
         set("a negative detonation speed", s1, "material.tnt.eos.d_ms=-6930"),

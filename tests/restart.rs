@@ -65,7 +65,7 @@ fn run_cmd(dir: &Path, backend: &str, threads: usize, extra: &[&str]) -> Command
 
 /// `blastsph run` of the small blast into `dir`, to `end` (s). The Fortran-backend runs have the
 /// Morris–Monaghan viscosity switch (its α_i is state the checkpoint must carry); the Rust ones
-/// the constant coefficients and a sand that dilates (its reference densities are state too).
+/// the constant coefficients.
 fn run_to(dir: &Path, backend: &str, threads: usize, end: f64, extra: &[&str]) -> Command {
     let mut c = bin();
     c.args(["run", &case(), "--quiet", "--out"]).arg(dir);
@@ -75,8 +75,6 @@ fn run_to(dir: &Path, backend: &str, threads: usize, end: f64, extra: &[&str]) -
     }
     if backend == "fortran" {
         c.args(["--set", "viscosity.switch=\"morris_monaghan\""]);
-    } else {
-        c.args(["--set", "material.loose_sand.eos.rho_loose_kgm3=1305"]);
     }
     c.args(extra);
     c

@@ -57,24 +57,6 @@ fn dual_rz_compact_charge_zero_ulp_every_module() {
     }
 }
 
-/// A sand that dilates (`rho_loose_kgm3`): the EOS twins read and lower the reference densities
-/// alike (the flyer of the spall case loosens at its free back from the first steps).
-#[test]
-fn dual_dilating_sand_zero_ulp() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/hard/soil_spall.toml");
-    let c = case::load(&path, &["material.loose_sand.eos.rho_loose_kgm3=1305".to_string()]).expect("case loads");
-    let dir = tempfile::tempdir().unwrap();
-    let code = cli::dual_run(c, &Overrides::default(), 40, dir.path()).expect("dual run");
-    assert_eq!(code, 0);
-    let rep: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.path().join("dual_report.json")).unwrap()).unwrap();
-    let rows = rep["rows"].as_array().expect("rows");
-    assert!(rows.iter().all(|r| r["max_ulp"].as_u64() == Some(0)), "not 0 ULP");
-    let eos: Vec<&Value> = rows.iter().filter(|r| r["module"] == "eos").collect();
-    assert!(!eos.is_empty(), "the EOS not compared");
-    assert!(rows.iter().any(|r| r.to_string().contains("rho_ref")), "rho_ref not compared: {eos:?}");
-}
-
 #[test]
 fn dual_3d_quarter_compact_charge_zero_ulp_every_module() {
     // the 3D case at twice its spacing (24^3 soil particles) so the test stays short

@@ -64,8 +64,8 @@ void sph_density_rate_vol(int dim, int ntotal, int npair, const int *pair_i, con
 
 /* eos (sph_eos.f90) */
 void sph_eos_eval(int n, int nmat, const int *mtype, const double *mpar, const int *mat,
-                  int nburn, const double *burn, int nref, double *rref, const double *rho,
-                  const double *e, double *p, double *c);
+                  int nburn, const double *burn, const double *rho, const double *e, double *p,
+                  double *c);
 
 /* force (sph_force.f90) */
 void sph_force_internal(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,

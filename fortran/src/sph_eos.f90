@@ -17,10 +17,6 @@
 !     p = (1 - G mu/2) pH + G rho e,
 !     pH = a0 mu + b0 mu^2 + c0 mu^3 (mu > 0), a0 mu (mu <= 0),
 !     a0 = rho0 C^2, b0 = a0 (1 + 2(S-1)), c0 = a0 (2(S-1) + 3(S-1)^2)
-!  a soil that dilates (rho_loose = par(mp_e1+3) > 0) reads its own
-!  reference density rr in place of rho0: loosened below it (rho < rr)
-!  it takes rr = max(rho, rho_loose), so that it carries pressure again
-!  as soon as it is compressed from its looser state
 !  c^2 = dp/drho|e + (p/rho^2) dp/de|rho  (isentropic), floored at a
 !  small fraction of the reference speed so that c stays real.
 !  p is floored at the material's pmin (tension cut-off, cavitation).
@@ -34,14 +30,13 @@ module sph_eos
 
 contains
 
-  pure subroutine eos_point(itype, par, rho, e, lam, rr, p, c)
+  pure subroutine eos_point(itype, par, rho, e, lam, p, c)
     integer(c_int), intent(in) :: itype
     real(c_double), intent(in) :: par(npar), rho, e, lam
-    real(c_double), intent(inout) :: rr
     real(c_double), intent(out) :: p, c
     real(c_double) :: rho0, eta, mu, g, a, b, r1, r2, om, x1, x2, dpdr, dpde, c2, cref
     real(c_double) :: a0, b0, c0, s, ph, dph, gam, wa1, wa2, wa3, wb0, wb1
-    real(c_double) :: pu, c2u, eu, r0
+    real(c_double) :: pu, c2u, eu
 
     rho0 = par(mp_rho0)
     p = 0.0d0
@@ -112,15 +107,10 @@ contains
       cref = par(mp_e1)
       s = par(mp_e1 + 1)
       gam = par(mp_e1 + 2)
-      r0 = rho0
-      if (par(mp_e1 + 3) > 0.0d0) then
-        if (rho < rr) rr = max(rho, par(mp_e1 + 3))
-        r0 = rr
-      end if
-      a0 = r0*cref*cref
+      a0 = rho0*cref*cref
       b0 = a0*(1.0d0 + 2.0d0*(s - 1.0d0))
       c0 = a0*(2.0d0*(s - 1.0d0) + 3.0d0*(s - 1.0d0)*(s - 1.0d0))
-      mu = rho/r0 - 1.0d0
+      mu = rho/rho0 - 1.0d0
       if (mu > 0.0d0) then
         ph = a0*mu + b0*mu*mu + c0*mu*mu*mu
         dph = a0 + 2.0d0*b0*mu + 3.0d0*c0*mu*mu
@@ -129,7 +119,7 @@ contains
         dph = a0
       end if
       p = (1.0d0 - 0.5d0*gam*mu)*ph + gam*rho*e
-      dpdr = ((1.0d0 - 0.5d0*gam*mu)*dph - 0.5d0*gam*ph)/r0 + gam*e
+      dpdr = ((1.0d0 - 0.5d0*gam*mu)*dph - 0.5d0*gam*ph)/rho0 + gam*e
       dpde = gam*rho
       c2 = dpdr + p/(rho*rho)*dpde
     end select
@@ -139,26 +129,20 @@ contains
 
   ! every particle i in 1..n: p(i), c(i) from its material mat(i) (0-based)
   ! burn(n) is the burn fraction of a programmed burn (nburn = n), or unused (nburn = 0)
-  ! rref(n) the reference densities of a soil that dilates (nref = n, read and lowered),
-  ! or unused (nref = 0: every material its rho0)
-  subroutine sph_eos_eval(n, nmat, mtype, mpar, mat, nburn, burn, nref, rref, rho, e, p, c) &
+  subroutine sph_eos_eval(n, nmat, mtype, mpar, mat, nburn, burn, rho, e, p, c) &
       bind(C, name="sph_eos_eval")
-    integer(c_int), value :: n, nmat, nburn, nref
+    integer(c_int), value :: n, nmat, nburn
     integer(c_int), intent(in) :: mtype(nmat), mat(n)
     real(c_double), intent(in) :: mpar(npar, nmat), burn(max(nburn, 1)), rho(n), e(n)
-    real(c_double), intent(inout) :: rref(max(nref, 1))
     real(c_double), intent(out) :: p(n), c(n)
     integer :: i, m
-    real(c_double) :: lam, rr
+    real(c_double) :: lam
 
     do i = 1, n
       m = mat(i) + 1
       lam = 1.0d0
       if (nburn > 0) lam = burn(i)
-      rr = mpar(mp_rho0, m)
-      if (nref > 0) rr = rref(i)
-      call eos_point(mtype(m), mpar(:, m), rho(i), e(i), lam, rr, p(i), c(i))
-      if (nref > 0) rref(i) = rr
+      call eos_point(mtype(m), mpar(:, m), rho(i), e(i), lam, p(i), c(i))
     end do
   end subroutine sph_eos_eval
 

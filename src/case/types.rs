@@ -515,10 +515,8 @@ pub enum EosCfg {
     },
     /// Water polynomial (4-40, 4-41).
     Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
-    /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). With `rho_loose_kgm3` the
-    /// reference density is the particle's own and follows the soil down when it is loosened
-    /// below it, to that density at the least (dilation; theory.md §8).
-    Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64, rho_loose_kgm3: Option<f64> },
+    /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
+    Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
 }
 
 impl EosCfg {

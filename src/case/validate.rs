@@ -402,13 +402,11 @@ impl Case {
                     v.num(&e, "b1", *b1, Range::within(0.0, 100.0))?;
                     v.num(&e, "c0_ms", *c0_ms, Range::above(0.0, C_MAX))?;
                 }
-                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma, rho_loose_kgm3 } => {
+                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
                     v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
                     v.num(&e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
                     v.num(&e, "s", *s, Range::above(0.0, 100.0))?;
                     v.num(&e, "gamma", *gamma, Range::within(0.0, 100.0))?;
-                    // the loosest packing lies below the reference density
-                    v.opt(&e, "rho_loose_kgm3", *rho_loose_kgm3, Range::above(0.0, *rho0_kgm3))?;
                 }
             }
             if let Some(s) = &m.strength {

@@ -27,7 +27,7 @@ pub(crate) mod testkit;
 pub(crate) mod ffi_util;
 pub(crate) use par::{
     CHUNK, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, grow, ipow, par_rows, par_rows2,
-    par_rows3, serial,
+    serial,
 };
 pub(crate) use stage::as_its_normal_stage;
 pub use stage::{Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};

@@ -449,7 +449,6 @@ impl Sim {
             h0,
             rho0,
             alpha,
-            rho_ref,
         } = p;
         b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
         for (name, a) in [
@@ -467,7 +466,6 @@ impl Sim {
             ("p.h0", h0),
             ("p.rho0", rho0),
             ("p.alpha", alpha),
-            ("p.rho_ref", rho_ref),
         ] {
             b.put_ref(name, Ref::F64(a));
         }
@@ -601,7 +599,6 @@ impl Sim {
             h0,
             rho0,
             alpha,
-            rho_ref,
         } = p;
         let sized = |name: &str, got: usize, want: usize| -> Result<()> {
             if got == want { Ok(()) } else { Err(bad(&format!("`{name}` holds {got} values, not {want}"))) }
@@ -644,11 +641,6 @@ impl Sim {
         let new_alpha = b.f64("p.alpha")?;
         sized("p.alpha", new_alpha.len(), if alpha.is_empty() { 0 } else { ntotal })?;
         *alpha = new_alpha;
-        // a soil that dilates: its reference densities (absent from checkpoints written before
-        // they existed, which no dilating case can have made)
-        let new_ref = if rho_ref.is_empty() && b.get("p.rho_ref").is_err() { Vec::new() } else { b.f64("p.rho_ref")? };
-        sized("p.rho_ref", new_ref.len(), rho_ref.len())?;
-        *rho_ref = new_ref;
         *mat = new_mat;
         *id = new_id;
         *p_ntotal = ntotal;

@@ -93,7 +93,7 @@ impl Sim {
         perm(&mut p.mat, &order, 1);
         perm(&mut p.id, &order, 1);
         perm(&mut p.tau, &order, NSTR);
-        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0, &mut p.rho_ref] {
+        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0] {
             perm(a, &order, 1);
         }
         perm(&mut self.h_init, &order, 1);

@@ -6,10 +6,10 @@
 //! (`migration::compat::apply_case`). Other materials keep blastsph's EOS. No Fortran twin in
 //! blastsph's core.
 
-use super::{EosStage, point, point_ref};
+use super::{EosStage, point};
 use crate::migration::compat::{Flags, Item};
 use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_MP_E1, SPH_MP_PMIN};
-use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows3};
+use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows2};
 use crate::state::{Clock, Field, Particles, Work};
 
 /// p and c of the real particles, the ideal gas as `p_gas`.
@@ -31,18 +31,11 @@ impl Stage for EosCompat {
     fn writes(&self) -> &[Field] {
         self.normal.writes()
     }
-    fn register(&self, p: &mut Particles) {
-        self.normal.register(p)
-    }
     fn run(&self, _b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         let mt = &self.normal.mt;
         let (mat, burn, rho, e) = (&p.mat[..n], &p.burn, &p.rho[..n], &p.e[..n]);
-        // a dilating soil keeps blastsph's form, reference density and all
-        let mut none = [0.0; 0];
-        let (rref, w3): (&mut [f64], usize) =
-            if self.normal.dilates { (&mut p.rho_ref[..n], 1) } else { (&mut none, 0) };
-        par_rows3(&mut p.p[..n], 1, &mut p.c[..n], 1, rref, w3, |i, pi, ci, ri| {
+        par_rows2(&mut p.p[..n], 1, &mut p.c[..n], 1, |i, pi, ci| {
             let m = mat[i] as usize;
             let col = &mt.mpar[NPAR * m..NPAR * (m + 1)];
             if mt.mtype[m] == SPH_EOS_IDEAL_GAS as i32 {
@@ -54,10 +47,7 @@ impl Stage for EosCompat {
                 ci[0] = ((g - 1.0) * e[i]).sqrt();
             } else {
                 let lam = if burn.is_empty() { 1.0 } else { burn[i] };
-                let (pp, cc) = match ri.first_mut() {
-                    Some(r) => point_ref(mt.mtype[m], col, rho[i], e[i], lam, r),
-                    None => point(mt.mtype[m], col, rho[i], e[i], lam),
-                };
+                let (pp, cc) = point(mt.mtype[m], col, rho[i], e[i], lam);
                 pi[0] = pp;
                 ci[0] = cc;
             }
@@ -78,8 +68,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     }
     let normal = super::plan(ctx);
     let why: &'static str = Box::leak(format!("eos: {}", f.label()).into_boxed_str());
-    let dilates = super::dilates(ctx);
-    let stage = || Box::new(EosCompat { normal: EosStage { mt: ctx.mt.clone(), dilates }, why }) as Box<dyn Stage>;
+    let stage = || Box::new(EosCompat { normal: EosStage { mt: ctx.mt.clone() }, why }) as Box<dyn Stage>;
     Some(Contribution::run(
         format!("{} [compat {}]", normal.why, f.label()),
         vec![(Phase::Init, stage()), (Phase::Eos, stage())],

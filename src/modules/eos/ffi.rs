@@ -2,7 +2,7 @@
 #![allow(unsafe_code)]
 
 use super::Eval;
-use crate::modules::ffi_util::{chk, chk_mat, chk_opt, mptr_or, n32, ptr_or};
+use crate::modules::ffi_util::{chk, chk_opt, chk_mat, n32, ptr_or};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
 mod sys {
@@ -15,14 +15,11 @@ pub(super) fn eval(a: &mut Eval) {
         chk(name, l, n);
     }
     let nburn = chk_opt("burn", a.burn.len(), n, 1);
-    let nref = chk_opt("rref", a.rref.len(), n, 1);
     chk_mat(a.mt, a.mat);
     let dummy = 1.0;
-    let mut rdummy = 0.0;
     // SAFETY: every array holds at least the n values (nmat columns for the table) that the
     // explicit shapes of sph_eos_eval declare, material indices are in 0..nmat (checked above),
-    // and burn (rref) is a one-value dummy when nburn (nref) = 0, as its declared extent
-    // max(nburn, 1) (max(nref, 1)) allows.
+    // and burn is a one-value dummy when nburn = 0, as its declared extent max(nburn, 1) allows.
     unsafe {
         sys::sph_eos_eval(
             n32(n),
@@ -32,8 +29,6 @@ pub(super) fn eval(a: &mut Eval) {
             a.mat.as_ptr(),
             n32(nburn),
             ptr_or(a.burn, &dummy),
-            n32(nref),
-            mptr_or(a.rref, &mut rdummy),
             a.rho.as_ptr(),
             a.e.as_ptr(),
             a.p.as_mut_ptr(),

@@ -3,9 +3,7 @@
 //! the unreacted explosive's Mie–Grüneisen pressure (linear Us–Up, energy above e_chem) when it has
 //! one, c² blended the same way (theory.md §8, §9); water polynomial (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
 //! the isentropic c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ, floored at 1 % of the reference speed; p is
-//! floored at the material's pmin. A soil with `rho_loose_kgm3` dilates: each particle's reference
-//! density ρ_r (kg/m³, state field `rho_ref`) is lowered to max(ρ, ρ_loose) whenever ρ < ρ_r, and
-//! the soil's form reads ρ_r in place of ρ0 (theory.md §8). Fortran twin: `fortran/src/sph_eos.f90`.
+//! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
 //!
 //! Tier: 0 ULP where only + − × ÷ √ are involved (ideal gas, water, soil); JWL calls `exp`, which
 //! both sides take from the same C library, so it is 0 ULP too (see docs/migration.md).
@@ -16,7 +14,7 @@ mod parity;
 pub(crate) mod compat;
 mod rust;
 
-pub use rust::{point, point_ref};
+pub use rust::point;
 
 use super::param::MatTable;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Tolerance, Twin};
@@ -33,9 +31,6 @@ pub struct Eval<'a> {
     pub e: &'a [f64],
     pub p: &'a mut [f64],
     pub c: &'a mut [f64],
-    /// Reference density (kg/m³) of each particle, read and lowered where a soil dilates; empty
-    /// when no material dilates (theory.md §8).
-    pub rref: &'a mut [f64],
 }
 
 impl Twin for Eval<'_> {
@@ -47,11 +42,9 @@ impl Twin for Eval<'_> {
     }
 }
 
-/// p and c of the real particles (and their reference densities where a soil dilates).
+/// p and c of the real particles.
 pub struct EosStage {
-    pub(super) mt: MatTable,
-    /// Some material is a soil with `rho_loose_kgm3`.
-    pub(super) dilates: bool,
+    mt: MatTable,
 }
 
 impl Stage for EosStage {
@@ -62,36 +55,16 @@ impl Stage for EosStage {
         "eos.eval"
     }
     fn reads(&self) -> &[Field] {
-        if self.dilates {
-            &[Field::Rho, Field::E, Field::Mat, Field::Burn, Field::RhoRef]
-        } else {
-            &[Field::Rho, Field::E, Field::Mat, Field::Burn]
-        }
+        &[Field::Rho, Field::E, Field::Mat, Field::Burn]
     }
     fn writes(&self) -> &[Field] {
-        if self.dilates { &[Field::P, Field::C, Field::RhoRef] } else { &[Field::P, Field::C] }
-    }
-    fn register(&self, p: &mut Particles) {
-        if self.dilates && p.rho_ref.len() != p.nreal {
-            // each particle starts at its material's reference density ρ0
-            p.rho_ref = p.mat[..p.nreal].iter().map(|&m| self.mt.column(m as usize)[0]).collect();
-        }
+        &[Field::P, Field::C]
     }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         let burn: &[f64] = if p.burn.is_empty() { &[] } else { &p.burn[..n] };
-        let rref: &mut [f64] = if self.dilates { &mut p.rho_ref[..n] } else { &mut [] };
-        Eval {
-            mt: &self.mt,
-            mat: &p.mat[..n],
-            burn,
-            rho: &p.rho[..n],
-            e: &p.e[..n],
-            p: &mut p.p[..n],
-            c: &mut p.c[..n],
-            rref,
-        }
-        .run(b);
+        Eval { mt: &self.mt, mat: &p.mat[..n], burn, rho: &p.rho[..n], e: &p.e[..n], p: &mut p.p[..n], c: &mut p.c[..n] }
+            .run(b);
     }
     fn tolerance(&self) -> Tolerance {
         if self.mt.has_jwl() {
@@ -102,23 +75,9 @@ impl Stage for EosStage {
     }
 }
 
-/// Some material of the case is a soil that dilates (`rho_loose_kgm3`).
-pub(crate) fn dilates(ctx: &PlanCtx) -> bool {
-    ctx.case.materials.iter().any(|m| matches!(m.eos, crate::case::EosCfg::Soil { rho_loose_kgm3: Some(_), .. }))
-}
-
 /// Every case evaluates its EOS: once before the first step and at every step.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
-    let kinds: Vec<String> = ctx
-        .case
-        .materials
-        .iter()
-        .map(|m| match m.eos {
-            crate::case::EosCfg::Soil { rho_loose_kgm3: Some(r), .. } => format!("soil (dilating to {r} kg/m3)"),
-            _ => m.eos.kind().to_string(),
-        })
-        .collect();
-    let dilates = dilates(ctx);
-    let stage = || Box::new(EosStage { mt: ctx.mt.clone(), dilates }) as Box<dyn Stage>;
+    let kinds: Vec<&str> = ctx.case.materials.iter().map(|m| m.eos.kind()).collect();
+    let stage = || Box::new(EosStage { mt: ctx.mt.clone() }) as Box<dyn Stage>;
     Contribution::run(kinds.join(", "), vec![(Phase::Init, stage()), (Phase::Eos, stage())])
 }

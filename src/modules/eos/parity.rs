@@ -77,7 +77,7 @@ fn eos_eval_every_material_with_and_without_burn() {
     for (label, b) in [("no burn array", &[][..]), ("burn array", &burn[..])] {
         let [pf, cf] = parity(&format!("eos::eval {label}"), 0, ["p", "c"], [sentinel(n), sentinel(n)], |bk, o| {
             let [p, c] = o;
-            run(Eval { mt: &mt, mat: &mat, burn: b, rho: &rho, e: &e, p, c, rref: &mut [] }, bk)
+            run(Eval { mt: &mt, mat: &mat, burn: b, rho: &rho, e: &e, p, c }, bk)
         });
         // every branch is reached: floors, tension and compression of water and soil
         let count = |m: usize, f: &dyn Fn(usize) -> bool| (0..n).filter(|&i| mat[i] as usize == m && f(i)).count();
@@ -90,52 +90,4 @@ fn eos_eval_every_material_with_and_without_burn() {
         }
         assert!(pf.iter().chain(&cf).all(|v| v.is_finite()));
     }
-}
-
-/// A soil that dilates (`rho_loose_kgm3`): each particle's reference density is read, lowered
-/// where the soil is loosened below it (to ρ_loose at the least) and used in place of ρ0; the
-/// other materials of the same call leave theirs alone.
-#[test]
-fn eos_eval_dilating_soil_lowers_its_reference_density() {
-    let mut loose = column(1450.0, &LOOSE_SAND, 0.0, Some((63.58e6, 0.25, 2.0e3)));
-    loose[4] = 1350.0;
-    let mut dense = column(2200.0, &DENSE_SAND, NO_FLOOR, Some((240e6, 0.25, 2.0e3)));
-    dense[4] = 1800.0;
-    let mt = table(
-        vec![(SPH_EOS_SOIL, loose), (SPH_EOS_SOIL, dense), (SPH_EOS_WATER, column(1000.0, &WATER, NO_FLOOR, None))],
-        None,
-    );
-    let mut g = Rng::new(67);
-    let n = 20_000;
-    let (mut mat, mut rho, mut e, mut rref) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..n {
-        let m = g.below(3);
-        let (r0, rl) = [(1450.0, 1350.0), (2200.0, 1800.0), (1000.0, 1000.0)][m];
-        // the reference anywhere between the loosest packing and ρ0; ρ from far below the
-        // loosest packing to compression
-        let rr = if g.below(4) == 0 { r0 } else { g.range(rl, r0) };
-        mat.push(m as i32);
-        rref.push(rr);
-        rho.push(r0 * g.range(0.6, 1.3));
-        e.push(g.range(0.0, 2e3));
-    }
-    let [pf, cf, rf] = parity("eos::eval dilation", 0, ["p", "c", "rref"], [sentinel(n), sentinel(n), rref.clone()], |bk, o| {
-        let [p, c, r] = o;
-        run(Eval { mt: &mt, mat: &mat, burn: &[], rho: &rho, e: &e, p, c, rref: r }, bk)
-    });
-    let soil = |i: usize| mat[i] < 2;
-    let rl = |i: usize| [1350.0, 1800.0][mat[i] as usize];
-    // lowered to ρ, floored at ρ_loose, or kept (compressed); water's untouched
-    let lowered = (0..n).filter(|&i| soil(i) && rho[i] < rref[i] && rho[i] > rl(i)).count();
-    let floored = (0..n).filter(|&i| soil(i) && rho[i] < rl(i)).count();
-    assert!(lowered > 0 && floored > 0);
-    for i in 0..n {
-        let want = if soil(i) && rho[i] < rref[i] { rho[i].max(rl(i)) } else { rref[i] };
-        assert_eq!(rf[i], want, "particle {i}");
-    }
-    // at its new reference a loosened soil is at μ = 0: p = Γ ρ e
-    let i = (0..n).find(|&i| soil(i) && rho[i] < rref[i] && rho[i] > rl(i)).unwrap();
-    let gam = [LOOSE_SAND[2], DENSE_SAND[2]][mat[i] as usize];
-    assert_eq!(pf[i], gam * rho[i] * e[i]);
-    assert!(pf.iter().chain(&cf).all(|v| v.is_finite()));
 }

@@ -1,7 +1,7 @@
 //! The Rust twin of the EOS: same operations in the same order as `sph_eos.f90`.
 
 use super::Eval;
-use crate::modules::{fmax, par_rows2, par_rows3};
+use crate::modules::{fmax, par_rows2};
 use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
 
 const RHO0: usize = 0;
@@ -11,23 +11,11 @@ const UNR_C: usize = 11;
 const UNR_S: usize = 12;
 const UNR_GAMMA: usize = 13;
 const ECHEM: usize = 14;
-/// Soil: the loosest packing ρ_loose (kg/m³), row e4; 0 = no dilation.
-const RHO_LOOSE: usize = E1 + 3;
 
 /// p and c of one particle: material type `itype`, parameters `par` (one column of mpar),
 /// burn fraction `lam`.
 #[inline]
 pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) {
-    let mut rref = par[RHO0];
-    point_ref(itype, par, rho, e, lam, &mut rref)
-}
-
-/// As [`point`], with the particle's reference density `rref` (kg/m³) of a soil that dilates
-/// (`par[RHO_LOOSE]` > 0): loosened below it (ρ < rref), the soil takes max(ρ, ρ_loose) as its
-/// new reference, and the Mie–Grüneisen form reads ρ_ref in place of ρ0 (theory.md §8). Other
-/// materials, and a soil without ρ_loose, leave `rref` alone and use ρ0.
-#[inline]
-pub fn point_ref(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64, rref: &mut f64) -> (f64, f64) {
     let rho0 = par[RHO0];
     let mut p = 0.0;
     let mut c2 = 0.0;
@@ -89,24 +77,17 @@ pub fn point_ref(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64, rref: &mut
         cref = par[E1];
         let s = par[E1 + 1];
         let gam = par[E1 + 2];
-        let mut r0 = rho0;
-        if par[RHO_LOOSE] > 0.0 {
-            if rho < *rref {
-                *rref = fmax(rho, par[RHO_LOOSE]);
-            }
-            r0 = *rref;
-        }
-        let a0 = r0 * cref * cref;
+        let a0 = rho0 * cref * cref;
         let b0 = a0 * (1.0 + 2.0 * (s - 1.0));
         let c0 = a0 * (2.0 * (s - 1.0) + 3.0 * (s - 1.0) * (s - 1.0));
-        let mu = rho / r0 - 1.0;
+        let mu = rho / rho0 - 1.0;
         let (ph, dph) = if mu > 0.0 {
             (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu, a0 + 2.0 * b0 * mu + 3.0 * c0 * mu * mu)
         } else {
             (a0 * mu, a0)
         };
         p = (1.0 - 0.5 * gam * mu) * ph + gam * rho * e;
-        let dpdr = ((1.0 - 0.5 * gam * mu) * dph - 0.5 * gam * ph) / r0 + gam * e;
+        let dpdr = ((1.0 - 0.5 * gam * mu) * dph - 0.5 * gam * ph) / rho0 + gam * e;
         let dpde = gam * rho;
         c2 = dpdr + p / (rho * rho) * dpde;
     }
@@ -115,25 +96,15 @@ pub fn point_ref(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64, rref: &mut
     (p, c)
 }
 
-/// p and c for the first `mat.len()` particles (and the reference densities, when given).
+/// p and c for the first `mat.len()` particles.
 pub(super) fn eval(a: &mut Eval) {
-    let Eval { mt, mat, burn, rho, e, p, c, rref } = a;
+    let Eval { mt, mat, burn, rho, e, p, c } = a;
     let n = mat.len();
-    if rref.is_empty() {
-        par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
-            let m = mat[i] as usize;
-            let lam = if burn.is_empty() { 1.0 } else { burn[i] };
-            let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
-            pi[0] = pp;
-            ci[0] = cc;
-        });
-    } else {
-        par_rows3(&mut p[..n], 1, &mut c[..n], 1, &mut rref[..n], 1, |i, pi, ci, ri| {
-            let m = mat[i] as usize;
-            let lam = if burn.is_empty() { 1.0 } else { burn[i] };
-            let (pp, cc) = point_ref(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam, &mut ri[0]);
-            pi[0] = pp;
-            ci[0] = cc;
-        });
-    }
+    par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
+        let m = mat[i] as usize;
+        let lam = if burn.is_empty() { 1.0 } else { burn[i] };
+        let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
+        pi[0] = pp;
+        ci[0] = cc;
+    });
 }
