@@ -133,14 +133,10 @@ impl At {
     }
 }
 
-/// A bound as messages write it: 0.25, 1000, 1e15.
+/// A number as messages write it (a bound, or the value refused): 0.25, 1000, 1e15 — never the
+/// 301 digits of 1e300.
 fn num_text(x: f64) -> String {
     if x != 0.0 && (x.abs() >= 1e5 || x.abs() < 1e-3) { format!("{x:e}") } else { format!("{x}") }
-}
-
-/// A value as the case gave it, short: 2300, 0.25, 1e300 (not 301 digits).
-fn given(x: f64) -> String {
-    if x.is_finite() && x != 0.0 && (x.abs() >= 1e15 || x.abs() < 1e-9) { format!("{x:e}") } else { format!("{x}") }
 }
 
 /// A name on one line, cut to a length that keeps a message readable.
@@ -160,7 +156,7 @@ impl Checker {
     /// A number in a range.
     pub fn num(&mut self, at: &At, key: &str, v: f64, r: Range) -> Result<()> {
         self.seen.insert(at.path(key));
-        if r.holds(v) { Ok(()) } else { Err(input(format!("{} = {}: {}", at.key(key), given(v), r.text()))) }
+        if r.holds(v) { Ok(()) } else { Err(input(format!("{} = {}: {}", at.key(key), num_text(v), r.text()))) }
     }
 
     /// An optional number in a range.
@@ -180,7 +176,7 @@ impl Checker {
         }
         for (a, x) in v.iter().enumerate() {
             if !r.holds(*x) {
-                return Err(input(format!("{}[{a}] = {}: {}", at.key(key), given(*x), r.text())));
+                return Err(input(format!("{}[{a}] = {}: {}", at.key(key), num_text(*x), r.text())));
             }
         }
         Ok(())

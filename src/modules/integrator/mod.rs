@@ -182,9 +182,7 @@ fn size_leapfrog(p: &Particles, w: &mut Work) {
     w.e_min.resize(n, 0.0);
     w.v_min.resize(dim * n, 0.0);
     w.tau_min.resize(ntau, 0.0);
-    if w.drho.len() < n {
-        w.drho.resize(n, 0.0);
-    }
+    crate::modules::grow(&mut w.drho, n);
 }
 
 /// The stages of the module.

@@ -110,9 +110,7 @@ impl PerThread {
             Some(m) => m.lock().unwrap_or_else(|e| e.into_inner()),
             None => return f(&mut vec![0.0; len]),
         };
-        if g.len() < len {
-            g.resize(len, 0.0);
-        }
+        crate::modules::grow(&mut g, len);
         f(&mut g[..len])
     }
 }
