@@ -133,7 +133,7 @@ pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
     }
     let on = (0..n).find(|&i| (0..d).map(|k| (p.x[d * i + k] - c[k]).powi(2)).sum::<f64>().sqrt() < 0.25 * dx)?;
     let evidence = if d == 2 {
-        "in 2D the shock then lags 3.4-6.4 % by the density peak at h = dx (105 x 105, 1 to 13 hot particles); sph.h_over_dx = 1.2 puts it within 3 % by the peak and within 1-3 % by the threshold"
+        "in 2D the shock then lags 3.4-7.7 % by the density peak at h = dx (101 x 101 to 105 x 105, 1 to 13 hot particles); sph.h_over_dx = 1.2 puts it within 3 % by the peak and within 1-3 % by the threshold"
     } else {
         "in 3D the single centre particle lagged 5.6 % by the density peak at h = dx (41^3); at h = 1.2 dx the peak is within 0.2 % but the threshold measure 8.7 % ahead"
     };

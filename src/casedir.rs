@@ -49,8 +49,12 @@ pub fn folder(case_dir: Option<&Path>) -> Result<PathBuf> {
 /// `.toml`) or as a name (`surface_loose_tnt6`, `hard/coarse_25`) looked up in the case folders.
 pub fn resolve(case: &Path, case_dir: Option<&Path>) -> Result<PathBuf> {
     let s = case.to_string_lossy();
+    let not_a_file = || input(format!("{s}: not a regular file (a case is a .toml file)"));
     let looks_like_path = s.ends_with(".toml") || case.is_file() || (case_dir.is_none() && s.starts_with('.'));
     if looks_like_path {
+        if case.exists() && !case.is_file() {
+            return Err(not_a_file());
+        }
         return Ok(case.to_path_buf());
     }
     let dirs = candidates(case_dir);
@@ -59,6 +63,9 @@ pub fn resolve(case: &Path, case_dir: Option<&Path>) -> Result<PathBuf> {
         if p.is_file() {
             return Ok(p);
         }
+    }
+    if case.exists() {
+        return Err(not_a_file());
     }
     if dirs.is_empty() {
         return Err(input(format!(

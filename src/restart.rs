@@ -236,6 +236,16 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
     // the files, cut back to the checkpoint (a run killed later may have written more):
     // particles.h5 first, since it is checked as it is opened
+    // a detonation's history: its outputs up to the checkpoint
+    let det_frames = if sim.case.analysis.kind == crate::case::AnalysisKind::Detonation {
+        crate::output::read_frames(&dir.join("particles.h5"))?
+            .into_iter()
+            .filter(|f| f.time <= sim.t * (1.0 + 1e-12))
+            .map(crate::analysis::verify::slim)
+            .collect()
+    } else {
+        Vec::new()
+    };
     let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
     if let Some(f) = gfile {
         f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
@@ -267,6 +277,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         sets,
         resumes,
         start: Instant::now(),
+        det_frames,
     };
     let ro = RunOptions {
         quiet: o.quiet,

@@ -325,6 +325,19 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         bad("legacy build of a missing manifest", &["legacy", "build", &p("nosuch/legacy.toml")]),
         bad("a case name outside the case folder", &["check", "../../etc/passwd"]),
     ];
+    // a case that is not a regular file: a device, a folder (the error says so)
+    for (what, path) in [("a case that is a device", "/dev/zero".to_string()), ("a case that is a folder", p(""))] {
+        let mut b = bad(what, &["check", &path]);
+        b.needle = Some("not a regular file".into());
+        c.push(b);
+    }
+    // a name with a direction override (it would reorder the terminal's line around it)
+    c.push(set_n(
+        "a name with U+202E",
+        "verify/sedov_2d_g14.toml",
+        "region.hot.name=\"ab\u{202E}cd\"",
+        "direction marks",
+    ));
     // --out: existing file, a path under a file, a link, a folder of someone else's files, a
     // folder with a planted link, /proc
     std::fs::write(t.join("afile"), b"x").unwrap();
@@ -435,6 +448,20 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     // nothing written into the run directory by the refusals
     assert!(!t.join("theirs/particles.h5").exists() && !t.join("planted/case.toml").exists());
     assert_eq!(std::fs::read(t.join("afile")).unwrap(), b"x");
+}
+
+/// A value of 100 000 characters given to --set is refused on one line that quotes only its
+/// start (the message does not carry the whole value).
+#[test]
+fn a_huge_value_is_refused_with_a_short_line() {
+    let d = tempfile::tempdir().unwrap();
+    let big = format!("time.end_s={}", "9".repeat(100_000));
+    let args: Vec<OsString> = ["check", &case("shock_tube.toml"), "--set", &big].iter().map(OsString::from).collect();
+    let o = blastsph_in(d.path(), &args, Duration::from_secs(60));
+    assert_eq!(not_refused(&o), None);
+    let err = text(&o.unwrap().stderr);
+    assert!(err.len() < 1000, "{} characters on the error line", err.len());
+    assert!(err.contains("characters)"), "{err}");
 }
 
 /// A case's name never moves the default run directory out of `runs/` of the working folder.

@@ -57,6 +57,15 @@ fn slab_of(path: &Path, dx: f64, h_over_dx: f64, travel: f64, extra: &[&str]) ->
     let rep = blastsph::report::report(&r.dir).expect("report");
     let hist: Vec<f64> =
         rep["history"].as_array().unwrap().iter().map(|h| h["peak_p_ratio"].as_f64().unwrap()).collect();
+    // summary.json's history is the report's: every output, not the end state alone
+    let sum: Vec<f64> = r.summary["verification"]["history"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h["peak_p_ratio"].as_f64().unwrap())
+        .collect();
+    assert_eq!(sum, hist, "summary.json's history against the report's");
+    assert!(hist.len() >= 5, "{} outputs in the history", hist.len());
     (hist, rep)
 }
 

@@ -12,7 +12,10 @@
 //!   soil (a cavity: gas under an intact dome, or the charge's hole at t = 0) does not end the
 //!   ground. "Enclosed" is decided on a raster of Δs cells, solid where a soil particle lies within
 //!   Δs of the cell's centre: a void cell is open when the empty cells connect it to the raster's
-//!   border, enclosed otherwise;
+//!   border, enclosed otherwise; the raster's margins below the soil and beside it below the
+//!   original ground's top are solid (the ground goes on beyond the box's walls). A gap the
+//!   raster sees as solid all along ends the walk only where most of the column's particles lie
+//!   below it (lifted particles over the ground), not above it (a crack low in the soil);
 //! - the original ground surface s0(x) is the same measure at t = 0, except over a charge that
 //!   sits in a pit of the ground (an explosive particle above the soil's top in that column at
 //!   t = 0, within ±Δs of its centre as its soil is gathered): there the ground level is
@@ -188,9 +191,13 @@ struct Raster {
 }
 
 impl Raster {
-    /// The raster of the points whose coordinates along each axis are `pts[axis]` (2 or 3 axes),
-    /// covering `lims[axis]` (m) and two cells more on every side.
-    fn new(pts: &[&[f64]], ds: f64, lims: &[(f64, f64)]) -> Raster {
+    /// The raster of the points whose coordinates along each axis are `pts[axis]` (2 or 3 axes,
+    /// the last vertical), covering `lims[axis]` (m) and two cells more on every side. The
+    /// margin below the limits, and the margins beside them below the height `ground` (m), are
+    /// solid: beyond the measured soil the ground is taken to go on (a wall of the box, or soil
+    /// the scene does not model), so a crack in the soil that reaches its side or bottom is not
+    /// open to the sky there.
+    fn new(pts: &[&[f64]], ds: f64, lims: &[(f64, f64)], ground: f64) -> Raster {
         let d = pts.len().min(3);
         let (mut lo, mut n) = ([0.0; 3], [1usize; 3]);
         for a in 0..d {
@@ -225,6 +232,16 @@ impl Raster {
                 }
             }
         }
+        // the margins taken as ground
+        let v = d - 1;
+        for (k, cell) in solid.iter_mut().enumerate() {
+            let idx = |a: usize| k / stride[a] % n[a];
+            let z = lo[v] + (idx(v) as f64 + 0.5) * ds;
+            let beside = (0..v).any(|a| idx(a) < 2 || idx(a) + 2 >= n[a]);
+            if idx(v) < 2 || (beside && z < ground) {
+                *cell = true;
+            }
+        }
         // flood the empty cells from the border, through faces
         let mut open = vec![false; total];
         let on_border = |k: usize| (0..d).any(|a| [0, n[a] - 1].contains(&(k / stride[a] % n[a])));
@@ -246,9 +263,11 @@ impl Raster {
         Some(k)
     }
 
-    /// Is the vertical gap from height `za` to `zb` over the horizontal point `h` an enclosed
-    /// void: no open cell along it, and some empty?
-    fn enclosed_gap(&self, h: &[f64], za: f64, zb: f64) -> bool {
+    /// What the vertical gap from height `za` to `zb` over the horizontal point `h` is in the
+    /// raster: open to the sky (an open cell along it, or a point beyond the raster, which ends
+    /// above the ground), an enclosed void (empty cells, none open), or solid all along (too
+    /// thin to hold a cell farther than Δs from every particle).
+    fn gap(&self, h: &[f64], za: f64, zb: f64) -> Gap {
         let mut p = [0.0; 3];
         p[..self.d - 1].copy_from_slice(&h[..self.d - 1]);
         let mut any_void = false;
@@ -256,14 +275,14 @@ impl Raster {
         while z < zb - 0.5 * self.ds {
             p[self.d - 1] = z;
             match self.cell(&p) {
-                None => return false,
-                Some(k) if self.open[k] => return false,
+                None => return Gap::Open,
+                Some(k) if self.open[k] => return Gap::Open,
                 Some(k) if !self.solid[k] => any_void = true,
                 _ => {}
             }
             z += 0.5 * self.ds;
         }
-        any_void
+        if any_void { Gap::Enclosed } else { Gap::Solid }
     }
 
     /// The largest enclosed void (a face-connected component of empty, not open cells): its
@@ -298,6 +317,14 @@ impl Raster {
         }
         best
     }
+}
+
+/// A vertical gap between two particles of a column, as the raster sees it ([`Raster::gap`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Gap {
+    Open,
+    Enclosed,
+    Solid,
 }
 
 /// A flood fill on a grid of `n[axis]` cells along each axis (cell (i0, i1, i2) is entry
@@ -391,11 +418,21 @@ fn surface(pts: &[&[f64]], lo: &[f64], ds: f64, nc: &[usize], raster: &Raster) -
                 return f64::NAN;
             }
             c.sort_by(|a, b| a.0.total_cmp(&b.0));
-            // walk the band up to the first gap open to the sky
+            // walk the band up to the first gap open to the sky; a gap the raster sees as
+            // solid ends it too where the band's particles lie mostly below it (a few lifted
+            // particles over the ground), not where most lie above (a crack low in the soil, a
+            // row pulled off the floor of the box)
             let mut top = 0;
             for q in 1..c.len() {
-                if c[q].0 - c[top].0 > 2.0 * ds && !raster.enclosed_gap(&centre, c[top].0, c[q].0) {
-                    break;
+                if c[q].0 - c[top].0 > 2.0 * ds {
+                    let ends = match raster.gap(&centre, c[top].0, c[q].0) {
+                        Gap::Open => true,
+                        Gap::Enclosed => false,
+                        Gap::Solid => q >= c.len() - q,
+                    };
+                    if ends {
+                        break;
+                    }
                 }
                 top = q;
             }
@@ -572,7 +609,7 @@ pub fn surface_map(
     }
     let height = |a: &[Vec<f64>; 3]| {
         let pts = [&a[0][..], &a[1][..], &a[2][..]];
-        surface(&pts, &lo, ds, &nc, &Raster::new(&pts, ds, &lims))
+        surface(&pts, &lo, ds, &nc, &Raster::new(&pts, ds, &lims, zb))
     };
     let (mut s0, s1) = (height(&a0), height(&a1));
     let (nx, ny) = (nc[0], nc[1]);
@@ -797,8 +834,8 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     // the raster covers the ground and what lies just above it (ejecta higher up are ejecta)
     let ytop = ymax0 + 0.5 * (hi - lo);
     let lims = [(lo, hi), (ymin0.min(ymin1), ytop)];
-    let r0 = Raster::new(&[x0s, y0s], ds, &lims);
-    let r1 = Raster::new(&[x1s, y1s], ds, &lims);
+    let r0 = Raster::new(&[x0s, y0s], ds, &lims, ymax0);
+    let r1 = Raster::new(&[x1s, y1s], ds, &lims, ymax0);
     let mut s0 = surface(&[x0s, y0s], &[lo], ds, &[ncol], &r0);
     let s1 = surface(&[x1s, y1s], &[lo], ds, &[ncol], &r1);
     // a charge in a pit of the ground: the ground level over it is interpolated
@@ -911,6 +948,41 @@ mod tests {
             }
         }
         (xs, ys)
+    }
+
+    /// Cracks low in the soil are not the ground's surface: the row on the floor of the box
+    /// pulled 2.1 spacings below the rest (a gap the raster sees as solid, which used to end the
+    /// walk and read the crater as deep as the box), and a crack 4 spacings tall across the
+    /// whole soil that reaches the box's side walls (open only through the margins beyond them,
+    /// where the ground is taken to go on). Lifted particles 2.2 spacings over the ground's top
+    /// are still not ground.
+    #[test]
+    fn cracks_in_the_soil_and_a_row_off_the_floor_do_not_end_the_ground() {
+        let ds = 0.01;
+        let soil0 = lattice(ds, 1.0, 1.0, &|_, _| false);
+        let bowl = |x: f64, y: f64| (x - 0.5).abs() < 0.1 && y > 0.9;
+        let (mut x1, mut y1) = lattice(ds, 1.0, 1.0, &bowl);
+        for y in y1.iter_mut() {
+            // the floor row stays, everything above rises by 1.1 ds; above y = 0.4 by 4 ds more
+            if *y > 0.01 {
+                *y += 0.011;
+            }
+            if *y > 0.4 {
+                *y += 0.04;
+            }
+        }
+        // and a few lifted particles over the ground outside the bowl
+        for k in 0..5 {
+            x1.push(0.105 + 0.01 * k as f64);
+            y1.push(1.051 + 0.022);
+        }
+        let inp = CraterInput { soil0, soil1: (x1, y1), charge0: (Vec::new(), Vec::new()) };
+        let c = measure_xy(&inp, ds).unwrap();
+        // the bowl's floor rose with the soil by 5.1 ds: 10 − 5.1 = 4.9 cm deep
+        assert!((c.depth_m - 0.049).abs() < 1e-9, "depth {}", c.depth_m);
+        assert!((c.diameter_m - 0.20).abs() < 1e-9, "diameter {}", c.diameter_m);
+        let k = c.columns_m.iter().position(|x| (x - 0.125).abs() < 1e-9).unwrap();
+        assert!((c.surface_m[k] - 1.046).abs() < 1e-9, "lifted particles read as ground: {}", c.surface_m[k]);
     }
 
     #[test]

@@ -90,7 +90,7 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
 
 /// An override as error messages show it: on one line, cut to 120 characters.
 pub(super) fn shown(s: &str) -> String {
-    let one: String = s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let one: String = s.chars().map(|c| if c.is_control() || super::validate::is_bidi(c) { ' ' } else { c }).collect();
     if one.chars().count() > 120 { format!("{}…", one.chars().take(120).collect::<String>()) } else { one }
 }
 

@@ -139,9 +139,15 @@ fn num_text(x: f64) -> String {
     if x != 0.0 && (x.abs() >= 1e5 || x.abs() < 1e-3) { format!("{x:e}") } else { format!("{x}") }
 }
 
+/// A direction mark or override (U+200E, U+200F, U+061C, U+202A–U+202E, U+2066–U+2069): it
+/// reorders the text a terminal shows around it, so names refuse it and messages do not print it.
+pub(crate) fn is_bidi(c: char) -> bool {
+    matches!(c, '\u{200E}' | '\u{200F}' | '\u{061C}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}')
+}
+
 /// A name on one line, cut to a length that keeps a message readable.
 fn shown(s: &str) -> String {
-    let one: String = s.chars().map(|c| if c.is_control() { '?' } else { c }).collect();
+    let one: String = s.chars().map(|c| if c.is_control() || is_bidi(c) { '?' } else { c }).collect();
     if one.chars().count() > 60 { format!("{}…", one.chars().take(60).collect::<String>()) } else { one }
 }
 
@@ -192,17 +198,22 @@ impl Checker {
         }
     }
 
-    /// A name: not empty, at most [`NAME_MAX`] characters, no control characters, commas or
-    /// quotes (names become columns of gauges.csv and words of one-line messages).
+    /// A name: not empty, at most [`NAME_MAX`] characters, no control characters, no
+    /// direction marks or overrides (U+200E, U+200F, U+061C, U+202A–U+202E, U+2066–U+2069: they
+    /// reorder the text a terminal shows around them), commas or quotes (names become columns of
+    /// gauges.csv and words of one-line messages).
     pub fn name(&mut self, at: &At, key: &str, v: &str) -> Result<()> {
         self.seen.insert(at.path(key));
-        let bad = v.chars().find(|c| c.is_control() || matches!(c, ',' | '"'));
+        let bad = v.chars().find(|&c| c.is_control() || is_bidi(c) || matches!(c, ',' | '"'));
         if v.trim().is_empty() {
             Err(input(format!("{}: an empty name", at.key(key))))
         } else if v.chars().count() > NAME_MAX {
             Err(input(format!("{}: a name of at most {NAME_MAX} characters", at.key(key))))
         } else if let Some(c) = bad {
-            Err(input(format!("{}: the name holds {c:?} (no control characters, commas or quotes)", at.key(key))))
+            Err(input(format!(
+                "{}: the name holds {c:?} (no control characters, direction marks, commas or quotes)",
+                at.key(key)
+            )))
         } else {
             Ok(())
         }

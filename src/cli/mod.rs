@@ -360,7 +360,22 @@ fn clap_line(e: &clap::Error) -> String {
 
 /// One line on stderr: a message never spans lines, whatever it quotes.
 fn one_line(s: &str) -> String {
-    s.chars().map(|c| if c == '\n' || c == '\r' { ' ' } else { c }).collect()
+    let line: String = s.chars().map(|c| if c == '\n' || c == '\r' { ' ' } else { c }).collect();
+    // a value the message quotes whole (a 100 kB number given to --set) is cut to its start
+    if !line.split(' ').any(|w| w.chars().count() > 120) {
+        return line;
+    }
+    line.split(' ')
+        .map(|w| {
+            let n = w.chars().count();
+            if n > 120 {
+                format!("{}… ({n} characters)", w.chars().take(60).collect::<String>())
+            } else {
+                w.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Entry point; returns the exit status: 0 done, 1 an I/O failure during a run, 2 refused input,
