@@ -311,11 +311,12 @@ fn generate(case: &Case) -> Result<Initial> {
             }
             if let Some(p) = all[a].iter().find(|p| inside(case, b, &p[..])) {
                 return Err(input(format!(
-                    "region[{a}] ({}) overlaps region[{b}] ({}) at {:?} m: cut one out of the other with subtract = [\"{}\"]",
+                    "region[{a}] ({}) overlaps region[{b}] ({}) at {:?} m: cut one out of the other: add subtract = [\"{}\"] to region {} (the one that keeps its particles outside the other)",
                     ra.name,
                     rb.name,
                     &p[..d],
-                    ra.name
+                    ra.name,
+                    rb.name
                 )));
             }
         }
