@@ -234,9 +234,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     resumes.push((sim.nstep, sim.t));
     let last_written = blob.count("run.last_written")?;
     let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
-    // the files, cut back to the checkpoint (a run killed later may have written more):
-    // particles.h5 first, since it is checked as it is opened
-    // a detonation's history: its outputs up to the checkpoint
+    // a detonation's history: its outputs up to the checkpoint (read before the file is cut)
     let det_frames = if sim.case.analysis.kind == crate::case::AnalysisKind::Detonation {
         crate::output::read_frames(&dir.join("particles.h5"))?
             .into_iter()
@@ -246,6 +244,8 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     } else {
         Vec::new()
     };
+    // the files, cut back to the checkpoint (a run killed later may have written more):
+    // particles.h5 first, since it is checked as it is opened
     let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
     if let Some(f) = gfile {
         f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;

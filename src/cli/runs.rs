@@ -50,7 +50,16 @@ pub fn check_text(sim: &Sim) -> String {
         } else {
             String::new()
         },
-        format!("{:?}", c.sph.energy_form).to_lowercase(),
+        {
+            // a compatibility item that replaces the case's energy form says so here
+            use crate::migration::compat::Item;
+            let form = format!("{:?}", c.sph.energy_form).to_lowercase();
+            if c.compat.flags().is_ok_and(|f| f.has(Item::ForceEnergy)) {
+                format!("the book's symmetric form (compat force_energy, in place of the case's {form})")
+            } else {
+                form
+            }
+        },
         format!("{:?}", c.sph.smoothing).to_lowercase(),
         c.sph.h_max_ratio.map(|r| format!(" (h <= {r} h0 max)")).unwrap_or_default(),
         if c.sph.e_floor { "on" } else { "off" },
