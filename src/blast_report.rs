@@ -469,7 +469,7 @@ pub fn report(
             &dir.join("crater_profile.png"),
             &format!("{}: ground surface (columns {:.1} cm wide)", case.name(), 100.0 * c_end.column_m),
             if case.dim == 3 || case.axisymmetric() {
-                "distance from the charge's axis (m; both sides: the section through the axis)"
+                "distance from the charge's axis (m; drawn on both sides: the crater revolved about the axis)"
             } else {
                 "x (m)"
             },

@@ -13,12 +13,21 @@ use std::path::Path;
 pub fn check_text(sim: &Sim) -> String {
     let c = &sim.case;
     let mut s = format!("case {}: dim {}, {} particles", c.name(), c.dim, sim.p.nreal);
-    let mut by_mat = vec![0usize; c.materials.len()];
-    for &m in &sim.p.mat[..sim.p.nreal] {
-        by_mat[m as usize] += 1;
+    let mut by_mat = vec![(0usize, 0.0f64); c.materials.len()];
+    for (&m, &mass) in sim.p.mat[..sim.p.nreal].iter().zip(&sim.p.mass) {
+        by_mat[m as usize].0 += 1;
+        by_mat[m as usize].1 += mass;
     }
-    let parts: Vec<String> = c.materials.iter().zip(&by_mat).map(|(m, k)| format!("{} {k}", m.name)).collect();
-    s += &format!(" ({})\n", parts.join(", "));
+    // the mass each material has in the model (a ring's whole mass in RZ; per metre of depth in
+    // 2D plane, per m² in 1D; the modelled part only, with symmetry planes)
+    let unit = match (c.dim, c.axisymmetric()) {
+        (1, _) => "kg/m2",
+        (2, false) => "kg/m",
+        _ => "kg",
+    };
+    let parts: Vec<String> =
+        c.materials.iter().zip(&by_mat).map(|(m, (k, mass))| format!("{} {k}: {mass:.4} {unit}", m.name)).collect();
+    s += &format!(" ({}, in the model)\n", parts.join(", "));
     s += &format!(
         "time: end {:e} s, {:?} step{}, output every {:e} s\n",
         c.time.end_s,
