@@ -31,6 +31,7 @@ pub fn is_ours(name: &str) -> bool {
             | "animation.gif"
             | "dual_report.json"
             | "dual_free.json"
+            | "ledger.json"
     ) || (base.ends_with(".png") && !base.contains('/'))
 }
 
@@ -69,6 +70,17 @@ pub enum Found {
 
 fn io(dir: &Path, e: std::io::Error) -> SphError {
     input(format!("{}: {e}", dir.display()))
+}
+
+/// The first entry of `dir` (a folder [`inspect`] found to hold blastsph's files only) that is
+/// not one of `ours` (a `.tmp` of one counts as it), in name order: None when there is none.
+pub fn first_not_of(dir: &Path, ours: &[&str]) -> Result<Option<String>> {
+    let mut names = Vec::new();
+    for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
+        names.push(e.map_err(|e| io(dir, e))?.file_name().to_string_lossy().into_owned());
+    }
+    names.sort();
+    Ok(names.into_iter().find(|n| !ours.contains(&n.strip_suffix(".tmp").unwrap_or(n))))
 }
 
 /// Looks at `dir` without writing: refuses a path that is a link, a file, or lies under a file.

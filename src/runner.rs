@@ -424,6 +424,7 @@ impl Loop {
             "case": sim.case.name(),
             "backend": sim.plan.label(),
             "modules": modules,
+            "legacy": sim.plan.legacy_modules(),
             "skipped": skipped,
             "dim": sim.cfg.dim,
             "particles": n,

@@ -354,6 +354,9 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     std::os::unix::fs::symlink(t.join("afile"), t.join("planted/particles.h5")).unwrap();
     c.push(bad("--out with a planted link", &["run", &tube, "--out", &p("planted")]));
     c.push(bad("dual --out a file", &["dual", &tube, "--steps", "1", "--out", &p("afile")]));
+    std::fs::create_dir(t.join("arun")).unwrap();
+    std::fs::write(t.join("arun/summary.json"), "{}").unwrap();
+    c.push(bad("dual --out a run's folder", &["dual", &tube, "--steps", "1", "--out", &p("arun")]));
     c.push(bad("bench --out a file", &["bench", "--cases", "shock_tube", "--resolutions", "1", "--out", &p("afile")]));
     c.push(bad("validate --out a file", &["validate", "--only", "buried_c4", "--out", &p("afile")]));
     c.push(bad(

@@ -119,6 +119,17 @@ fn the_ledger_attributes_each_difference_to_its_item() {
     let l1 = |run: &str| get(run)["l1"][0].as_f64().unwrap();
     assert!((l1("profile") - 0.01553).abs() < 2e-4, "{so}");
     assert!(l1("-sound_speed") > l1("profile"), "{so}");
+    // a second ledger into the same folder replaces the first (its ledger.json is blastsph's)
+    let again = blastsph(&[
+        "legacy",
+        "ledger",
+        "shock_tube",
+        "--legacy",
+        shared().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
 }
 
 #[test]

@@ -171,7 +171,8 @@ pub enum Cmd {
         /// Steps to run (default 100)
         #[arg(long, value_name = "N")]
         steps: Option<u64>,
-        /// Where dual_report.json goes (default: runs/<case name>_dual)
+        /// Where dual_report.json goes (default: runs/<case name>_dual); an earlier dual's
+        /// report there is replaced, a folder with a run's files is refused
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Free-running mode: an all-Fortran and an all-Rust run from the same start
@@ -447,6 +448,25 @@ fn out_folder(dir: &Path) -> Result<()> {
     crate::rundir::inspect(dir, "--out").map(|_| ())
 }
 
+/// Refuses an `--out` of `dual` or `legacy ledger` that holds files it did not write or a run's
+/// files: its own earlier report (`ours`) is replaced, a run directory is not mixed with it.
+fn report_folder(dir: &Path, ours: &[&str], what: &str) -> Result<()> {
+    match crate::rundir::inspect(dir, "--out")? {
+        crate::rundir::Found::Other(name) => Err(input(format!(
+            "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
+            dir.display()
+        ))),
+        crate::rundir::Found::Run { .. } => match crate::rundir::first_not_of(dir, ours)? {
+            Some(name) => Err(input(format!(
+                "--out {}: holds a run's files (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
+                dir.display()
+            ))),
+            None => Ok(()),
+        },
+        _ => Ok(()),
+    }
+}
+
 /// Checks the --progress-every value and sets it.
 fn progress_every(s: f64) -> Result<()> {
     if !(s.is_finite() && (0.0..=1e9).contains(&s)) {
@@ -594,12 +614,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let c = case::load(&case, &la.sets(&sets)?)?;
             let dir = out
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
-            if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
-                return Err(input(format!(
-                    "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
-                    dir.display()
-                )));
-            }
+            report_folder(&dir, &["ledger.json"], "ledger")?;
             crate::rundir::prepare(&dir, false)?;
             let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
             print!("{text}");
@@ -648,12 +663,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let ov = Overrides { nnps, max_particles, legacy: legacy.legacy.clone(), ..Default::default() };
             let dir = out
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", crate::rundir::sanitize(c.name()))));
-            if let crate::rundir::Found::Other(name) = crate::rundir::inspect(&dir, "--out")? {
-                return Err(input(format!(
-                    "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
-                    dir.display()
-                )));
-            }
+            report_folder(&dir, &["dual_report.json", "dual_free.json"], "dual run")?;
             crate::rundir::prepare(&dir, false)?;
             if free {
                 let rep = on_pool(|| free_run(c, &ov, steps.unwrap_or(100), &dir))?;
@@ -669,8 +679,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
 /// The one line a finished `run` or `resume` prints: case, particles, steps, time, wall time
 /// (`wall` names what it counts), backend, run directory.
 fn finished_line(s: &serde_json::Value, wall: &str, dir: &std::path::Path) -> String {
+    // a user's legacy routines (`--legacy`) named beside the backend of the rest
+    let legacy: Vec<&str> =
+        s["legacy"].as_array().map_or(Vec::new(), |a| a.iter().filter_map(|v| v.as_str()).collect());
+    let legacy = if legacy.is_empty() { String::new() } else { format!("; legacy routines in {}", legacy.join(", ")) };
     format!(
-        "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s {wall} ({} backend), output in {}",
+        "{}: {} particles, {} steps, t = {:.4e} s, {:.2} s {wall} ({} backend{legacy}), output in {}",
         s["case"].as_str().unwrap_or("?"),
         s["particles"],
         s["steps"],

@@ -188,6 +188,20 @@ impl Plan {
         }
     }
 
+    /// The modules some of whose stages run a user's legacy routine (`--legacy`), in plan order.
+    pub fn legacy_modules(&self) -> Vec<&'static str> {
+        let mut v: Vec<&'static str> = Vec::new();
+        for e in &self.entries {
+            if matches!(e.stage.counterpart(), Counterpart::Legacy | Counterpart::LegacyAlone(_)) {
+                let name = e.stage.module().name();
+                if !v.contains(&name) {
+                    v.push(name);
+                }
+            }
+        }
+        v
+    }
+
     /// Seconds spent in each active module's stages.
     pub fn module_seconds(&self) -> BTreeMap<Module, f64> {
         let mut s: BTreeMap<Module, f64> =
