@@ -178,6 +178,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     let (case, mut summary) = load_case(dir)?;
     let (frames, skipped) = crate::output::read_complete_frames(&dir.join("particles.h5"))?;
     let last = frames.last().ok_or_else(|| input(format!("{}: particles.h5 holds no step", dir.display())))?;
+    crate::rundir::remove_report(dir)?;
     // a run that did not finish: reported up to its last complete output
     let partial = summary["partial"].as_bool().unwrap_or(false)
         || !matches!(summary["status"].as_str(), Some("ok" | "unstable"))

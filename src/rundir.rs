@@ -83,6 +83,44 @@ pub fn first_not_of(dir: &Path, ours: &[&str]) -> Result<Option<String>> {
     Ok(names.into_iter().find(|n| !ours.contains(&n.strip_suffix(".tmp").unwrap_or(n))))
 }
 
+/// The plots `blastsph report` writes into a run directory, by name (the snapshots' names carry
+/// their times).
+fn is_report_plot(name: &str) -> bool {
+    const FIXED: [&str; 11] = [
+        "bubble_growth.png",
+        "crater_growth.png",
+        "crater_map.png",
+        "crater_profile.png",
+        "ejecta_height.png",
+        "gauges.png",
+        "gauges_velocity.png",
+        "peaks.png",
+        "ppv_map.png",
+        "profiles.png",
+        "animation.gif",
+    ];
+    FIXED.contains(&name)
+        || (name.ends_with(".png")
+            && ["snap_material_", "snap_pressure_", "snap_velocity_"].iter().any(|p| name.starts_with(p)))
+}
+
+/// Removes what `blastsph report` wrote into a run directory (report.json, its plots by name,
+/// animation.gif, and their `.tmp`; a PNG of another name is left): before a new report (its
+/// snapshot names follow its times, so an earlier report's would stay beside it) and when a run
+/// is resumed.
+pub fn remove_report(dir: &Path) -> Result<()> {
+    for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
+        let e = e.map_err(|e| io(dir, e))?;
+        let name = e.file_name().to_string_lossy().into_owned();
+        let base = name.strip_suffix(".tmp").unwrap_or(&name);
+        let ft = e.file_type().map_err(|e| io(dir, e))?;
+        if ft.is_file() && (base == "report.json" || is_report_plot(base)) {
+            std::fs::remove_file(e.path()).map_err(|e| SphError::Io(format!("{name}: {e}")))?;
+        }
+    }
+    Ok(())
+}
+
 /// Looks at `dir` without writing: refuses a path that is a link, a file, or lies under a file.
 pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
     let shown = dir.display();
