@@ -659,8 +659,22 @@ pub fn surface_map(
         }
     }
     let drop = drops(&s0, &s1, za);
-    let (kmax, depth) =
-        drop.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (k, d)| if *d > acc.1 { (k, *d) } else { acc });
+    let depth = drop.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    // the deepest cell: among those as deep (to 1e-9 ds: an image's sums may differ in the last
+    // bits) one in the modelled part rather than an image, then the nearest the axis
+    let side: Vec<f64> = mirrors.iter().map(|&(a, c)| (soil0.iter().map(|p| p[a] - c).sum::<f64>()).signum()).collect();
+    let rank = |k: usize| {
+        let q = centre(k);
+        let image = mirrors.iter().zip(&side).any(|(&(a, c), sd)| (q[a] - c) * sd < 0.0);
+        (image, (q[0] - ax.0).hypot(q[1] - ax.1))
+    };
+    let kmax = (0..drop.len())
+        .filter(|&k| drop[k] >= depth - 1e-9 * ds)
+        .min_by(|&a, &b| {
+            let (ra, rb) = (rank(a), rank(b));
+            ra.0.cmp(&rb.0).then(ra.1.total_cmp(&rb.1))
+        })
+        .unwrap_or(0);
     let crater = depth > 0.5 * ds;
     // the crater's cells: deeper than ds/2, connected through their sides to the deepest
     let mut cells = vec![false; nx * ny];
@@ -1165,6 +1179,10 @@ mod tests {
         let quarter = map(0, &[(0, 0.0), (1, 0.0)]);
         assert_eq!(whole.cells, [60, 60]);
         assert_eq!(quarter.cells, whole.cells);
+        // the quarter's deepest cell is one of its own (x, y > 0), not an image; the bowl's
+        // floor is flat over the four cells about the axis: one of those
+        assert!(quarter.deepest_m[0] > 0.0 && quarter.deepest_m[1] > 0.0, "{:?}", quarter.deepest_m);
+        assert!(quarter.deepest_m[0].hypot(quarter.deepest_m[1]) < ds, "{:?}", quarter.deepest_m);
         for (a, b) in [
             (whole.depth_m, quarter.depth_m),
             (whole.volume_m3, quarter.volume_m3),
