@@ -467,7 +467,11 @@ pub fn report(
         }
         plot::lines_with_refs(
             &dir.join("crater_profile.png"),
-            &format!("{}: ground surface (columns {:.1} cm wide)", case.name(), 100.0 * c_end.column_m),
+            &format!(
+                "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {:.1} cm wide)",
+                case.name(),
+                100.0 * c_end.column_m
+            ),
             if case.dim == 3 || case.axisymmetric() {
                 "distance from the charge's axis (m; drawn on both sides: the crater revolved about the axis)"
             } else {
