@@ -291,7 +291,12 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     let mut c = vec![
         bad("no command", &[]),
         bad("an unknown command", &["bogus"]),
-        bad("run without a case", &["run"]),
+        {
+            // the missing argument named on the line (clap lists it on the next line)
+            let mut b = bad("run without a case", &["run"]);
+            b.needle = Some("provided: <CASE>".into());
+            b
+        },
         bad("an unknown flag", &["check", &s1, "--bogus"]),
         bad("a flag without its value", &["run", &s1, "--out"]),
         bad("a flag given twice", &["run", &tube, "--end-time", "1", "--end-time", "2"]),

@@ -345,7 +345,16 @@ fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
 /// A clap error as one line: its first line and the usage of the command, exit status 2.
 fn clap_line(e: &clap::Error) -> String {
     let text = e.to_string();
-    let mut first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("error: bad arguments").trim().to_string();
+    let mut lines = text.lines().skip_while(|l| l.trim().is_empty());
+    let mut first = lines.next().unwrap_or("error: bad arguments").trim().to_string();
+    // a first line that ends in a colon lists what it names on the lines under it (the missing
+    // arguments): they join it
+    if first.ends_with(':') {
+        let named: Vec<&str> = lines.map(str::trim).take_while(|l| !l.is_empty() && !l.starts_with("Usage:")).collect();
+        if !named.is_empty() {
+            first = format!("{first} {}", named.join(", "));
+        }
+    }
     if !first.starts_with("error:") {
         first = format!("error: {first}");
     }
@@ -355,7 +364,15 @@ fn clap_line(e: &clap::Error) -> String {
             let cmd: Vec<&str> = u.split_whitespace().take_while(|w| !w.starts_with(['[', '<', '-'])).collect();
             format!("{first} (usage: {u}; `{} --help` explains every argument)", cmd.join(" "))
         }
-        None => format!("{first} (`blastsph --help` lists the commands)"),
+        None => {
+            // a bad value: no usage in clap's text; the subcommand's help when one was named
+            use clap::CommandFactory;
+            let named = std::env::args().nth(1).filter(|a| Cli::command().get_subcommands().any(|c| c.get_name() == a));
+            match named {
+                Some(c) if c != "help" => format!("{first} (`blastsph {c} --help` explains every argument)"),
+                _ => format!("{first} (`blastsph --help` lists the commands)"),
+            }
+        }
     }
 }
 
