@@ -465,8 +465,9 @@ fn out_folder(dir: &Path) -> Result<()> {
     crate::rundir::inspect(dir, "--out").map(|_| ())
 }
 
-/// Refuses an `--out` of `dual` or `legacy ledger` that holds files it did not write or a run's
-/// files: its own earlier report (`ours`) is replaced, a run directory is not mixed with it.
+/// Refuses an `--out` of `dual` or `legacy ledger` that holds files blastsph did not write or
+/// another of its outputs (a run's files): its own earlier report (`ours`) is replaced, a run
+/// directory is not mixed with it.
 fn report_folder(dir: &Path, ours: &[&str], what: &str) -> Result<()> {
     match crate::rundir::inspect(dir, "--out")? {
         crate::rundir::Found::Other(name) => Err(input(format!(
@@ -475,7 +476,7 @@ fn report_folder(dir: &Path, ours: &[&str], what: &str) -> Result<()> {
         ))),
         crate::rundir::Found::Run { .. } => match crate::rundir::first_not_of(dir, ours)? {
             Some(name) => Err(input(format!(
-                "--out {}: holds a run's files (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
+                "--out {}: holds another blastsph output (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
                 dir.display()
             ))),
             None => Ok(()),
