@@ -335,6 +335,8 @@ pub fn report(
     let bubble = bubble_history(case, frames);
     let tu = TimeUnit::for_end(frames[frames.len() - 1].time);
     let t_axis = tu.axis();
+    // 3D: how many particles each frame has, to say what share of them its section draws
+    let totals: Vec<usize> = frames.iter().map(|f| f.x.len()).collect();
     let sections;
     let frames: &[Frame] = if case.dim == 3 {
         sections = section_frames(case, frames);
@@ -601,11 +603,18 @@ pub fn report(
         let tag = format!("{:05.0}us", f.time * 1e6);
         let side = sides(f, case.axisymmetric());
         let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
+        // in 3D the section's share of the scene (products and ejecta that left the slab are
+        // not drawn)
+        let share = if case.dim == 3 {
+            format!(" (section: {} of {} particles)", f.x.len(), totals.get(k).copied().unwrap_or(0))
+        } else {
+            String::new()
+        };
         let pm = format!("snap_material_{tag}.png");
         plot::map_png(
             &dir.join(&pm),
             &MapSpec {
-                title: format!("{}  t = {}: materials", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: materials{share}", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
@@ -621,7 +630,7 @@ pub fn report(
         plot::map_png(
             &dir.join(&pp),
             &MapSpec {
-                title: format!("{}  t = {}: pressure", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: pressure{share}", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
@@ -637,7 +646,7 @@ pub fn report(
         plot::map_png(
             &dir.join(&pv),
             &MapSpec {
-                title: format!("{}  t = {}: velocity magnitude", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: velocity magnitude{share}", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
