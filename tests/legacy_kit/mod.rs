@@ -259,6 +259,12 @@ pub fn assert_run_ends_as_after(
         0,
     );
     assert!(so.contains(&format!("400 particles, {steps} steps")), "{so}");
+    // the run says that legacy routines ran, and which modules they are in (summary.json too)
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).expect("summary.json")).unwrap();
+    let legacy = summary["legacy"].as_array().cloned().unwrap_or_default();
+    assert!(!legacy.is_empty(), "summary.json legacy: {summary}");
+    assert!(so.contains("legacy routines in "), "{so}");
     let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
     let f = frames.last().unwrap();
     assert!((f.time - steps as f64 * 0.005).abs() < 1e-6, "t = {}", f.time);
