@@ -605,22 +605,24 @@ pub fn report(
         let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
         // in 3D the section's share of the scene (products and ejecta that left the slab are
         // not drawn)
-        let share = if case.dim == 3 {
-            format!(" (section: {} of {} particles)", f.x.len(), totals.get(k).copied().unwrap_or(0))
-        } else {
-            String::new()
-        };
+        let share = (case.dim == 3).then(|| {
+            format!(
+                "the vertical section through the charge's axis: {} of the scene's {} particles (what left it is not drawn)",
+                f.x.len(),
+                totals.get(k).copied().unwrap_or(0)
+            )
+        });
         let pm = format!("snap_material_{tag}.png");
         plot::map_png(
             &dir.join(&pm),
             &MapSpec {
-                title: format!("{}  t = {}: materials{share}", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: materials", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
                 colouring: Colouring::Material { index: &mat, colours: &colours, names: &names },
                 bounds,
-                note: None,
+                note: share.clone(),
                 axes,
                 overlay: None,
             },
@@ -630,13 +632,13 @@ pub fn report(
         plot::map_png(
             &dir.join(&pp),
             &MapSpec {
-                title: format!("{}  t = {}: pressure{share}", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: pressure", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
                 colouring: Colouring::Field { values: &pmpa, scale: &pscale },
                 bounds,
-                note: None,
+                note: share.clone(),
                 axes,
                 overlay: None,
             },
@@ -646,13 +648,13 @@ pub fn report(
         plot::map_png(
             &dir.join(&pv),
             &MapSpec {
-                title: format!("{}  t = {}: velocity magnitude{share}", case.name(), tu.text(f.time)),
+                title: format!("{}  t = {}: velocity magnitude", case.name(), tu.text(f.time)),
                 x: &f.x,
                 y: &f.y,
                 side: &side,
                 colouring: Colouring::Field { values: &sp, scale: &vscale },
                 bounds,
-                note: None,
+                note: share.clone(),
                 axes,
                 overlay: None,
             },

@@ -61,9 +61,9 @@ pub enum Found {
     Missing,
     /// An empty folder.
     Empty,
-    /// A folder with entries, all of them blastsph's: `case.toml`'s text and whether a
-    /// checkpoint is there.
-    Run { case_toml: Option<String>, checkpoint: bool },
+    /// A folder with entries, all of them blastsph's: `case.toml`'s text, whether a
+    /// checkpoint is there, and the entries' names (sorted).
+    Run { case_toml: Option<String>, checkpoint: bool, names: Vec<String> },
     /// A folder with something blastsph did not write (its name).
     Other(String),
 }
@@ -72,20 +72,9 @@ fn io(dir: &Path, e: std::io::Error) -> SphError {
     input(format!("{}: {e}", dir.display()))
 }
 
-/// The first entry of `dir` (a folder [`inspect`] found to hold blastsph's files only) that is
-/// not one of `ours` (a `.tmp` of one counts as it), in name order: None when there is none.
-pub fn first_not_of(dir: &Path, ours: &[&str]) -> Result<Option<String>> {
-    let mut names = Vec::new();
-    for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
-        names.push(e.map_err(|e| io(dir, e))?.file_name().to_string_lossy().into_owned());
-    }
-    names.sort();
-    Ok(names.into_iter().find(|n| !ours.contains(&n.strip_suffix(".tmp").unwrap_or(n))))
-}
-
 /// The plots `blastsph report` writes into a run directory, by name (the snapshots' names carry
-/// their times).
-fn is_report_plot(name: &str) -> bool {
+/// their times); every PNG a report writes is one of them (tests/engineer.rs).
+pub fn is_report_plot(name: &str) -> bool {
     const FIXED: [&str; 11] = [
         "bubble_growth.png",
         "crater_growth.png",
@@ -164,7 +153,9 @@ pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
             } else {
                 None
             };
-            Ok(Found::Run { case_toml, checkpoint: entries.iter().any(|n| n == "checkpoint.bin") })
+            let checkpoint = entries.iter().any(|n| n == "checkpoint.bin");
+            entries.sort();
+            Ok(Found::Run { case_toml, checkpoint, names: entries })
         }
     }
 }

@@ -93,7 +93,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     let shown = dir.display();
     let clear = match found {
         Found::Missing | Found::Empty => false,
-        Found::Run { case_toml: Some(t), checkpoint: true } if t == as_run && !opts.force => {
+        Found::Run { case_toml: Some(t), checkpoint: true, .. } if t == as_run && !opts.force => {
             // its own restart: the same case, stopped or killed after a checkpoint
             let status = std::fs::read(dir.join("summary.json"))
                 .ok()

@@ -296,6 +296,13 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     assert!(png.len() > 10_000, "profiles.png is {} bytes", png.len());
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "profiles.png is a PNG");
     assert!(dir.join("report.json").exists());
+    // the report's plots are all of the names a later report or a resume removes
+    for e in std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()) {
+        let n = e.file_name().to_string_lossy().into_owned();
+        if n.ends_with(".png") {
+            assert!(blastsph::rundir::is_report_plot(&n), "{n} is not in rundir::is_report_plot's list");
+        }
+    }
 }
 
 #[test]

@@ -428,6 +428,13 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
     let a = scaled.iter().find(|g| g["gauge"].as_str().unwrap_or("").starts_with("A ")).expect("gauge A");
     let z = a["scaled_distance"].as_f64().unwrap();
     assert!((z - 0.15 / 0.952f64.cbrt()).abs() < 2e-4, "scaled distance of A: {z}");
+    // every plot the report wrote is one a later report or a resume removes by name
+    for e in std::fs::read_dir(&r).unwrap().filter_map(|e| e.ok()) {
+        let n = e.file_name().to_string_lossy().into_owned();
+        if n.ends_with(".png") || n.ends_with(".gif") {
+            assert!(blastsph::rundir::is_report_plot(&n), "{n} is not in rundir::is_report_plot's list");
+        }
+    }
     // a second report at other times replaces the first's snapshots; a PNG of the user's stays
     std::fs::write(r.join("mine.png"), b"not blastsph's").unwrap();
     let o = blastsph(&["report", r.to_str().unwrap(), "--times", "0"]);

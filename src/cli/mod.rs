@@ -380,9 +380,6 @@ fn clap_line(e: &clap::Error) -> String {
 fn one_line(s: &str) -> String {
     let line: String = s.chars().map(|c| if c == '\n' || c == '\r' { ' ' } else { c }).collect();
     // a value the message quotes whole (a 100 kB number given to --set) is cut to its start
-    if !line.split(' ').any(|w| w.chars().count() > 120) {
-        return line;
-    }
     line.split(' ')
         .map(|w| {
             let n = w.chars().count();
@@ -474,13 +471,16 @@ fn report_folder(dir: &Path, ours: &[&str], what: &str) -> Result<()> {
             "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
             dir.display()
         ))),
-        crate::rundir::Found::Run { .. } => match crate::rundir::first_not_of(dir, ours)? {
-            Some(name) => Err(input(format!(
-                "--out {}: holds another blastsph output (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
-                dir.display()
-            ))),
-            None => Ok(()),
-        },
+        // a `.tmp` of one of ours counts as it
+        crate::rundir::Found::Run { names, .. } => {
+            match names.iter().find(|n| !ours.contains(&n.strip_suffix(".tmp").unwrap_or(n))) {
+                Some(name) => Err(input(format!(
+                    "--out {}: holds another blastsph output (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
+                    dir.display()
+                ))),
+                None => Ok(()),
+            }
+        }
         _ => Ok(()),
     }
 }
