@@ -333,15 +333,23 @@ fn generate(case: &Case) -> Result<Initial> {
         // axisymmetric: each particle is a ring of mass 2π r ρ Δx² (kg)
         let ring = |p: &[f64; 3]| 2.0 * std::f64::consts::PI * p[0] * (rho * rc.spacing_m * rc.spacing_m);
         let cen = rc.radial_center_m.clone().unwrap_or_else(|| vec![0.0; d]);
-        for p in pts {
-            init.x.extend_from_slice(&p[..d]);
+        let jit = case.sph.jitter * rc.spacing_m;
+        for (ip, p) in pts.iter().enumerate() {
+            // the jitter moves the particle; its mass (a ring's too) stays that of its lattice node
+            let mut y = *p;
+            if jit > 0.0 {
+                for (a, ya) in y.iter_mut().enumerate().take(d) {
+                    *ya += jit * unit_noise(r, ip, a);
+                }
+            }
+            init.x.extend_from_slice(&y[..d]);
             let mut v = rc.velocity_ms.clone().unwrap_or_else(|| vec![0.0; d]);
             if let Some(vr) = rc.radial_velocity_ms {
                 // v += v_r (x − c)/|x − c| (zero at the centre): the Noh problem
-                let r = (0..d).map(|a| (p[a] - cen[a]) * (p[a] - cen[a])).sum::<f64>().sqrt();
+                let r = (0..d).map(|a| (y[a] - cen[a]) * (y[a] - cen[a])).sum::<f64>().sqrt();
                 if r > 0.0 {
                     for a in 0..d {
-                        v[a] += vr * (p[a] - cen[a]) / r;
+                        v[a] += vr * (y[a] - cen[a]) / r;
                     }
                 }
             }
@@ -356,6 +364,20 @@ fn generate(case: &Case) -> Result<Initial> {
         init.counts.push(pts.len());
     }
     Ok(init)
+}
+
+/// A deterministic pseudo-random number in [−1/2, 1/2) for coordinate `axis` of point `point`
+/// of region `region` (SplitMix64's finaliser over the three indices): the same on every machine
+/// and thread count, so a jittered lattice (`sph.jitter`) is reproducible.
+fn unit_noise(region: usize, point: usize, axis: usize) -> f64 {
+    let mut z = (region as u64)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add((point as u64).wrapping_mul(0xD1B5_4A32_D192_ED03))
+        .wrapping_add((axis as u64 + 1).wrapping_mul(0x8CB9_2BA7_2F3D_8DD7));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
 }
 
 /// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and

@@ -243,6 +243,14 @@ pub struct SphCfg {
     /// run (they stay independent of the backend and of the thread count).
     #[serde(default)]
     pub reorder_every: u64,
+    /// Displacement of every lattice point at the start, as a fraction of its region's spacing:
+    /// each coordinate moves by a deterministic pseudo-random amount in [−jitter/2, jitter/2) Δx.
+    /// It breaks the exact mirror symmetry of a lattice about a point blast's centre, along whose
+    /// lines of particles the standard viscosity lets a row run ahead as a jet (docs/validation.md,
+    /// "Jets along the lattice's symmetry lines"). Resolved before reading (5e-2 for gas dynamics
+    /// in 2D plane and 3D: `case::GAS_JITTER`; else 0).
+    #[serde(default)]
+    pub jitter: f64,
 }
 
 fn one() -> f64 {
@@ -276,6 +284,7 @@ impl Default for SphCfg {
             e_floor: true,
             xsph_eps: 0.0,
             reorder_every: 0,
+            jitter: 0.0,
         }
     }
 }

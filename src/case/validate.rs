@@ -324,6 +324,7 @@ impl Case {
         v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
+        v.num(&at, "jitter", s.jitter, Range::within(0.0, 0.5))?;
         let at = At::top("viscosity");
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;

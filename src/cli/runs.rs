@@ -52,7 +52,7 @@ pub fn check_text(sim: &Sim) -> String {
         })
         .unwrap_or_default();
     s += &format!(
-        "numerics: {} density{}, energy {}, h {}{}, e floor {}, viscous step {}{}{}\n",
+        "numerics: {} density{}, energy {}, h {}{}, e floor {}, viscous step {}{}{}{}\n",
         format!("{:?}", c.sph.density).to_lowercase(),
         if c.sph.density == case::DensityKind::Continuity {
             format!(" ({:?} form)", c.sph.continuity_form).to_lowercase()
@@ -78,6 +78,7 @@ pub fn check_text(sim: &Sim) -> String {
         } else {
             String::new()
         },
+        if c.sph.jitter > 0.0 { format!(", lattice jittered by {:e} dx", c.sph.jitter) } else { String::new() },
         det
     );
     for w in crate::advice::all(c, &sim.p) {
