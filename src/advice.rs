@@ -88,11 +88,9 @@ pub fn all(case: &Case, p: &Particles) -> Vec<String> {
     warnings(case).into_iter().chain(deposit_warning(case, p)).collect()
 }
 
-/// A point deposit (a few particles far hotter than the rest) centred on a particle of an
-/// lattice jittered less than gas dynamics' default (`sph.jitter` below `case::GAS_JITTER`), in
-/// 2D plane or 3D: one line naming the evidence, or
-/// None. The deposit is the particles
-/// whose specific energy e exceeds 100 × the median e (at most 32 of them, and at most 2 % of
+/// A point deposit (a few particles far hotter than the rest) centred on a particle of a lattice
+/// jittered less than gas dynamics' default (`sph.jitter` below `case::GAS_JITTER`), in 2D plane
+/// or 3D: one line naming the evidence, or None. The deposit is the particles whose specific energy e exceeds 100 × the median e (at most 32 of them, and at most 2 % of
 /// the particles); its centre is their centroid, moved onto any symmetry plane (a mirror wall)
 /// within 0.75 Δx of it (the wall's images complete the deposit). It is "on a particle" when a
 /// particle lies within Δx/4 of that centre (an odd lattice about the centre): there the rows

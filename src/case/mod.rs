@@ -126,14 +126,14 @@ fn blame(e: &SphError, sets: &[String], attempt: &dyn Fn(usize) -> Result<Case>)
     input(format!("--set {}: {want}", all.join(" --set ")))
 }
 
-/// The keys of the parity preset `parity = "thesis"`: the thesis's and Liu's settings, for every
-/// key a case leaves out (table, key, value).
 /// The default `sph.jitter` of gas dynamics in 2D plane and 3D (a fraction of the spacing): the
 /// smallest of those measured (1e-4 to 5e-2) with no particle running ahead of a point blast's
 /// front from a deposit on a particle, in 2D (61² to 105²) and in 3D (41³); 1e-2 left jets in 3D
 /// (docs/validation.md, "Jets along the lattice's symmetry lines").
 pub const GAS_JITTER: f64 = 5e-2;
 
+/// The keys of the parity preset `parity = "thesis"`: the thesis's and Liu's settings, for every
+/// key a case leaves out (table, key, value).
 pub const THESIS_PARITY: [(&str, &str, &str); 10] = [
     ("sph", "density", "\"continuity\""),
     ("sph", "jitter", "0.0"),
@@ -149,8 +149,9 @@ pub const THESIS_PARITY: [(&str, &str, &str); 10] = [
 
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
 /// preset, then `sph.density` (summation when every material is an ideal gas — gas dynamics —,
-/// continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0,
-/// by the rate otherwise). Returns whether anything was added.
+/// continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
+/// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0, by the rate
+/// otherwise). Returns whether anything was added.
 fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     let mut changed = false;
     let get = |root: &toml::Table, t: &str, k: &str| root.get(t).and_then(|v| v.get(k)).cloned();
@@ -192,10 +193,9 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     if get(root, "sph", "jitter").is_none() {
         // gas dynamics in 2D plane and 3D: break the lattice's mirror symmetry about a point blast, or
         // its rows of particles along the symmetry lines run ahead of the front as jets
-        // (docs/validation.md, "Jets along the lattice's symmetry lines"); the soil scenes keep
-        // their exact lattice (their results as validated)
-        // (not in axisymmetric geometry: its blasts sit on the axis, a mirror by construction, and
-        // measured no jets from the exact lattice)
+        // (docs/validation.md, "Jets along the lattice's symmetry lines"). The soil scenes keep
+        // their exact lattice (their results as validated), and so does axisymmetric geometry (its
+        // blasts sit on the axis, a mirror by construction; no jets measured from the exact lattice)
         let dim = root.get("dim").and_then(|v| v.as_integer()).unwrap_or(0);
         let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
         put(root, "sph", "jitter", toml::Value::Float(if gas && dim >= 2 && !rz { GAS_JITTER } else { 0.0 }))?;
