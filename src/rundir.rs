@@ -75,11 +75,12 @@ fn io(dir: &Path, e: std::io::Error) -> SphError {
 /// The plots `blastsph report` writes into a run directory, by name (the snapshots' names carry
 /// their times); every PNG a report writes is one of them (tests/engineer.rs).
 pub fn is_report_plot(name: &str) -> bool {
-    const FIXED: [&str; 11] = [
+    const FIXED: [&str; 12] = [
         "bubble_growth.png",
         "crater_growth.png",
         "crater_map.png",
         "crater_profile.png",
+        "density_map.png",
         "ejecta_height.png",
         "gauges.png",
         "gauges_velocity.png",

@@ -181,6 +181,33 @@ fn point_blast_on_a_particle_jets_on_an_exact_lattice_and_not_on_the_default_jit
     assert_eq!(num(&jit, "negative_e_count"), 0.0);
 }
 
+/// The report of a 2D point blast draws the density map (the exact shock radius over the
+/// particles), names it in report.json, and lists it among the report's plots (so that a later
+/// report or a resume removes it).
+#[test]
+fn a_point_blast_report_draws_its_density_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let dx = 1.0 / 40.0;
+    let sets: Vec<String> = [
+        format!("region.ambient.spacing_m={dx}"),
+        format!("region.hot.spacing_m={dx}"),
+        format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
+        format!("region.hot.hi_m=[{dx}, {dx}]"),
+        format!("region.hot.e_jkg={}", 400.0),
+        "time.end_s=0.05".to_string(),
+    ]
+    .to_vec();
+    let opts = RunOptions { out: Some(dir.path().join("run")), sets, quiet: true, ..Default::default() };
+    let r = run(&case("sedov_2d_g14"), &opts).expect("run");
+    let rep = blastsph::report::report(&r.dir).expect("report");
+    let map = r.dir.join("density_map.png");
+    let png = std::fs::read(&map).expect("density_map.png");
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(png.len() > 10_000, "density_map.png is {} bytes", png.len());
+    assert_eq!(rep["map"], "density_map.png", "{rep}");
+    assert!(blastsph::rundir::is_report_plot("density_map.png"));
+}
+
 /// Sets for `cases/verify/sedov_1d_g*.toml` at `n` × its resolution (dx = 5 mm / n on [−1, 1] m,
 /// the whole deposit in the one central particle).
 fn sedov_1d_sets(n: u32) -> Vec<String> {

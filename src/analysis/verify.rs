@@ -669,7 +669,110 @@ pub fn report(dir: &std::path::Path, case: &Case, frames: &[Frame]) -> Result<Va
         println!("plot: {}", png.display());
         out["plot"] = json!("profiles.png");
     }
+    if let Some(last) = frames.last()
+        && let Some(name) = density_map(dir, case, last, &v)?
+    {
+        println!("plot: {}", dir.join(&name).display());
+        out["map"] = json!(name);
+    }
     Ok(out)
+}
+
+/// `density_map.png` of a Sedov or Noh blast in 2D plane, RZ or 3D (None otherwise): the last
+/// frame's particles coloured by ρ on a linear scale from 0 to the exact peak (ρ0 × the jump;
+/// Noh: the post-shock density), with the exact shock radius drawn as a red circle about the
+/// centre, over 1.3 exact radii about it (clipped to where particles are: an octant shows its
+/// quadrant). In 3D the section is the layer of particles nearest the plane z = the centre's z
+/// (within half a spacing of the nearest): a ring against a star of jets shows at a glance.
+fn density_map(dir: &std::path::Path, case: &Case, f: &Frame, v: &Value) -> Result<Option<String>> {
+    let peak = match case.analysis.kind {
+        AnalysisKind::Sedov => v["density_jump_exact"].as_f64().zip(v["rho0"].as_f64()).map(|(j, r)| j * r),
+        AnalysisKind::Noh => v["post_shock_density_exact"].as_f64(),
+        _ => None,
+    };
+    let (Some(peak), Some(rex), Some(dx)) = (peak, v["shock_radius_exact_m"].as_f64(), v["dx_m"].as_f64()) else {
+        return Ok(None);
+    };
+    if case.dim < 2 || f.x.is_empty() || !(rex > 0.0 && dx > 0.0 && peak > 0.0) {
+        return Ok(None);
+    }
+    let mut c = [0.0; 3];
+    if let Some(cm) = &case.analysis.center_m {
+        c[..case.dim].copy_from_slice(&cm[..case.dim]);
+    }
+    let n = f.x.len();
+    let keep: Vec<usize> = if case.dim == 3 {
+        let near = f.z.iter().map(|z| (z - c[2]).abs()).fold(f64::INFINITY, f64::min);
+        (0..n).filter(|&i| (f.z[i] - c[2]).abs() <= near + 0.5 * dx).collect()
+    } else {
+        (0..n).collect()
+    };
+    let pick = |a: &[f64]| -> Vec<f64> { keep.iter().map(|&i| a[i]).collect() };
+    let (x, y, rho) = (pick(&f.x), pick(&f.y), pick(&f.rho));
+    // the side a particle is drawn at: its area (2D), its ring's cross-section (RZ) or its
+    // volume's side (3D), capped at twice the median and enlarged 15 % so neighbours overlap
+    let rz = case.axisymmetric();
+    let mut side: Vec<f64> = keep
+        .iter()
+        .map(|&i| {
+            let vol = f.mass[i] / f.rho[i];
+            let s = match case.dim {
+                3 => vol.cbrt(),
+                _ if rz => (vol / (2.0 * std::f64::consts::PI * f.x[i].abs())).sqrt(),
+                _ => vol.sqrt(),
+            };
+            if s.is_finite() && s > 0.0 { s } else { dx }
+        })
+        .collect();
+    let mut sorted = side.clone();
+    sorted.sort_by(f64::total_cmp);
+    let med = sorted[sorted.len() / 2];
+    side.iter_mut().for_each(|s| *s = 1.15 * s.min(2.0 * med));
+    let ext = |a: &[f64]| a.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &q| (l.min(q), h.max(q)));
+    let ((xl, xh), (yl, yh)) = (ext(&x), ext(&y));
+    let bounds = (
+        ((c[0] - 1.3 * rex).max(xl - dx), (c[0] + 1.3 * rex).min(xh + dx)),
+        ((c[1] - 1.3 * rex).max(yl - dx), (c[1] + 1.3 * rex).min(yh + dx)),
+    );
+    if !(bounds.0.0 < bounds.0.1 && bounds.1.0 < bounds.1.1) {
+        return Ok(None);
+    }
+    let circle: Vec<[(f64, f64); 2]> = (0..360)
+        .map(|k| {
+            let (a, b) = (k as f64 * std::f64::consts::PI / 180.0, (k + 1) as f64 * std::f64::consts::PI / 180.0);
+            [(c[0] + rex * a.cos(), c[1] + rex * a.sin()), (c[0] + rex * b.cos(), c[1] + rex * b.sin())]
+        })
+        .filter(|sg| {
+            sg.iter()
+                .all(|&(px, py)| (bounds.0.0..=bounds.0.1).contains(&px) && (bounds.1.0..=bounds.1.1).contains(&py))
+        })
+        .collect();
+    let overlay = crate::plot::Overlay { segments: circle, marks: Vec::new() };
+    let scale = crate::plot::Scale { lo: 0.0, hi: peak, log: false, label: "rho (kg/m3)".into() };
+    let note = match case.dim {
+        3 => format!(
+            "red: the exact shock radius {rex:.4} m; the layer of {} particles nearest z = {} m",
+            keep.len(),
+            c[2]
+        ),
+        _ => format!("red: the exact shock radius {rex:.4} m; colours up to the exact peak density {peak:.3}"),
+    };
+    let name = "density_map.png".to_string();
+    crate::plot::map_png(
+        &dir.join(&name),
+        &crate::plot::MapSpec {
+            title: format!("{}  t = {:.4} s: density", case.name(), f.time),
+            x: &x,
+            y: &y,
+            side: &side,
+            colouring: crate::plot::Colouring::Field { values: &rho, scale: &scale },
+            bounds,
+            note: Some(note),
+            axes: if rz { ["r (m)", "z (m)"] } else { ["x (m)", "y (m)"] },
+            overlay: Some(&overlay),
+        },
+    )?;
+    Ok(Some(name))
 }
 
 #[cfg(test)]
