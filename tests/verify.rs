@@ -35,6 +35,20 @@ fn num(v: &Value, k: &str) -> f64 {
     v["verification"][k].as_f64().unwrap_or_else(|| panic!("no {k} in {}", v["verification"]))
 }
 
+/// Sets for `cases/verify/sedov_2d_g*.toml` at `n` × `n` particles on its box (dx = 1/n m): the
+/// hot region the particles within `half` spacings of the centre along each axis (1: the four
+/// about the corner of an even lattice; 0.5: the one at the centre of an odd one), at `e` J/kg.
+fn sedov_2d_sets(n: u32, half: f64, e: f64) -> Vec<String> {
+    let dx = 1.0 / n as f64;
+    vec![
+        format!("region.ambient.spacing_m={dx}"),
+        format!("region.hot.spacing_m={dx}"),
+        format!("region.hot.lo_m=[{}, {}]", -half * dx, -half * dx),
+        format!("region.hot.hi_m=[{}, {}]", half * dx, half * dx),
+        format!("region.hot.e_jkg={e}"),
+    ]
+}
+
 /// The detonation's front pressure over p_CJ at the report's outputs (every tenth of the run),
 /// and the report, for the slab at spacing `dx` run over `travel` spacings.
 fn slab(dx: f64, h_over_dx: f64, travel: f64, extra: &[&str]) -> (Vec<f64>, Value) {
@@ -99,16 +113,7 @@ fn sedov_2d_coarse_point_deposit() {
     // whose diagonal jets thinned the ring's front)
     for (case_name, g) in [("sedov_2d_g14", 1.4), ("sedov_2d_g53", 5.0 / 3.0)] {
         let dx = 1.0 / 78.0;
-        let s = run_case(
-            case_name,
-            &sets(&[
-                &format!("region.ambient.spacing_m={dx}"),
-                &format!("region.hot.spacing_m={dx}"),
-                &format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
-                &format!("region.hot.hi_m=[{dx}, {dx}]"),
-                &format!("region.hot.e_jkg={}", 78.0 * 78.0 / 4.0),
-            ]),
-        );
+        let s = run_case(case_name, &sedov_2d_sets(78, 1.0, 78.0 * 78.0 / 4.0));
         let (rp, rh, cl) =
             (num(&s, "shock_radius_peak_ratio"), num(&s, "shock_radius_half_ratio"), num(&s, "clumping"));
         let spacings = (rh - rp) * num(&s, "shock_radius_exact_m") / dx;
@@ -151,14 +156,7 @@ fn sedov_2d_best_option_reaches_the_jump() {
 /// lattice's symmetry lines".
 #[test]
 fn point_blast_on_a_particle_jets_on_an_exact_lattice_and_not_on_the_default_jittered_one() {
-    let dx = 1.0 / 61.0;
-    let base = [
-        format!("region.ambient.spacing_m={dx}"),
-        format!("region.hot.spacing_m={dx}"),
-        format!("region.hot.lo_m=[{}, {}]", -0.5 * dx, -0.5 * dx),
-        format!("region.hot.hi_m=[{}, {}]", 0.5 * dx, 0.5 * dx),
-        format!("region.hot.e_jkg={}", 61.0 * 61.0),
-    ];
+    let base = sedov_2d_sets(61, 0.5, 61.0 * 61.0);
     let exact = run_case("sedov_2d_g14", &[&base[..], &["sph.jitter=0".to_string()]].concat());
     let jit = run_case("sedov_2d_g14", &base);
     for (what, s) in [("exact lattice", &exact), ("default jitter", &jit)] {
@@ -187,16 +185,8 @@ fn point_blast_on_a_particle_jets_on_an_exact_lattice_and_not_on_the_default_jit
 #[test]
 fn a_point_blast_report_draws_its_density_map() {
     let dir = tempfile::tempdir().unwrap();
-    let dx = 1.0 / 40.0;
-    let sets: Vec<String> = [
-        format!("region.ambient.spacing_m={dx}"),
-        format!("region.hot.spacing_m={dx}"),
-        format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
-        format!("region.hot.hi_m=[{dx}, {dx}]"),
-        format!("region.hot.e_jkg={}", 400.0),
-        "time.end_s=0.05".to_string(),
-    ]
-    .to_vec();
+    let mut sets = sedov_2d_sets(40, 1.0, 400.0);
+    sets.push("time.end_s=0.05".to_string());
     let opts = RunOptions { out: Some(dir.path().join("run")), sets, quiet: true, ..Default::default() };
     let r = run(&case("sedov_2d_g14"), &opts).expect("run");
     let rep = blastsph::report::report(&r.dir).expect("report");
@@ -383,15 +373,8 @@ fn sedov_rz_and_3d_full() {
 /// the thesis's symmetric form drains the neighbours of the hot particles below zero.
 #[test]
 fn point_blast_symmetric_energy_form_goes_negative_and_the_default_does_not() {
-    let dx = 1.0 / 52.0;
-    let base = [
-        format!("region.ambient.spacing_m={dx}"),
-        format!("region.hot.spacing_m={dx}"),
-        format!("region.hot.lo_m=[{}, {}]", -dx, -dx),
-        format!("region.hot.hi_m=[{dx}, {dx}]"),
-        format!("region.hot.e_jkg={}", 52.0 * 52.0 / 4.0),
-        "time.end_s=0.01".to_string(),
-    ];
+    let mut base = sedov_2d_sets(52, 1.0, 52.0 * 52.0 / 4.0);
+    base.push("time.end_s=0.01".to_string());
     // without the floor e >= 0, so that the forms themselves are compared
     let mut sym = base.to_vec();
     sym.push("sph.energy_form=symmetric".into());
