@@ -707,6 +707,9 @@ fn density_map(dir: &std::path::Path, case: &Case, f: &Frame, v: &Value) -> Resu
     } else {
         (0..n).collect()
     };
+    if keep.is_empty() {
+        return Ok(None);
+    }
     let pick = |a: &[f64]| -> Vec<f64> { keep.iter().map(|&i| a[i]).collect() };
     let (x, y, rho) = (pick(&f.x), pick(&f.y), pick(&f.rho));
     // the side a particle is drawn at: its area (2D), its ring's cross-section (RZ) or its
