@@ -85,7 +85,7 @@ pub fn warnings(case: &Case) -> Vec<String> {
 /// Every warning of a case with its particles generated: [`warnings`], then [`deposit_warning`]
 /// (what `blastsph check` prints, and `run` before it starts).
 pub fn all(case: &Case, p: &Particles) -> Vec<String> {
-    warnings(case).into_iter().chain(deposit_warning(case, p)).chain(stranded_deposit_warning(case, p)).collect()
+    warnings(case).into_iter().chain(deposit_warning(case, p)).chain(stranded_deposit_warning(case)).collect()
 }
 
 /// A 2D plane point blast (`[analysis] kind = "sedov"`) grown past 50 spacings from its centre
@@ -94,31 +94,14 @@ pub fn all(case: &Case, p: &Particles) -> Vec<String> {
 /// shock should carry, and the more so the finer the lattice: the case file's blast peaks at
 /// 0.994 of the exact radius at 104² (33 spacings) and 0.965 at 208² (66); with the conductivity
 /// (which leaves the cap out) 0.991 and 0.990 (docs/validation.md, "Sedov–Taylor in 2D: resolution").
-/// ρ0 is the particles' median density, Δx the finest region spacing.
-pub fn stranded_deposit_warning(case: &Case, p: &Particles) -> Option<String> {
-    let n = p.nreal;
-    if case.analysis.kind != AnalysisKind::Sedov
-        || case.dim != 2
-        || case.geometry == Geometry::Axisymmetric
-        || case.conductivity.alpha > 0.0
-        || n == 0
-    {
+/// The radius and Δx are the report's (`verify::sedov_end_radius`: its energy, ambient density
+/// and finest spacing).
+pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
+    if case.dim != 2 || case.geometry == Geometry::Axisymmetric || case.conductivity.alpha > 0.0 {
         return None;
     }
     let cap = case.sph.h_max_ratio?;
-    let energy = case.analysis.energy_j?;
-    let gamma = case
-        .materials
-        .iter()
-        .find_map(|m| if let EosCfg::IdealGas { gamma, .. } = m.eos { Some(gamma) } else { None })?;
-    let mut rho: Vec<f64> = p.rho[..n].iter().copied().filter(|r| r.is_finite() && *r > 0.0).collect();
-    if rho.is_empty() {
-        return None;
-    }
-    let k = rho.len() / 2;
-    let rho0 = *rho.select_nth_unstable_by(k, f64::total_cmp).1;
-    let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
-    let r = crate::analysis::sedov::Sedov::new(2, gamma)?.radius(energy, rho0, case.time.end_s);
+    let (r, dx) = crate::analysis::verify::sedov_end_radius(case)?;
     let spacings = r / dx;
     (spacings.is_finite() && spacings > 50.0).then(|| {
         format!(
@@ -323,8 +306,7 @@ mod tests {
              [analysis]\nkind = \"sedov\"\nenergy_j = 1.0\n{extra}"
         );
         let c = crate::case::parse(&text, "test", &[], Some("t")).unwrap();
-        let sim = crate::sim::Sim::new(c, &crate::sim::Overrides::default()).unwrap();
-        stranded_deposit_warning(&sim.case, &sim.p)
+        stranded_deposit_warning(&c)
     }
 
     #[test]

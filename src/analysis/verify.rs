@@ -125,6 +125,18 @@ fn setup_of(case: &Case) -> Result<Setup> {
     Ok(Setup { dim: d, j, centre, gamma, rho0, e_amb, u0, dx: init.dx_min, energy })
 }
 
+/// A Sedov case's exact shock radius at its end time and its finest initial spacing (m), from the
+/// set-up the report measures against (the energy as the report takes it); None when the case
+/// is no Sedov blast or the set-up fails.
+pub(crate) fn sedov_end_radius(case: &Case) -> Option<(f64, f64)> {
+    if case.analysis.kind != AnalysisKind::Sedov {
+        return None;
+    }
+    let s = setup_of(case).ok()?;
+    let r = Sedov::new(s.j, s.gamma)?.radius(s.energy, s.rho0, case.time.end_s);
+    Some((r, s.dx))
+}
+
 /// 2^k for the k mirror walls (symmetry planes) through the centre: a half, quarter or eighth of
 /// a blast holds that fraction of its energy. The axis of an axisymmetric run is not a wall (its
 /// rings already hold the whole revolution).
@@ -712,25 +724,15 @@ fn density_map(dir: &std::path::Path, case: &Case, f: &Frame, v: &Value) -> Resu
     }
     let pick = |a: &[f64]| -> Vec<f64> { keep.iter().map(|&i| a[i]).collect() };
     let (x, y, rho) = (pick(&f.x), pick(&f.y), pick(&f.rho));
-    // the side a particle is drawn at: its area (2D), its ring's cross-section (RZ) or its
-    // volume's side (3D), capped at twice the median and enlarged 15 % so neighbours overlap
+    // drawn as the report's snapshots draw particles: their area (2D), their ring's section (RZ),
+    // their volume's side (3D: the mass passed as ρ V^⅔, as the report's sections do)
     let rz = case.axisymmetric();
-    let mut side: Vec<f64> = keep
-        .iter()
-        .map(|&i| {
-            let vol = f.mass[i] / f.rho[i];
-            let s = match case.dim {
-                3 => vol.cbrt(),
-                _ if rz => (vol / (2.0 * std::f64::consts::PI * f.x[i].abs())).sqrt(),
-                _ => vol.sqrt(),
-            };
-            if s.is_finite() && s > 0.0 { s } else { dx }
-        })
-        .collect();
-    let mut sorted = side.clone();
-    sorted.sort_by(f64::total_cmp);
-    let med = sorted[sorted.len() / 2];
-    side.iter_mut().for_each(|s| *s = 1.15 * s.min(2.0 * med));
+    let mass: Vec<f64> = if case.dim == 3 {
+        keep.iter().map(|&i| f.rho[i] * (f.mass[i] / f.rho[i]).powf(2.0 / 3.0)).collect()
+    } else {
+        pick(&f.mass)
+    };
+    let side = crate::blast_report::sides_of(&x, &mass, &rho, rz);
     let ext = |a: &[f64]| a.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &q| (l.min(q), h.max(q)));
     let ((xl, xh), (yl, yh)) = (ext(&x), ext(&y));
     let bounds = (
