@@ -353,24 +353,18 @@ pub fn report(
     let ok_hist: Vec<(f64, &Crater)> = hist.iter().filter_map(|(t, c)| c.as_ref().ok().map(|c| (*t, c))).collect();
     let last = hist.last().map(|h| h.1.clone());
     let n = frames.len();
+    // the frame nearest each time (the first of two as near)
+    let nearest =
+        |t: f64| (0..n).min_by(|&a, &b| (frames[a].time - t).abs().total_cmp(&(frames[b].time - t).abs())).unwrap_or(0);
+    // the start, the frames nearest a quarter, a half and three quarters of the run's time, the end
     let quarters: Vec<usize> = {
-        let mut v = vec![0, n / 4, n / 2, 3 * n / 4, n - 1];
+        let (t0, t1) = (frames[0].time, frames[n - 1].time);
+        let mut v: Vec<usize> = (0..5).map(|q| nearest(t0 + (t1 - t0) * q as f64 / 4.0)).collect();
         v.dedup();
         v
     };
     let picks: Vec<usize> = {
-        let mut v = if times.is_empty() {
-            quarters.clone()
-        } else {
-            times
-                .iter()
-                .map(|t| {
-                    (0..n)
-                        .min_by(|&a, &b| (frames[a].time - t).abs().total_cmp(&(frames[b].time - t).abs()))
-                        .unwrap_or(0)
-                })
-                .collect()
-        };
+        let mut v = if times.is_empty() { quarters.clone() } else { times.iter().map(|&t| nearest(t)).collect() };
         v.sort_unstable();
         v.dedup();
         v

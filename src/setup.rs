@@ -158,6 +158,27 @@ pub(crate) fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
     }
 }
 
+/// The box a region fills (a box's `lo_m`..`hi_m`; a cylinder's or sphere's bounding box clipped
+/// to its `lo_m`..`hi_m`), for the first `case.dim` axes; None for other shapes.
+pub(crate) fn region_box(case: &Case, r: usize) -> Option<([f64; 3], [f64; 3])> {
+    let rc = &case.regions[r];
+    let d = case.dim;
+    match rc.shape {
+        Shape::Box => {
+            let (l, h) = (rc.lo_m.as_ref()?, rc.hi_m.as_ref()?);
+            let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+            lo[..d].copy_from_slice(&l[..d]);
+            hi[..d].copy_from_slice(&h[..d]);
+            Some((lo, hi))
+        }
+        Shape::Cylinder | Shape::Sphere => {
+            let (_, lo, hi) = round_box(rc, d);
+            Some((lo, hi))
+        }
+        _ => None,
+    }
+}
+
 /// The bounding box of a cylinder or sphere region, clipped to its `lo_m`..`hi_m` when given,
 /// and the origin of its lattice (the clip box's lower corner, else the bounding box's).
 fn round_box(rc: &crate::case::RegionCfg, d: usize) -> ([f64; 3], [f64; 3], [f64; 3]) {
@@ -182,6 +203,14 @@ fn round_box(rc: &crate::case::RegionCfg, d: usize) -> ([f64; 3], [f64; 3], [f64
     (org, lo, hi)
 }
 
+/// The whole spacings `dx` in an extent: ⌊extent/dx⌋, with a tolerance of 10⁻⁴ of the count (and
+/// 10⁻⁹) for an extent written to a few significant digits (0.073096 for four spacings of
+/// 0.01827416 is 3.99996 of them: four, not three).
+pub(crate) fn cells(extent: f64, dx: f64) -> usize {
+    let r = extent / dx;
+    (r + 1e-9 + 1e-4 * r.abs()).floor().max(0.0) as usize
+}
+
 fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
     let rc = &case.regions[r];
     let d = case.dim;
@@ -193,7 +222,7 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
             let mut c = [1usize; 3];
             for a in 0..d {
                 o[a] = lo[a] + 0.5 * dx;
-                c[a] = ((hi[a] - lo[a]) / dx + 1e-9).floor() as usize;
+                c[a] = cells(hi[a] - lo[a], dx);
             }
             (o, c)
         }
@@ -211,7 +240,7 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
             let mut c = [1usize; 3];
             for a in 0..2 {
                 o[a] = lo[a] + 0.5 * dx;
-                c[a] = ((hi[a] - lo[a]) / dx + 1e-9).floor() as usize;
+                c[a] = cells(hi[a] - lo[a], dx);
             }
             (o, c)
         }
@@ -513,4 +542,21 @@ pub fn has_strength(case: &Case) -> bool {
 /// Is any JWL material used?
 pub fn has_jwl(mt: &MatTable) -> bool {
     mt.mtype.contains(&(SPH_EOS_JWL as i32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cells;
+
+    #[test]
+    fn an_extent_written_to_a_few_digits_counts_its_whole_spacings() {
+        // 4 x 0.01827416 = 0.07309664: 0.073096 (five digits) is 3.99996 spacings, four cells
+        assert_eq!(cells(0.073096, 0.01827416), 4);
+        assert_eq!(cells(0.4934, 0.01827416), 27);
+        // an exact count, and a real remainder, stay as they were
+        assert_eq!(cells(0.5, 0.1), 5);
+        assert_eq!(cells(0.55, 0.1), 5);
+        assert_eq!(cells(0.0999, 0.1), 0);
+        assert_eq!(cells(0.0, 0.1), 0);
+    }
 }

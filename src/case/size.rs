@@ -42,7 +42,7 @@ fn lattice_count(case: &Case, r: usize) -> (f64, f64) {
     let rc = &case.regions[r];
     let d = case.dim;
     let dx = rc.spacing_m;
-    let axis = |lo: f64, hi: f64| ((hi - lo) / dx + 1e-9).floor().max(0.0);
+    let axis = |lo: f64, hi: f64| crate::setup::cells(hi - lo, dx) as f64;
     let (mut n, mut tests) = (1.0f64, 0.0);
     match rc.shape {
         Shape::Box => {

@@ -81,7 +81,7 @@ pub fn check_text(sim: &Sim) -> String {
         if c.sph.jitter > 0.0 { format!(", lattice jittered by {:e} dx", c.sph.jitter) } else { String::new() },
         det
     );
-    for w in crate::advice::all(c, &sim.p) {
+    for w in crate::advice::all(c, &sim.p, &sim.region) {
         s += &format!("warning: {w}\n");
     }
     s + &sim.plan.text()
