@@ -90,7 +90,73 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(deposit_warning(case, p))
         .chain(stranded_deposit_warning(case))
         .chain(charge_mass_warnings(case, p, region))
+        .chain(seam_warnings(case))
         .collect()
+}
+
+/// Each region cut out of a box region (`subtract`) whose flat faces do not lie on that box's
+/// cell faces (lo + k Δx of the box's lattice, to 10⁻⁴ of a spacing per spacing, as
+/// [`crate::setup::cells`] counts): one line each. The box keeps its lattice points outside the
+/// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
+/// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
+/// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's
+/// base and top (z) and the faces its `lo_m`/`hi_m` clip it with; a sphere is round.
+pub fn seam_warnings(case: &Case) -> Vec<String> {
+    use crate::case::Shape;
+    let d = case.dim;
+    let axis = ["x", "y", "z"];
+    let axis_rz = ["r", "z", ""];
+    let mut out = Vec::new();
+    for host in case.regions.iter().filter(|h| h.shape == Shape::Box && !h.subtract.is_empty()) {
+        let (Some(hlo), Some(hhi)) = (&host.lo_m, &host.hi_m) else { continue };
+        let dx = host.spacing_m;
+        for name in &host.subtract {
+            let Some(cut) = case.regions.iter().find(|r| &r.name == name) else { continue };
+            // the flat faces: (axis, coordinate)
+            let mut faces: Vec<(usize, f64)> = Vec::new();
+            match cut.shape {
+                Shape::Box => {
+                    if let (Some(l), Some(h)) = (&cut.lo_m, &cut.hi_m) {
+                        for a in 0..d {
+                            faces.push((a, l[a]));
+                            faces.push((a, h[a]));
+                        }
+                    }
+                }
+                Shape::Cylinder if d == 3 => {
+                    if let (Some(c), Some(ht)) = (&cut.center_m, cut.height_m) {
+                        faces.push((2, c[2]));
+                        faces.push((2, c[2] + ht));
+                    }
+                    if let (Some(l), Some(h)) = (&cut.lo_m, &cut.hi_m) {
+                        for a in 0..d {
+                            faces.push((a, l[a]));
+                            faces.push((a, h[a]));
+                        }
+                    }
+                }
+                _ => {}
+            }
+            // a face inside the host's span (one on or beyond its boundary leaves no seam)
+            let off = faces.into_iter().find(|&(a, f)| {
+                if !(f > hlo[a] && f < hhi[a]) {
+                    return false;
+                }
+                let k = (f - hlo[a]) / dx;
+                let tol = 1e-9 + 1e-4 * k.abs();
+                (k - k.round()).abs() > tol
+            });
+            if let Some((a, f)) = off {
+                let k = (f - hlo[a]) / dx;
+                let an = if case.axisymmetric() { axis_rz[a] } else { axis[a] };
+                out.push(format!(
+                    "region {}: its face at {an} = {f} m is {k:.3} spacings of region {} from that region's lo_m, not a whole number: the seam between them is not one spacing (a gap or a squeeze in the first steps); put the faces on {}'s cell faces, lo_m + k x {dx} m (docs/cases.md, `subtract`)",
+                    cut.name, host.name, host.name
+                ));
+            }
+        }
+    }
+    out
 }
 
 /// Each explosive region (JWL) shaped as a box, cylinder or sphere, with no `subtract` and no
@@ -501,5 +567,24 @@ mod tests {
         assert!(charge(true, &format!("mass_kg = {per}")).is_empty());
         // RZ rings on whole spacings hold the cylinder's mass exactly
         assert!(charge(false, "").is_empty());
+    }
+
+    #[test]
+    fn a_charge_cut_out_of_the_soil_off_its_cell_faces_warns_of_the_seam() {
+        let scene = |top: &str| {
+            let text = format!(
+                "dim = 2\ngeometry = \"axisymmetric\"\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
+                 [[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n\
+                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, -0.299]\nhi_m = [0.046, {top}]\nspacing_m = 0.023\n\
+                 [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, -1.012]\nhi_m = [1.012, 0.0]\nspacing_m = 0.023\nsubtract = [\"charge\"]\n"
+            );
+            seam_warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
+        };
+        // on the soil's cell faces (-0.207 = -1.012 + 35 x 0.023): no seam
+        assert!(scene("-0.207").is_empty());
+        // 0.2 m under the ground is 35.304 spacings from the soil's bottom
+        let w = scene("-0.2");
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("z = -0.2 m") && w[0].contains("35.304 spacings"), "{w:?}");
     }
 }

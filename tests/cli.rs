@@ -426,3 +426,15 @@ fn an_unstable_run_stops_with_a_diagnostic_and_keeps_its_output() {
     let f = hdf5::File::open(out.join("particles.h5")).expect("particles.h5 kept");
     assert!(f.member_names().unwrap().len() >= 2, "the steps written before the failure are kept");
 }
+
+#[test]
+fn check_states_a_sedov_blasts_energy_and_its_exact_radius_at_the_end() {
+    let out = blastsph(&["check", "cases/verify/sedov_3d.toml"]);
+    let so = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    // the octant's hot corner particle holds E/8; its three mirrors make the whole blast's 1 J:
+    // R = 1.03278 (1 J × (0.1 s)² / 1 kg/m³)^(1/5) = 0.41116 m
+    let line = so.lines().find(|l| l.starts_with("Sedov (spherical)")).unwrap_or_else(|| panic!("{so}"));
+    assert!(line.contains("E = 1.000000e0 J") && line.contains("xi0 = 1.03278"), "{line}");
+    assert!(line.contains("R = 4.11156e-1 m"), "{line}");
+}

@@ -137,6 +137,36 @@ pub(crate) fn sedov_end_radius(case: &Case) -> Option<(f64, f64)> {
     Some((r, s.dx))
 }
 
+/// What `blastsph check` says of a Sedov case before it runs: the energy, ambient density and γ
+/// the report will measure against, ξ0, and the exact shock radius at the end in metres and in
+/// spacings; None when the case is no Sedov blast or the set-up fails.
+pub(crate) fn sedov_check_line(case: &Case) -> Option<String> {
+    if case.analysis.kind != AnalysisKind::Sedov {
+        return None;
+    }
+    let s = setup_of(case).ok()?;
+    let sd = Sedov::new(s.j, s.gamma)?;
+    let r = sd.radius(s.energy, s.rho0, case.time.end_s);
+    let (geo, unit) = match (s.j, case.axisymmetric()) {
+        (1, _) => ("planar", "J/m2"),
+        (2, _) => ("cylindrical", "J/m"),
+        (_, true) => ("spherical, RZ", "J"),
+        _ => ("spherical", "J"),
+    };
+    let given =
+        if case.analysis.energy_j.is_some() { "analysis.energy_j" } else { "the hot particles, mirrors counted" };
+    Some(format!(
+        "Sedov ({geo}): E = {:.6e} {unit} ({given}), rho0 = {:.6e} kg/m3, gamma = {}, xi0 = {:.5}: exact shock radius at the end ({:e} s) R = {:.5e} m = {:.1} spacings",
+        s.energy,
+        s.rho0,
+        s.gamma,
+        sd.xi0,
+        case.time.end_s,
+        r,
+        r / s.dx
+    ))
+}
+
 /// 2^k for the k mirror walls (symmetry planes) through the centre: a half, quarter or eighth of
 /// a blast holds that fraction of its energy. The axis of an axisymmetric run is not a wall (its
 /// rings already hold the whole revolution).
