@@ -294,19 +294,31 @@ pub(super) fn mirror_make(a: &mut MirrorMake) {
         gseg.extend_from_slice(&none[..ngen - 1]);
     }
     let ng1 = gsrc.len();
-    for g in 0..ng1 {
-        let i = gsrc[g] as usize;
-        let s = gseg[ngen * g] as usize;
-        let mut y = [0.0; 3];
-        y[..dim].copy_from_slice(&x[dim * i..dim * i + dim]);
-        reflect(dim, sg(s), &mut y[..dim]);
-        for t in s + 1..ns {
-            if in_band(dim, sg(t), &frames[t], &y[..dim], kappa * (0.5 * (h[i] + hmax))) {
-                gsrc.push(i as i32);
-                gseg.extend_from_slice(&[s as i32, t as i32]);
-                gseg.extend_from_slice(&none[..ngen - 2]);
+    // the images of the first images in a later wall (corners), in tasks of CHUNK first images,
+    // joined in order: the same list as one loop over them
+    let second = |c: usize| -> Vec<[i32; 3]> {
+        let mut out = Vec::new();
+        for g in CHUNK * c..(CHUNK * c + CHUNK).min(ng1) {
+            let i = gsrc[g] as usize;
+            let s = gseg[ngen * g] as usize;
+            let mut y = [0.0; 3];
+            y[..dim].copy_from_slice(&x[dim * i..dim * i + dim]);
+            reflect(dim, sg(s), &mut y[..dim]);
+            for t in s + 1..ns {
+                if in_band(dim, sg(t), &frames[t], &y[..dim], kappa * (0.5 * (h[i] + hmax))) {
+                    out.push([i as i32, s as i32, t as i32]);
+                }
             }
         }
+        out
+    };
+    let nc1 = ng1.div_ceil(CHUNK);
+    let found2: Vec<Vec<[i32; 3]>> =
+        if serial() { (0..nc1).map(second).collect() } else { (0..nc1).into_par_iter().map(second).collect() };
+    for &[i, s, t] in found2.iter().flatten() {
+        gsrc.push(i);
+        gseg.extend_from_slice(&[s, t]);
+        gseg.extend_from_slice(&none[..ngen - 2]);
     }
     if dim != 3 {
         return;
