@@ -610,6 +610,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             });
             out_folder(&out)?;
             let info = crate::migration::build(&manifest, &out)?;
+            for w in &info.warnings {
+                eprintln!("warning: {w}");
+            }
             println!(
                 "built {}: {} routines ({}), dim {}, maxn {}, max_interaction {}",
                 out.join(&info.library).display(),

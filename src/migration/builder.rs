@@ -125,6 +125,10 @@ pub struct BuildInfo {
     /// The manifest's `run_dirs`: folders made inside `DIR/work` before the routines run.
     #[serde(default)]
     pub run_dirs: Vec<String>,
+    /// What the build noticed and let through (`legacy build` prints them): a dummy argument
+    /// named as another argument of the manifest's list (swapped arguments?).
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl BuildInfo {
@@ -251,6 +255,35 @@ fn parse_protos(text: &str) -> Vec<Proto> {
     out
 }
 
+/// The arguments of routine `name` (in `file`) whose dummy is named as another argument of the
+/// manifest's list (its written name or its vocabulary name, any case) and not as its own: one
+/// line per such argument, a swapped pair once. Names are positional, so a build cannot refuse
+/// them, but two reals swapped in the manifest (or in the source) compile, link and run, and only
+/// the dual run's differences would show them.
+fn swapped_arguments(name: &str, file: &str, args: &[ArgInfo]) -> Vec<String> {
+    let named = |a: &ArgInfo, d: &str| a.written.eq_ignore_ascii_case(d) || a.name.eq_ignore_ascii_case(d);
+    let mut out = Vec::new();
+    for (p, a) in args.iter().enumerate() {
+        if named(a, &a.dummy) {
+            continue;
+        }
+        let Some((q, b)) = args.iter().enumerate().find(|(q, b)| *q != p && named(b, &a.dummy)) else { continue };
+        if q < p && named(a, &b.dummy) {
+            // the pair, already said at q
+            continue;
+        }
+        out.push(format!(
+            "routine {name}: argument {} is `{}` in the manifest, but its dummy in {file} is `{}`, the name the manifest gives argument {} (whose dummy is `{}`): swapped? Names are positional: the manifest's order is the one that counts",
+            p + 1,
+            a.written,
+            a.dummy,
+            q + 1,
+            b.dummy
+        ));
+    }
+    out
+}
+
 fn rel(p: &Path, base: &Path) -> String {
     p.strip_prefix(base).unwrap_or(p).display().to_string()
 }
@@ -366,6 +399,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
 
     // each mapped routine: defined once, with the manifest's arguments
     let mut routines = Vec::new();
+    let mut warnings = Vec::new();
     for r in &m.routines {
         let found: Vec<(usize, &Proto)> = protos
             .iter()
@@ -414,16 +448,17 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             )));
         }
         let mut args = Vec::new();
-        for (a, (cty, dummy)) in r.args.iter().zip(&p.params) {
+        for (pos, (a, (cty, dummy))) in r.args.iter().zip(&p.params).enumerate() {
             let want = format!("{} *", a.term.kind.c_type());
             if *cty != want {
                 return Err(input(format!(
-                    "{}: routine {}: argument {} (\"{}\") is declared {} in {file}; the vocabulary's {} is {}",
+                    "{}: routine {}: argument {} (\"{}\" in the manifest) is declared {} in {file} (dummy `{}`); the vocabulary's {} is {}",
                     m.path.display(),
                     r.name,
-                    dummy,
+                    pos + 1,
                     a.written,
                     cty.trim_end_matches(" *"),
+                    dummy,
                     a.term.name,
                     match a.term.kind {
                         Kind::Real => "double precision",
@@ -446,6 +481,9 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         }
         if is_program[k] {
             return Err(input(format!("{}: routine {}: {file} holds the main program", m.path.display(), r.name)));
+        }
+        for w in swapped_arguments(&r.name, &file, &args) {
+            warnings.push(format!("{}: {w}", m.path.display()));
         }
         let bindings = r
             .bindings()
@@ -540,6 +578,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         routines,
         itype: m.itype.clone(),
         run_dirs: m.run_dirs.clone(),
+        warnings,
     };
     let jp = out.join(BUILD_JSON);
     std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())
@@ -642,6 +681,26 @@ mod tests {
         assert_eq!(p[0].params[1], ("double *".to_string(), "dx".to_string()));
         assert_eq!(p[1].returns, "double");
         assert!(p[2].params.is_empty());
+    }
+
+    #[test]
+    fn a_dummy_named_as_another_argument_is_reported_once_per_swapped_pair() {
+        let arg = |name: &str, written: &str, dummy: &str| ArgInfo {
+            name: name.into(),
+            written: written.into(),
+            dummy: dummy.into(),
+            kind: Kind::Real,
+            shape: Shape::Scalar,
+            unit: String::new(),
+        };
+        // p_gas(u, rho, p, c) mapped as ["rho", "u", "p", "c"]
+        let swapped = [arg("rho", "rho", "u"), arg("u", "u", "rho"), arg("p", "p", "p"), arg("c", "c", "c")];
+        let w = swapped_arguments("p_gas", "p_gas.f", &swapped);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].contains("argument 1 is `rho`") && w[0].contains("argument 2 (whose dummy is `rho`)"), "{w:?}");
+        // the right order, dummies in upper case or other names: nothing
+        let right = [arg("rho", "rho", "RHO"), arg("u", "u", "u"), arg("p", "p", "pres"), arg("c", "c", "cs")];
+        assert!(swapped_arguments("p_gas", "p_gas.f", &right).is_empty());
     }
 
     #[test]
