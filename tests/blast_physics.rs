@@ -84,7 +84,7 @@ fn pairs_of(x: &[f64], h: &[f64]) -> (PairList, Vec<f64>, Vec<f64>) {
     let np = pl.len();
     let mut w = vec![0.0; np];
     let mut dwdx = vec![0.0; 2 * np];
-    kernel::Pairs { dim: 2, kind: KernelKind::Cubic, pairs: &pl, x, h, w: &mut w, dwdx: &mut dwdx }.run(F);
+    kernel::Pairs { dim: 2, kind: KernelKind::Cubic, pairs: &pl, x, h, w: &mut w, dwdx: &mut dwdx, gscale: 1.0 }.run(F);
     (pl, w, dwdx)
 }
 

@@ -248,7 +248,7 @@ fn kernel_pairs_and_self_agree_with_point_evaluation() {
             let pairs = PairList::new(vec![0, 1], vec![1, 0]);
             let mut w = [0.0; 2];
             let mut g = vec![0.0; 2 * dim];
-            kernel::Pairs { dim, kind: kind(skf), pairs: &pairs, x: &x, h: &h, w: &mut w, dwdx: &mut g }
+            kernel::Pairs { dim, kind: kind(skf), pairs: &pairs, x: &x, h: &h, w: &mut w, dwdx: &mut g, gscale: 1.0 }
                 .run(Backend::Fortran);
             let dx: Vec<f64> = (0..dim).map(|d| xi[d] - xj[d]).collect();
             let (wp, gp) = w_at(dim, skf, &dx, 0.5 * (h[0] + h[1]));

@@ -41,9 +41,9 @@
 #define SPH_SKF_WENDLAND 4
 
 /* kernel (sph_kernel.f90) */
-void sph_kernel_pairs(int dim, int ntotal, int npair, int skf, const int *pair_i,
-                      const int *pair_j, const double *x, const double *h, double *w,
-                      double *dwdx);
+void sph_kernel_pairs(int dim, int ntotal, int npair, int skf, double gscale,
+                      const int *pair_i, const int *pair_j, const double *x, const double *h,
+                      double *w, double *dwdx);
 void sph_kernel_self(int dim, int n, int skf, const double *h, double *w0);
 void sph_kernel_point(int dim, int skf, const double *dx, double h, double *w, double *dwdx);
 

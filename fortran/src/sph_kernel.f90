@@ -138,10 +138,13 @@ contains
     end do
   end subroutine kernel_w_dw
 
-  ! W_ij and grad_i W_ij for every pair, with h_ij = (h_i + h_j)/2
-  subroutine sph_kernel_pairs(dim, ntotal, npair, skf, pair_i, pair_j, x, h, w, dwdx) &
+  ! W_ij and grad_i W_ij for every pair, with h_ij = (h_i + h_j)/2; grad W
+  ! times gscale when gscale /= 1 (the lattice normalisation 1/S of the
+  ! kernel's first moment, sph.lattice_gradient; 1 leaves it as it is)
+  subroutine sph_kernel_pairs(dim, ntotal, npair, skf, gscale, pair_i, pair_j, x, h, w, dwdx) &
       bind(C, name="sph_kernel_pairs")
     integer(c_int), value :: dim, ntotal, npair, skf
+    real(c_double), value :: gscale
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: x(dim, ntotal), h(ntotal)
     real(c_double), intent(out) :: w(npair), dwdx(dim, npair)
@@ -158,6 +161,11 @@ contains
       end do
       hij = 0.5d0*(h(i) + h(j))
       call kernel_w_dw(dim, skf, sqrt(r2), dx(1:dim), hij, w(k), dwdx(:, k))
+      if (gscale /= 1.0d0) then
+        do d = 1, dim
+          dwdx(d, k) = dwdx(d, k)*gscale
+        end do
+      end if
     end do
   end subroutine sph_kernel_pairs
 

@@ -134,9 +134,10 @@ pub const GAS_JITTER: f64 = 5e-2;
 
 /// The keys of the parity preset `parity = "thesis"`: the thesis's and Liu's settings, for every
 /// key a case leaves out (table, key, value).
-pub const THESIS_PARITY: [(&str, &str, &str); 10] = [
+pub const THESIS_PARITY: [(&str, &str, &str); 11] = [
     ("sph", "density", "\"continuity\""),
     ("sph", "jitter", "0.0"),
+    ("sph", "lattice_gradient", "false"),
     ("sph", "continuity_form", "\"mass\""),
     ("sph", "smoothing", "\"rate\""),
     ("sph", "energy_form", "\"symmetric\""),

@@ -251,6 +251,12 @@ pub struct SphCfg {
     /// in 2D plane and 3D: `case::GAS_JITTER`; else 0).
     #[serde(default)]
     pub jitter: f64,
+    /// Divide every pair's ∇W by the kernel's first moment on the lattice at `h_over_dx`
+    /// (`kernel::lattice_moment`: 1.0200 for the cubic spline in 3D at h = Δx, 1.0131 in 2D), so
+    /// that gradients of linear fields, and an elastic wave's speed, are exact on the lattice.
+    /// Off by default (the thesis's and Liu's kernel); docs/validation.md, "Elastic P wave".
+    #[serde(default)]
+    pub lattice_gradient: bool,
 }
 
 fn one() -> f64 {
@@ -285,6 +291,7 @@ impl Default for SphCfg {
             xsph_eps: 0.0,
             reorder_every: 0,
             jitter: 0.0,
+            lattice_gradient: false,
         }
     }
 }

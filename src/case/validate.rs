@@ -315,9 +315,17 @@ impl Case {
     fn validate_numerics(&self, v: &mut Checker) -> Result<()> {
         let s = &self.sph;
         let at = At::top("sph");
-        for k in
-            ["kernel", "nnps", "density", "continuity_form", "energy_form", "smoothing", "reorder_every", "e_floor"]
-        {
+        for k in [
+            "kernel",
+            "nnps",
+            "density",
+            "continuity_form",
+            "energy_form",
+            "smoothing",
+            "reorder_every",
+            "e_floor",
+            "lattice_gradient",
+        ] {
             v.any(&at, k);
         }
         v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::above(0.0, 1000.0))?;
@@ -325,6 +333,16 @@ impl Case {
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
         v.num(&at, "jitter", s.jitter, Range::within(0.0, 0.5))?;
+        {
+            use crate::migration::compat::Item;
+            let f = self.compat.flags()?;
+            if s.lattice_gradient && [Item::Kernel, Item::QuinticGradient, Item::GlobalH].iter().any(|&i| f.has(i)) {
+                return Err(input(format!(
+                    "sph.lattice_gradient = true with the book's kernel (compat {}): the book's kernel has no lattice normalisation; drop one of them",
+                    f.label()
+                )));
+            }
+        }
         let at = At::top("viscosity");
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;

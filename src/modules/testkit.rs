@@ -228,8 +228,17 @@ pub fn pairs(cl: &Cloud, kappa: f64) -> PairList {
 pub fn kernel_values(cl: &Cloud, pl: &PairList) -> (Vec<f64>, Vec<f64>) {
     let mut w = vec![0.0; pl.len()];
     let mut dwdx = vec![0.0; cl.dim * pl.len()];
-    kernel::Pairs { dim: cl.dim, kind: KernelKind::Cubic, pairs: pl, x: &cl.x, h: &cl.h, w: &mut w, dwdx: &mut dwdx }
-        .run(F);
+    kernel::Pairs {
+        dim: cl.dim,
+        kind: KernelKind::Cubic,
+        pairs: pl,
+        x: &cl.x,
+        h: &cl.h,
+        w: &mut w,
+        dwdx: &mut dwdx,
+        gscale: 1.0,
+    }
+    .run(F);
     (w, dwdx)
 }
 

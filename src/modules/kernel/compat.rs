@@ -193,7 +193,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
             if s.name() == "kernel.self" {
                 (ph, Box::new(SelfCompat { kind, f, why }))
             } else {
-                (ph, Box::new(PairsCompat { normal: PairsStage { kind }, kind, f, why }))
+                (ph, Box::new(PairsCompat { normal: PairsStage { kind, gscale: 1.0 }, kind, f, why }))
             }
         })
         .collect();

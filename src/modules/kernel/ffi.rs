@@ -25,6 +25,7 @@ pub(super) fn pairs(a: &mut Pairs) {
             n32(nt),
             n32(np),
             a.kind.skf(),
+            a.gscale,
             pl.i.as_ptr(),
             pl.j.as_ptr(),
             a.x.as_ptr(),

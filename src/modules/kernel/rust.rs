@@ -107,11 +107,17 @@ pub fn w_dw(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, dwdx: &mut
 
 /// W_ij and ∇_i W_ij of every pair.
 pub(super) fn pairs(a: &mut Pairs) {
-    let Pairs { dim, kind, pairs: pl, x, h, w, dwdx } = a;
+    let Pairs { dim, kind, pairs: pl, x, h, w, dwdx, gscale } = a;
     match *dim {
         1 => pairs_d::<1>(*kind, pl, x, h, w, dwdx),
         2 => pairs_d::<2>(*kind, pl, x, h, w, dwdx),
         _ => pairs_d::<3>(*kind, pl, x, h, w, dwdx),
+    }
+    // the lattice normalisation: ∇W × gscale, as the Fortran multiplies each component
+    let gs = *gscale;
+    if gs != 1.0 {
+        let n = *dim * pl.len();
+        par_rows(&mut dwdx[..n], *dim, |_, g| g.iter_mut().for_each(|v| *v *= gs));
     }
 }
 
