@@ -377,7 +377,23 @@ fn a_wrong_number_or_type_of_arguments_is_refused() {
     let d = variant("arg_count", |t| t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"rho\", \"u\", \"p\"]"));
     refused(&d, &["p_gas", "names 3 arguments", "declares 4", "rho, u, p, c"]);
     let d = variant("arg_type", |t| t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"rho\", \"itype\", \"p\", \"c\"]"));
-    refused(&d, &["p_gas", "argument u", "double", "itype"]);
+    refused(&d, &["p_gas", "argument 2 (\"itype\" in the manifest)", "dummy `u`", "double"]);
+}
+
+/// Two reals swapped in the manifest compile and link (names are positional), but the build says
+/// so: the dummy at the manifest's `u` is the routine's `rho`, and the reverse.
+#[test]
+fn swapped_arguments_build_with_a_warning_naming_both() {
+    let d = variant("swapped", |t| t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"u\", \"rho\", \"p\", \"c\"]"));
+    let out = d.join("build");
+    let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(0), "{se}");
+    let w: Vec<&str> = se.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(w.len(), 1, "one warning for the swapped pair: {se}");
+    assert!(w[0].contains("p_gas") && w[0].contains("argument 1 is `u`") && w[0].contains("swapped?"), "{se}");
+    let info = std::fs::read_to_string(out.join("build.json")).unwrap();
+    assert!(info.contains("swapped?"), "build.json keeps the warning");
 }
 
 #[test]
