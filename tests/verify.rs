@@ -321,17 +321,22 @@ fn sedov_3d_coarse_octant() {
 
 /// The arrival time of a gauge's front: where its `field` column of gauges.csv first passes half of
 /// its extreme value (linear interpolation between steps).
-fn arrival(dir: &Path, field: &str) -> f64 {
+/// A gauge's record from gauges.csv: (t, the column `field`) per step.
+fn gauge_series(dir: &Path, field: &str) -> Vec<(f64, f64)> {
     let text = std::fs::read_to_string(dir.join("gauges.csv")).unwrap();
     let mut lines = text.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = head.iter().position(|h| *h == field).unwrap_or_else(|| panic!("no column {field}"));
-    let rows: Vec<(f64, f64)> = lines
+    lines
         .map(|l| {
             let v: Vec<&str> = l.split(',').collect();
             (v[0].parse().unwrap(), v[col].parse().unwrap())
         })
-        .collect();
+        .collect()
+}
+
+fn arrival(dir: &Path, field: &str) -> f64 {
+    let rows = gauge_series(dir, field);
     let low = rows.iter().map(|r| r.1).fold(0.0, f64::min);
     let level = 0.5 * low;
     let k = rows.iter().position(|r| r.1 < level).expect("the front arrives");
@@ -363,16 +368,7 @@ fn elastic_p_wave_in_3d_sand() {
 /// crossing of half its plateau, the plateau the median reading 20–60 µs after the reading first
 /// passes half its largest compression (so the measure does not ride the front's overshoot).
 fn arrival_at_half_plateau(dir: &Path, field: &str) -> f64 {
-    let text = std::fs::read_to_string(dir.join("gauges.csv")).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = head.iter().position(|h| *h == field).unwrap_or_else(|| panic!("no column {field}"));
-    let rows: Vec<(f64, f64)> = lines
-        .map(|l| {
-            let v: Vec<&str> = l.split(',').collect();
-            (v[0].parse().unwrap(), v[col].parse().unwrap())
-        })
-        .collect();
+    let rows = gauge_series(dir, field);
     let y0 = rows[0].1;
     let y: Vec<(f64, f64)> = rows.iter().map(|&(t, v)| (t, y0 - v)).collect();
     let cross = |level: f64| {
