@@ -438,3 +438,17 @@ fn check_states_a_sedov_blasts_energy_and_its_exact_radius_at_the_end() {
     assert!(line.contains("E = 1.000000e0 J") && line.contains("xi0 = 1.03278"), "{line}");
     assert!(line.contains("R = 4.11156e-1 m"), "{line}");
 }
+
+#[test]
+fn the_lattice_gradient_is_refused_with_the_books_kernel() {
+    let out =
+        blastsph(&["check", "cases/shock_tube.toml", "--compat", "liu-book", "--set", "sph.lattice_gradient=true"]);
+    let se = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    assert!(se.contains("sph.lattice_gradient") && se.contains("book's kernel"), "{se}");
+    // on its own it is accepted, and `check` names the factor on the kernel's line
+    let out = blastsph(&["check", "cases/shock_tube.toml", "--set", "sph.lattice_gradient=true"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("grad W / "), "{}", text(&out.stdout));
+}

@@ -128,6 +128,15 @@ impl Legacy {
                 info.dim, case.dim
             )));
         }
+        if case.sph.lattice_gradient
+            && let Some(r) =
+                info.routines.iter().find(|r| r.modules.iter().any(|m| m.split(',').any(|m| m.trim() == "kernel")))
+        {
+            return Err(input(format!(
+                "--legacy {shown}: routine {} stands for the kernel, which has no lattice normalisation: sph.lattice_gradient = true needs blastsph's kernel (drop one of them)",
+                r.name
+            )));
+        }
         let needs_itype = info.routines.iter().any(|r| r.bindings.iter().any(|b| b.name == "itype"));
         let mut itype = Vec::new();
         for m in &case.materials {
