@@ -850,6 +850,28 @@ fn print_text(
             f("ppv_ms", 1.0, "m/s", 2)
         );
     }
+    // a point gauge inside the contained charge's cavity at the end reads the products
+    if let Some(Ok(Crater { cavity: Some(cv), .. })) = &last {
+        let axis = map.and_then(|m| m.as_ref().ok()).map(|m| m.axis_m);
+        for g in case.gauges.iter().filter(|g| g.kind == crate::case::GaugeKind::Point) {
+            let p = &g.point_m;
+            // the gauge in the measure's section: (x, y) in 2D plane; (±r, z) in RZ and 3D
+            let (s, z) = match (case.dim, axis) {
+                (3, Some(a)) => ((p[0] - a[0]).hypot(p[1] - a[1]), p[2]),
+                (3, None) => continue,
+                _ => (p[0], p[1]),
+            };
+            let across = |u: f64| (u - cv.centre_m[0]).abs() <= 0.5 * cv.width_m;
+            let inside = (across(s) || ((case.axisymmetric() || case.dim == 3) && across(-s)))
+                && (z - cv.centre_m[1]).abs() <= 0.5 * cv.height_m;
+            if inside {
+                println!(
+                    "gauge {}: its point lies inside the cavity's bounding box at the end: its late record is the detonation products' pressure, not the soil's",
+                    g.name
+                );
+            }
+        }
+    }
     if !gauge_list.is_empty() {
         println!(
             "gauges: the peaks rise as the spacing shrinks (the shock's front is smeared over a few smoothing lengths); arrival and impulse converge first (docs/validation.md, \"Why the peaks do not agree\")"

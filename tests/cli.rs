@@ -452,3 +452,29 @@ fn the_lattice_gradient_is_refused_with_the_books_kernel() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("grad W / "), "{}", text(&out.stdout));
 }
+
+/// A 1 kg charge buried 0.207 m deep in RZ (dense sand, 23 mm) ends contained in a cavity by
+/// 1 ms; a point gauge on the axis 5 cm under the surface ends inside it, one 0.6 m deep and 0.3 m
+/// out does not: `report` says so of the first only.
+#[test]
+fn report_says_which_point_gauges_end_inside_a_contained_charges_cavity() {
+    let d = tempfile::tempdir().unwrap();
+    let body = "name = \"buried_rz\"\ndim = 2\ngeometry = \"axisymmetric\"\n[time]\nend_s = 1.0e-3\noutput_interval_s = 2.5e-4\n\
+        [penalty]\npbar = 1e5\n[[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
+        [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, -0.299]\nhi_m = [0.046, -0.207]\nspacing_m = 0.023\n\
+        [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, -1.012]\nhi_m = [1.012, 0.0]\nspacing_m = 0.023\nsubtract = [\"charge\"]\n\
+        [[wall]]\nfrom_m = [1.012, -1.012]\nto_m = [1.012, 0.3]\n[[wall]]\nfrom_m = [0.0, -1.012]\nto_m = [1.012, -1.012]\n\
+        [detonation]\nmode = \"programmed\"\npoint_m = [0.0, -0.253]\n\
+        [[gauge]]\nname = \"shallow\"\npoint_m = [0.0, -0.05]\nkind = \"point\"\n\
+        [[gauge]]\nname = \"far\"\npoint_m = [0.3, -0.6]\nkind = \"point\"\n[analysis]\nkind = \"crater\"\n";
+    let case = write_case(d.path(), "buried.toml", body);
+    let run = d.path().join("run");
+    let out = blastsph(&["run", case.to_str().unwrap(), "--out", run.to_str().unwrap(), "--quiet"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let out = blastsph(&["report", run.to_str().unwrap()]);
+    let so = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(so.contains("contained in a cavity"), "{so}");
+    assert!(so.contains("gauge shallow: its point lies inside the cavity"), "{so}");
+    assert!(!so.contains("gauge far: its point lies inside"), "{so}");
+}
