@@ -20,6 +20,12 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 
 /// Distance in units in the last place between two doubles (0 for +0 and −0).
+/// The larger of `m` and `v`, NaN when either is: a NaN on either side of a comparison (a twin
+/// that broke) stays visible in the row's largest difference, where `f64::max` would drop it.
+fn sticky_max(m: f64, v: f64) -> f64 {
+    if m.is_nan() || v.is_nan() { f64::NAN } else { m.max(v) }
+}
+
 pub fn ulp_diff(a: f64, b: f64) -> u64 {
     if a == b {
         return 0;
@@ -218,8 +224,8 @@ impl Comparator {
                 let u = ulp_diff(a, b);
                 let abs = (a - b).abs();
                 let rel = abs / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
-                st.max_abs = st.max_abs.max(abs);
-                st.max_rel = st.max_rel.max(rel);
+                st.max_abs = sticky_max(st.max_abs, abs);
+                st.max_rel = sticky_max(st.max_rel, rel);
                 st.max_ulp = st.max_ulp.max(u);
                 if st.first_difference.is_none() {
                     st.first_difference =
@@ -292,5 +298,18 @@ fn note_len(st: &mut Stat, step: u64, a: usize, b: usize) {
     if st.first_divergence.is_none() {
         st.first_divergence =
             Some(Divergence { step, index: 0, at: "length".into(), fortran: a as f64, rust: b as f64 });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nan_difference_stays_in_the_rows_largest_difference() {
+        assert_eq!(sticky_max(0.0, 2.0), 2.0);
+        assert!(sticky_max(0.0, f64::NAN).is_nan());
+        assert!(sticky_max(f64::NAN, 2.0).is_nan());
+        assert_eq!(ulp_diff(1.0, f64::NAN), u64::MAX);
     }
 }

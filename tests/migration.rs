@@ -411,6 +411,9 @@ fn a_bad_call_mode_or_module_is_refused() {
     let d =
         variant("pair_in_particle", |t| t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"rho\", \"u\", \"p\", \"w\"]"));
     refused(&d, &["\"w\"", "each_particle"]);
+    // a per-pair name in a whole-array call says which call it belongs to
+    let d = variant("pair_in_whole", |t| t.replacen("call = \"each_pair\"", "call = \"whole\"", 1));
+    refused(&d, &["\"r\"", "each_pair call only", "call = \"each_pair\""]);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -334,6 +334,16 @@ pub fn load(path: &Path) -> Result<Manifest> {
                 _ => vocab::lookup(&written),
             };
             let term = term.ok_or_else(|| {
+                // a name of the per-pair call's own vocabulary, written in another call mode
+                if call != CallMode::EachPair && vocab::lookup_pair(&written).is_some() {
+                    return err(
+                        &format!("{key}.args"),
+                        format!(
+                            "\"{a}\" is an argument of an each_pair call only (one pair's r, dx, hsml, w, dwdx): set call = \"each_pair\", or name the whole arrays of a {} call (docs/migration.md A.2)",
+                            call.name()
+                        ),
+                    );
+                }
                 let hint = match call {
                     CallMode::EachPair => "in an each_pair call: r, dx, hsml, w, dwdx and scalars".to_string(),
                     _ => "see the argument table of docs/migration.md".to_string(),
