@@ -100,7 +100,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
 /// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
 /// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
 /// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's
-/// base and top (z) and the faces its `lo_m`/`hi_m` clip it with; a sphere is round.
+/// base and top (z) and the planes of its `lo_m`/`hi_m` that cut it; a sphere is round.
 pub fn seam_warnings(case: &Case) -> Vec<String> {
     use crate::case::Shape;
     let d = case.dim;
@@ -124,14 +124,20 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
                     }
                 }
                 Shape::Cylinder if d == 3 => {
-                    if let (Some(c), Some(ht)) = (&cut.center_m, cut.height_m) {
+                    if let (Some(c), Some(r), Some(ht)) = (&cut.center_m, cut.radius_m, cut.height_m) {
                         faces.push((2, c[2]));
                         faces.push((2, c[2] + ht));
-                    }
-                    if let (Some(l), Some(h)) = (&cut.lo_m, &cut.hi_m) {
-                        for a in 0..d {
-                            faces.push((a, l[a]));
-                            faces.push((a, h[a]));
+                        // a clip plane is a face only where it cuts the cylinder (a loose
+                        // bounding clip at or beyond its side or ends is none)
+                        let span = [(c[0] - r, c[0] + r), (c[1] - r, c[1] + r), (c[2], c[2] + ht)];
+                        if let (Some(l), Some(h)) = (&cut.lo_m, &cut.hi_m) {
+                            for a in 0..d {
+                                for f in [l[a], h[a]] {
+                                    if f > span[a].0 && f < span[a].1 {
+                                        faces.push((a, f));
+                                    }
+                                }
+                            }
                         }
                     }
                 }
@@ -587,5 +593,20 @@ mod tests {
         let w = scene("-0.2");
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].contains("z = -0.2 m") && w[0].contains("35.304 spacings"), "{w:?}");
+        // 3D: a quarter cylinder's clip planes through its axis and a loose clip beside it are no
+        // seam; its base off the soil's cells is
+        let quarter = |base: &str, hi: &str| {
+            let text = format!(
+                "dim = 3\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
+                 [[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n\
+                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"cylinder\"\ncenter_m = [0.0, 0.0, {base}]\nradius_m = 0.046\nheight_m = 0.092\nlo_m = [0.0, 0.0, {base}]\nhi_m = [{hi}, {hi}, 0.552]\nspacing_m = 0.0115\n\
+                 [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, 0.0, 0.0]\nhi_m = [0.552, 0.552, 0.552]\nspacing_m = 0.0115\nsubtract = [\"charge\"]\n"
+            );
+            seam_warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
+        };
+        assert!(quarter("0.46", "0.046").is_empty());
+        assert!(quarter("0.46", "0.05").is_empty(), "a clip beside the side is no face");
+        let w = quarter("0.455", "0.046");
+        assert!(w.len() == 1 && w[0].contains("z = 0.455 m"), "{w:?}");
     }
 }

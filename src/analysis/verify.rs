@@ -129,24 +129,26 @@ fn setup_of(case: &Case) -> Result<Setup> {
 /// set-up the report measures against (the energy as the report takes it); None when the case
 /// is no Sedov blast or the set-up fails.
 pub(crate) fn sedov_end_radius(case: &Case) -> Option<(f64, f64)> {
-    if case.analysis.kind != AnalysisKind::Sedov {
-        return None;
-    }
-    let s = setup_of(case).ok()?;
-    let r = Sedov::new(s.j, s.gamma)?.radius(s.energy, s.rho0, case.time.end_s);
-    Some((r, s.dx))
+    sedov_at_end(case).map(|(s, _, r)| (r, s.dx))
 }
 
-/// What `blastsph check` says of a Sedov case before it runs: the energy, ambient density and γ
-/// the report will measure against, ξ0, and the exact shock radius at the end in metres and in
-/// spacings; None when the case is no Sedov blast or the set-up fails.
-pub(crate) fn sedov_check_line(case: &Case) -> Option<String> {
+/// A Sedov case's set-up as the report takes it, its similarity solution and the exact shock
+/// radius at the end time (m); None when the case is no Sedov blast or the set-up fails.
+fn sedov_at_end(case: &Case) -> Option<(Setup, Sedov, f64)> {
     if case.analysis.kind != AnalysisKind::Sedov {
         return None;
     }
     let s = setup_of(case).ok()?;
     let sd = Sedov::new(s.j, s.gamma)?;
     let r = sd.radius(s.energy, s.rho0, case.time.end_s);
+    Some((s, sd, r))
+}
+
+/// What `blastsph check` says of a Sedov case before it runs: the energy, ambient density and γ
+/// the report will measure against, ξ0, and the exact shock radius at the end in metres and in
+/// spacings; None when the case is no Sedov blast or the set-up fails.
+pub(crate) fn sedov_check_line(case: &Case) -> Option<String> {
+    let (s, sd, r) = sedov_at_end(case)?;
     let (geo, unit) = match (s.j, case.axisymmetric()) {
         (1, _) => ("planar", "J/m2"),
         (2, _) => ("cylindrical", "J/m"),
