@@ -108,6 +108,9 @@ impl Comparator {
             }
             Counterpart::LegacyAlone(why) => {
                 stage.run(Backend::Fortran, p, w, k);
+                for iw in stage.take_input_writes() {
+                    self.input_written(step, stage, &iw, p);
+                }
                 return self.not_compared(step, stage, why, "legacy");
             }
             Counterpart::Fortran | Counterpart::Legacy => {}
@@ -121,6 +124,43 @@ impl Comparator {
         }
         stage.run(Backend::Fortran, p, w, k);
         self.compare(step, stage, &rust, p, w);
+        for iw in stage.take_input_writes() {
+            self.input_written(step, stage, &iw, p);
+        }
+    }
+
+    /// A legacy routine changed an input of its stage (an argument the stage only reads, which
+    /// the Rust twins leave alone): a row of its own, every changed value out of tolerance, the
+    /// value before the call standing as the Rust side's.
+    fn input_written(&mut self, step: u64, stage: &dyn Stage, iw: &crate::modules::InputWrite, p: &Particles) {
+        let key = (format!("{} (inputs)", stage.name()), iw.field);
+        let fate = if iw.kept { "the state keeps the change" } else { "the change is dropped" };
+        let st = self.stats.entry(key).or_insert_with(|| Stat {
+            module: stage.module().name().into(),
+            stage: stage.name().into(),
+            field: format!("{} (input `{}` changed)", iw.field.name(), iw.arg),
+            tolerance_ulp: 0,
+            tolerance_why: format!(
+                "the routine changed an argument its stage only reads; blastsph's twins leave it as it was ({fate})"
+            ),
+            counterpart: Some("legacy".into()),
+            ..Default::default()
+        });
+        st.compared += iw.checked;
+        st.out_of_tolerance += iw.count;
+        st.max_abs = sticky_max(st.max_abs, iw.max_abs);
+        st.max_rel = sticky_max(st.max_rel, iw.max_rel);
+        st.max_ulp = st.max_ulp.max(iw.max_ulp);
+        let k = iw.index / iw.width.max(1);
+        let at = if iw.per_particle { who(k, p) } else { format!("pair {k}") };
+        let at = if iw.width > 1 { format!("{at}, component {}", iw.index % iw.width) } else { at };
+        let d = Divergence { step, index: iw.index, at, fortran: iw.after, rust: iw.before };
+        if st.first_difference.is_none() {
+            st.first_difference = Some(d.clone());
+        }
+        if st.first_divergence.is_none() {
+            st.first_divergence = Some(d);
+        }
     }
 
     /// The rows of a stage that runs without a counterpart: compared 0 times, saying why.

@@ -355,3 +355,80 @@ fn the_books_h_upgrade_is_matched_until_the_run_blows_up() {
     let prog = program_rows_of(&b, "switch_sle2_program", 10);
     assert_run_ends_as_after(&b, cs, "liu-book,h_upgrade", &prog, "switch_sle2_run", 10);
 }
+
+/// A routine that changes an argument its stage only reads (here the viscosity nudging the
+/// velocity it is given): blastsph's twins leave it alone, so `dual --legacy` reports the change
+/// as a divergence of its own (exit 4, the routine, the argument, the step and the particle), and
+/// `run --legacy` warns once and keeps the change in the state, as the legacy program's arrays do.
+#[test]
+fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
+    let d = variant_built("input_write", "art_visc.f", |t| {
+        t.replacen("      end\n", "      vx(1,3) = vx(1,3)*1.001d0\n      end\n", 1)
+    });
+    let lg = d.join("build");
+    let out = d.join("dual");
+    let o = blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--steps",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(4), "{se}");
+    // (the third particle is at rest at step 1: its first change is at step 2)
+    assert!(se.contains("legacy routine art_visc changed its input `vx` at step 2"), "{se}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let r = row(&rows, "legacy.art_visc", "v (input `vx` changed)");
+    assert_eq!(r["out_of_tolerance"], 2, "one value a step, steps 2 and 3: {r}");
+    let fd = &r["first_divergence"];
+    assert_eq!(fd["step"], 1, "{r}");
+    assert!(fd["at"].as_str().unwrap().starts_with("particle 2"), "{r}");
+    assert_eq!(fd["fortran"].as_f64().unwrap(), fd["rust"].as_f64().unwrap() * 1.001, "{r}");
+    // the outputs themselves still agree
+    assert_eq!(row(&rows, "legacy.art_visc", "acc")["max_ulp"], 0);
+    let run = d.join("run");
+    let o = blastsph(&[
+        "run",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--set",
+        "time.end_s=2e-2",
+        "--out",
+        run.to_str().unwrap(),
+        "--quiet",
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{se}");
+    assert_eq!(se.matches("changed its input `vx`").count(), 1, "warned once: {se}");
+    assert!(se.contains("the state keeps it"), "{se}");
+}
+
+/// A `STOP` in the legacy code (libgfortran exits with status 0 for `STOP 'text'`) ends blastsph
+/// with one line naming the routine and the step, and exit status 3, in `run` and in `dual`.
+#[test]
+fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
+    let d = variant_built("stop", "eos.f", |t| {
+        t.replacen(
+            "      p = (gam - 1)*rho*u\n",
+            "      if (rho .gt. 0.5d0) stop 'p_gas: bad state'\n      p = (gam - 1)*rho*u\n",
+            1,
+        )
+    });
+    let lg = d.join("build");
+    for (cmd, out) in [("run", d.join("run")), ("dual", d.join("dual"))] {
+        let o = blastsph(&[cmd, "shock_tube", "--legacy", lg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let se = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "{cmd}: {se}");
+        let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{cmd}: {se}"));
+        assert!(line.contains("legacy routine p_gas executed STOP at step 1"), "{cmd}: {se}");
+    }
+}

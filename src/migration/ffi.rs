@@ -20,7 +20,10 @@
 //!
 //! Legacy code is not re-entrant (SAVEd locals, COMMON blocks, large local arrays that gfortran
 //! makes static, the shims' own buffers): every call in the process holds one global lock.
-//! A routine that executes `STOP` ends the whole process, as it ended the legacy program.
+//! A routine that executes `STOP` (or `ERROR STOP`) ends the whole process, as it ended the legacy
+//! program; a handler registered with `atexit` when the first build is opened turns that end into
+//! one line naming the routine (and what the caller said of the call, [`set_context`]) and exit
+//! status 3, since libgfortran's `STOP 'text'` exits with status 0, which would read as success.
 //!
 //! This file holds the only `unsafe` code of the migration path.
 #![allow(unsafe_code)]
@@ -41,6 +44,63 @@ type ShimFn = unsafe extern "C" fn(ptrs: *const *mut c_void, sizes: *const i64) 
 /// Serialises every call into legacy code in this process.
 static CALL_LOCK: Mutex<()> = Mutex::new(());
 
+/// The legacy routine being called now ("" between calls), and what the caller says of the call
+/// (its step): read by the exit handler, [`legacy_exit`].
+static IN_CALL: Mutex<(String, String)> = Mutex::new((String::new(), String::new()));
+
+/// The exit status of a process that a legacy `STOP` ended (as a run that cannot go on: README,
+/// "Exit statuses").
+pub const STOP_STATUS: c_int = 3;
+
+unsafe extern "C" {
+    /// libgfortran's FLUSH statement: with no unit, every open unit (the legacy code's WRITEs to
+    /// standard output are buffered when it is a file or a pipe).
+    fn _gfortran_flush_i4(unit: *const i32);
+}
+
+/// Runs at `exit`: when a legacy call is in progress the legacy code executed `STOP` (libgfortran
+/// calls `exit`, with status 0 for `STOP 'text'`): says so in one line and ends with
+/// [`STOP_STATUS`] instead. particles.h5 is flushed after every frame and gauges.csv after every
+/// line, so what the run wrote so far stays readable.
+extern "C" fn legacy_exit() {
+    let (name, ctx) = match IN_CALL.try_lock() {
+        Ok(g) => g.clone(),
+        Err(_) => return,
+    };
+    if name.is_empty() {
+        return;
+    }
+    use std::io::Write;
+    let _ = std::io::stdout().flush();
+    let at = if ctx.is_empty() { String::new() } else { format!(" {ctx}") };
+    eprintln!(
+        "error: legacy routine {name} executed STOP{at}: your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
+    );
+    // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); `_exit`
+    // ends the process at once without running the remaining exit handlers (this one would
+    // otherwise return into libgfortran's exit with status 0).
+    unsafe {
+        _gfortran_flush_i4(std::ptr::null());
+        libc::_exit(STOP_STATUS);
+    }
+}
+
+/// Says what the next legacy calls are (e.g. "at step 3"), for the line a `STOP` prints.
+pub fn set_context(ctx: String) {
+    IN_CALL.lock().unwrap_or_else(|e| e.into_inner()).1 = ctx;
+}
+
+/// Registers [`legacy_exit`] once per process.
+fn watch_exit() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // SAFETY: `legacy_exit` is an `extern "C" fn()` that lives as long as the program.
+        unsafe {
+            libc::atexit(legacy_exit);
+        }
+    });
+}
+
 /// An opened legacy build.
 pub struct LegacyLib {
     dir: PathBuf,
@@ -58,6 +118,7 @@ impl LegacyLib {
     /// Opens the build in `dir` (its `build.json` and library).
     pub fn open(dir: &Path) -> Result<LegacyLib> {
         let info = BuildInfo::read(dir)?;
+        watch_exit();
         let path = dir.join(&info.library);
         if !path.is_file() {
             return Err(input(format!("{}: no library (see {})", path.display(), dir.join(BUILD_JSON).display())));
@@ -93,6 +154,20 @@ impl LegacyLib {
         let f: Symbol<ShimFn> = unsafe { self.lib.get(sym.as_bytes()) }
             .map_err(|e| input(format!("{}: no symbol {}: {e}", self.dir.display(), spec.shim)))?;
         Ok(Routine { lib: self, spec, f: *f })
+    }
+}
+
+/// Marks a legacy call in progress (for [`legacy_exit`]) until dropped.
+struct InCall;
+impl InCall {
+    fn enter(name: &str) -> InCall {
+        IN_CALL.lock().unwrap_or_else(|e| e.into_inner()).0 = name.to_string();
+        InCall
+    }
+}
+impl Drop for InCall {
+    fn drop(&mut self) {
+        IN_CALL.lock().unwrap_or_else(|e| e.into_inner()).0.clear();
     }
 }
 
@@ -277,6 +352,7 @@ impl Routine<'_> {
         }
         let status = {
             let _guard = CALL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+            let _in = InCall::enter(name);
             // SAFETY: `ptrs[k]` points to `sizes[k]` values of the binding's type (f64 for
             // real, i32 for integer: checked above), each from a distinct `&mut` slice borrowed
             // for the whole call; the shim reads and writes at most `sizes[k]` values through

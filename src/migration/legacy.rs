@@ -27,7 +27,7 @@ use super::ffi::{Args, LegacyLib};
 use super::vocab::Shape;
 use crate::case::{Case, StepRule};
 use crate::error::{Result, SphError, input};
-use crate::modules::{Backend, Counterpart, Module, Phase, PlanCtx, Slots, Stage, Terms, Tolerance};
+use crate::modules::{Backend, Counterpart, InputWrite, Module, Phase, PlanCtx, Slots, Stage, Terms, Tolerance};
 use crate::setup::Initial;
 use crate::sim::plan::{Entry, ModulePlan};
 use crate::state::{Clock, Field, Particles, Snap, Work};
@@ -64,6 +64,8 @@ struct Shared {
     step: i32,
     last_t: Option<u64>,
     calls: BTreeMap<String, u64>,
+    /// (routine, argument) pairs already warned of a changed input.
+    warned: std::collections::HashSet<(String, String)>,
 }
 
 /// An opened legacy build, bound to a case.
@@ -300,6 +302,61 @@ pub struct LegacyStage {
     /// Set for a routine with no twin: why it runs alone.
     alone: Option<&'static str>,
     replay: Mutex<Option<(u64, Vec<Snap>)>>,
+    /// The inputs the last call changed, until the dual run takes them.
+    input_writes: Mutex<Vec<InputWrite>>,
+}
+
+/// Per-particle state a routine may change although its stage only reads it: the state takes
+/// the change, as the legacy program's arrays keep it (the material codes, the pair list, the
+/// kernel values and the rate arrays are not: a change to them is reported and dropped).
+const KEEPS: &[Field] =
+    &[Field::X, Field::V, Field::Mass, Field::Rho, Field::P, Field::C, Field::E, Field::H, Field::Burn, Field::Tau];
+
+/// What a call did to an input argument (`before`, `after`: its buffer around the call), over
+/// its first `n` particles or pairs of `width` values; None when it left them as they were.
+fn input_change(
+    field: Field,
+    arg: &str,
+    shape: Shape,
+    width: usize,
+    n: usize,
+    before: &Buf,
+    after: &Buf,
+) -> Option<InputWrite> {
+    let pairs: Vec<(f64, f64)> = match (before, after) {
+        (Buf::R(a), Buf::R(b)) => a.iter().zip(b).take(width * n).map(|(x, y)| (*x, *y)).collect(),
+        (Buf::I(a), Buf::I(b)) => a.iter().zip(b).take(width * n).map(|(x, y)| (*x as f64, *y as f64)).collect(),
+        _ => return None,
+    };
+    let mut iw: Option<InputWrite> = None;
+    for (l, (a, b)) in pairs.into_iter().enumerate() {
+        if a.to_bits() == b.to_bits() {
+            continue;
+        }
+        let abs = (a - b).abs();
+        let rel = abs / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
+        let w = iw.get_or_insert_with(|| InputWrite {
+            field,
+            arg: arg.to_string(),
+            per_particle: shape.per_particle(),
+            width,
+            index: l,
+            before: a,
+            after: b,
+            checked: (width * n) as u64,
+            count: 0,
+            max_abs: 0.0,
+            max_rel: 0.0,
+            max_ulp: 0,
+            kept: KEEPS.contains(&field),
+        });
+        w.count += 1;
+        // (NaN stays: f64::max would drop it)
+        w.max_abs = if abs.is_nan() || w.max_abs.is_nan() { f64::NAN } else { w.max_abs.max(abs) };
+        w.max_rel = if rel.is_nan() || w.max_rel.is_nan() { f64::NAN } else { w.max_rel.max(rel) };
+        w.max_ulp = w.max_ulp.max(crate::dual::ulp_diff(a, b));
+    }
+    iw
 }
 
 impl LegacyStage {
@@ -350,8 +407,51 @@ impl LegacyStage {
             .iter()
             .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, w))
             .collect();
+        // the state the stage only reads, as it was: a routine that changes it is reported
+        let watched: Vec<(usize, Field, Buf)> = r
+            .bindings
+            .iter()
+            .enumerate()
+            .filter_map(|(k, b)| {
+                let f = bind::field_of(&b.name)?;
+                (b.shape != Shape::Scalar && !self.writes.contains(&f)).then(|| (k, f, bufs[k].clone()))
+            })
+            .collect();
+        super::ffi::set_context(format!("at step {itimestep}"));
         if let Err(e) = lg.call_raw(&r.name, &r.bindings, &mut bufs) {
             die(e.to_string());
+        }
+        let mut changed = Vec::new();
+        for (k, f, before) in &watched {
+            let b = &r.bindings[*k];
+            let width = if is_vec(b.shape) { p.dim } else { 1 };
+            let n = if b.shape.per_particle() { nt } else { np };
+            if let Some(iw) = input_change(*f, &b.name, b.shape, width, n, before, &bufs[*k]) {
+                changed.push(iw);
+            }
+        }
+        let mut writes = self.writes.clone();
+        for iw in &changed {
+            if iw.kept && !writes.contains(&iw.field) {
+                writes.push(iw.field);
+            }
+            if sh.warned.insert((r.name.clone(), iw.arg.clone())) {
+                let what = if iw.per_particle { "particle" } else { "pair" };
+                let fate = if iw.kept {
+                    "the state keeps it, as your program's arrays do"
+                } else {
+                    "dropped: blastsph does not take it from a routine that does not compute it"
+                };
+                eprintln!(
+                    "warning: legacy routine {} changed its input `{}` at step {itimestep} ({} values; first at {what} {}: {:e} -> {:e}), which blastsph's twin of it leaves alone: {fate} (`dual --legacy` reports it as a divergence)",
+                    r.name,
+                    iw.arg,
+                    iw.count,
+                    iw.index / iw.width,
+                    iw.before,
+                    iw.after
+                );
+            }
         }
         let np_after = match r.bindings.iter().position(|b| b.name == "niac").map(|k| &bufs[k]) {
             Some(Buf::I(v)) if search => v[0].max(0) as usize,
@@ -369,10 +469,11 @@ impl LegacyStage {
             scratch: &mut sh.scratch,
         };
         for (b, buf) in r.bindings.iter().zip(bufs) {
-            bind::scatter(&b.name, buf, &self.writes, &mut ctx, p, w, np_after);
+            bind::scatter(&b.name, buf, &writes, &mut ctx, p, w, np_after);
         }
         let snaps = self.writes.iter().map(|f| f.snap(p, w)).collect();
         *self.replay.lock().unwrap_or_else(|e| e.into_inner()) = Some((key, snaps));
+        *self.input_writes.lock().unwrap_or_else(|e| e.into_inner()) = changed;
     }
 }
 
@@ -415,6 +516,9 @@ impl Stage for LegacyStage {
         for s in &mut self.chain {
             s.assign(slots);
         }
+    }
+    fn take_input_writes(&self) -> Vec<InputWrite> {
+        std::mem::take(&mut *self.input_writes.lock().unwrap_or_else(|e| e.into_inner()))
     }
     fn counterpart(&self) -> Counterpart {
         match self.alone {
@@ -649,6 +753,7 @@ impl Legacy {
                 tol,
                 alone: why_alone,
                 replay: Mutex::new(None),
+                input_writes: Mutex::new(Vec::new()),
             };
             let entry = Entry { phase, stage: Box::new(stage), backend: Backend::Fortran, seconds: 0.0 };
             match at {

@@ -30,7 +30,7 @@ pub(crate) use par::{
     serial,
 };
 pub(crate) use stage::as_its_normal_stage;
-pub use stage::{Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};
+pub use stage::{Backend, Contribution, Counterpart, InputWrite, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};
 
 /// The module registry: one line per module, `folder: Variant => "what it computes"`. The order is
 /// the order in which a phase of the step runs the modules' stages. Each folder provides

@@ -216,6 +216,40 @@ pub trait Stage: Send + Sync {
     fn counterpart(&self) -> Counterpart {
         Counterpart::Fortran
     }
+    /// The inputs its last run changed (a legacy routine writing an argument that its stages
+    /// only read), taken: the dual run reports each as a divergence. Empty for blastsph's own
+    /// stages, which write only their outputs.
+    fn take_input_writes(&self) -> Vec<InputWrite> {
+        Vec::new()
+    }
+}
+
+/// A routine's change to an input of its stage (an argument the stage only reads): the first
+/// changed value and the extent of the change, over the valid values (`ntotal` particles or
+/// `niac` pairs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputWrite {
+    pub field: Field,
+    /// The argument's name in the manifest's vocabulary (`u`, `vx`, `sxy`).
+    pub arg: String,
+    /// Per particle (false: per pair).
+    pub per_particle: bool,
+    /// Values per particle or pair in the argument (dim for `x`, `vx`; else 1).
+    pub width: usize,
+    /// The first changed value's index in the argument, its value before and after.
+    pub index: usize,
+    pub before: f64,
+    pub after: f64,
+    /// How many values were looked at and how many changed, the largest absolute and relative
+    /// change, and the largest distance in units in the last place.
+    pub checked: u64,
+    pub count: u64,
+    pub max_abs: f64,
+    pub max_rel: f64,
+    pub max_ulp: u64,
+    /// Whether the state took the change (per-particle state, as the legacy program keeps it)
+    /// or it was dropped (the pair list, kernel values and rate arrays are not the routine's).
+    pub kept: bool,
 }
 
 /// The `Stage` methods of a compatibility stage (`<module>/compat.rs`) that stands where its field
