@@ -400,6 +400,18 @@ fn swapped_arguments_build_with_a_warning_naming_both() {
 fn a_flag_that_changes_the_arithmetic_is_refused() {
     let d = variant("fast_math", |t| t.replace("[\"-finit-local-zero\"]", "[\"-finit-local-zero\", \"-ffast-math\"]"));
     refused(&d, &["-ffast-math", "fflags"]);
+    for (flag, why) in [
+        ("-ffinite-math-only", "arithmetic"),
+        ("-O0", "fixed at -O2"),
+        ("-Os", "fixed at -O2"),
+        ("-fsanitize=address", "instrumented"),
+        ("-pg", "instrumented"),
+        ("-o", "compiles and links"),
+    ] {
+        let d =
+            variant("flag", |t| t.replace("[\"-finit-local-zero\"]", &format!("[\"-finit-local-zero\", \"{flag}\"]")));
+        refused(&d, &[flag, why]);
+    }
 }
 
 #[test]
@@ -689,3 +701,44 @@ fn an_argument_given_twice_is_refused_by_the_safe_api() {
 }
 
 // ---------------------------------------------------------------------------------------------
+
+/// Fortran 90 declarations in a legacy source: `intent(in)` (gfortran's prototype says `const
+/// double *`) builds; an assumed-shape dummy (`dens(:)`, which the shims' plain address cannot
+/// describe: it crashed at the first call) is refused at build, naming the dummy; a subroutine
+/// inside a module is refused as such (it read "not found").
+#[test]
+fn fortran_90_declarations_are_taken_or_refused_by_name() {
+    let eos = |decl: &str| {
+        format!(
+            "subroutine eos90(dens, ene, pr, cs)\n  implicit none\n{decl}\n  pr = 0.4d0*dens*ene\n  cs = sqrt(0.4d0*ene)\nend subroutine eos90\n"
+        )
+    };
+    let map = |t: &str| {
+        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\", \"eos90.f90\"]").replace(
+            "[[routine]]\nname = \"p_gas\"",
+            "[[routine]]\nname = \"eos90\"\nmodule = \"eos\"\ncall = \"each_particle\"\nargs = [\"rho\", \"u\", \"p\", \"c\"]\n\n[[routine]]\nname = \"p_gas\"",
+        )
+    };
+    let d = variant("f90_intent", map);
+    let src = eos("  double precision, intent(in) :: dens, ene\n  double precision, intent(out) :: pr, cs");
+    std::fs::write(d.join("eos90.f90"), src).unwrap();
+    let out = d.join("build");
+    let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "intent(in) builds: {}", String::from_utf8_lossy(&o.stderr));
+    let d = variant("f90_assumed_shape", |t| {
+        map(t).replace(
+            "call = \"each_particle\"\nargs = [\"rho\", \"u\", \"p\", \"c\"]\n\n[[routine]]\nname = \"p_gas\"",
+            "args = [\"rho\", \"u\", \"p\", \"c\"]\n\n[[routine]]\nname = \"p_gas\"",
+        )
+    });
+    std::fs::write(
+        d.join("eos90.f90"),
+        eos("  double precision :: dens(:), ene(:)\n  double precision, dimension(:) :: pr, cs"),
+    )
+    .unwrap();
+    refused(&d, &["eos90", "argument 1 (dummy `dens`", "assumed-shape", "dens(*)"]);
+    let d = variant("f90_module", map);
+    let m = format!("module eosmod\ncontains\n{}end module eosmod\n", eos("  double precision :: dens, ene, pr, cs"));
+    std::fs::write(d.join("eos90.f90"), m).unwrap();
+    refused(&d, &["eos90", "inside a module"]);
+}

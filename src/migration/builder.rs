@@ -284,6 +284,78 @@ fn swapped_arguments(name: &str, file: &str, args: &[ArgInfo]) -> Vec<String> {
     out
 }
 
+/// Whether a source is fixed form (by its extension, as gfortran decides).
+fn fixed_form(p: &Path) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| matches!(e, "f" | "F" | "for" | "FOR" | "f77" | "F77" | "ftn"))
+}
+
+/// The lines of subroutine `name` in the source `text` (lower case, comment lines dropped), from
+/// its `subroutine` statement to its `end`; None when the text defines no such subroutine.
+fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
+    let name = name.to_ascii_lowercase();
+    let mut out: Option<String> = None;
+    for raw in text.lines() {
+        let comment = fixed && matches!(raw.chars().next(), Some('c' | 'C' | '*'));
+        let l = raw.to_ascii_lowercase();
+        let t = l.split('!').next().unwrap_or("").trim();
+        if comment || t.is_empty() {
+            continue;
+        }
+        match &mut out {
+            None => {
+                let head = t.strip_prefix("recursive ").unwrap_or(t);
+                if let Some(rest) = head.strip_prefix("subroutine ")
+                    && rest.trim_start().strip_prefix(&name).is_some_and(|r| r.is_empty() || r.starts_with([' ', '(']))
+                {
+                    out = Some(format!("{t}\n"));
+                }
+            }
+            Some(o) => {
+                if t == "end" || t.starts_with("end subroutine") {
+                    break;
+                }
+                o.push_str(t);
+                o.push('\n');
+            }
+        }
+    }
+    out
+}
+
+/// Whether `dummy` is declared assumed-shape (`x(:)`, `dimension(:, :) :: x`) in a routine's
+/// text from [`routine_text`].
+fn assumed_shape(body: &str, dummy: &str) -> bool {
+    let d = dummy.to_ascii_lowercase();
+    body.lines().filter(|l| l.contains("::")).any(|l| {
+        let (attrs, ents) = l.split_once("::").unwrap_or(("", l));
+        let ents: String = ents.chars().filter(|c| !c.is_whitespace()).collect();
+        let attrs: String = attrs.chars().filter(|c| !c.is_whitespace()).collect();
+        // the entities, split at commas outside parentheses
+        let mut names = Vec::new();
+        let (mut depth, mut cur) = (0, String::new());
+        for ch in ents.chars() {
+            match ch {
+                '(' => depth += 1,
+                ')' => depth -= 1,
+                ',' if depth == 0 => {
+                    names.push(std::mem::take(&mut cur));
+                    continue;
+                }
+                _ => {}
+            }
+            cur.push(ch);
+        }
+        names.push(cur);
+        names.iter().any(|e| {
+            let (n, dims) = e.split_once('(').map_or((e.as_str(), ""), |(n, r)| (n, r));
+            let n = n.split('=').next().unwrap_or(n);
+            n == d && (dims.starts_with(':') || (dims.is_empty() && attrs.contains("dimension(:")))
+        })
+    })
+}
+
 fn rel(p: &Path, base: &Path) -> String {
     p.strip_prefix(base).unwrap_or(p).display().to_string()
 }
@@ -409,6 +481,18 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             .collect();
         let (k, p) = match found.as_slice() {
             [] => {
+                // defined, but not as an external procedure: inside a module or a CONTAINS
+                let inner = m.sources.iter().find(|f| {
+                    std::fs::read_to_string(f).is_ok_and(|t| routine_text(&t, &r.name, fixed_form(f)).is_some())
+                });
+                if let Some(f) = inner {
+                    return Err(input(format!(
+                        "{}: routine {}: defined in {} inside a module or after CONTAINS: only external subroutines (outside any module) can be mapped",
+                        m.path.display(),
+                        r.name,
+                        rel(f, &m.dir)
+                    )));
+                }
                 return Err(input(format!(
                     "{}: routine {}: not found in the sources ({} files compiled)",
                     m.path.display(),
@@ -448,11 +532,32 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             )));
         }
         let mut args = Vec::new();
+        let body = std::fs::read_to_string(&m.sources[k])
+            .ok()
+            .and_then(|t| routine_text(&t, &r.name, fixed_form(&m.sources[k])));
         for (pos, (a, (cty, dummy))) in r.args.iter().zip(&p.params).enumerate() {
             let want = format!("{} *", a.term.kind.c_type());
-            if *cty != want {
+            // `intent(in)` makes the pointer const: the same argument to the shim
+            let cty = cty.strip_prefix("const ").unwrap_or(cty);
+            if body.as_deref().is_some_and(|b| assumed_shape(b, dummy)) {
                 return Err(input(format!(
-                    "{}: routine {}: argument {} (\"{}\" in the manifest) is declared {} in {file} (dummy `{}`); the vocabulary's {} is {}",
+                    "{}: routine {}: argument {} (dummy `{}` in {file}) is an assumed-shape array (`(:)`): the shims pass an address, as to FORTRAN 77 code; declare it explicit-shape (`{}(maxn)`) or assumed-size (`{}(*)`)",
+                    m.path.display(),
+                    r.name,
+                    pos + 1,
+                    dummy,
+                    dummy,
+                    dummy
+                )));
+            }
+            if cty != want {
+                let hint = if cty.contains("float128") || cty.contains("long double") {
+                    " (-fdefault-real-8 alone makes double precision 16 bytes: add -fdefault-double-8)"
+                } else {
+                    ""
+                };
+                return Err(input(format!(
+                    "{}: routine {}: argument {} (\"{}\" in the manifest) is declared {} in {file} (dummy `{}`); the vocabulary's {} is {}{}",
                     m.path.display(),
                     r.name,
                     pos + 1,
@@ -463,7 +568,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                     match a.term.kind {
                         Kind::Real => "double precision",
                         Kind::Int => "a default integer",
-                    }
+                    },
+                    hint
                 )));
             }
             args.push(ArgInfo {

@@ -172,15 +172,35 @@ pub const REFUSED_FLAGS: &[&str] = &[
     "-funsafe-math-optimizations",
     "-fassociative-math",
     "-freciprocal-math",
+    "-ffinite-math-only",
+    "-fno-signed-zeros",
+    "-fno-trapping-math",
+    "-fcx-limited-range",
     "-ffp-contract=fast",
     "-ffp-contract=on",
     "-march=native",
     "-mtune=native",
     "-mfma",
-    "-shared",
-    "-c",
-    "-o",
 ];
+
+/// Why a flag of `fflags` is refused, if it is.
+fn refused_flag(f: &str) -> Option<&'static str> {
+    if REFUSED_FLAGS.contains(&f) {
+        return Some("it changes the arithmetic against blastsph's own core (docs/migration.md A.4)");
+    }
+    if f.starts_with("-O") {
+        return Some("the optimisation level is fixed at -O2, as blastsph's own core is built (docs/migration.md A.4)");
+    }
+    if matches!(f, "-shared" | "-c" | "-o" | "-S" | "-E") || f.starts_with("-fsyntax-only") || f.starts_with("-Wl,") {
+        return Some("blastsph compiles and links the library itself");
+    }
+    if f.starts_with("-fsanitize") || f == "-pg" || f.starts_with("-fprofile") || f == "--coverage" {
+        return Some(
+            "an instrumented library cannot be loaded into blastsph (its runtime must start with the program)",
+        );
+    }
+    None
+}
 
 fn is_ident(s: &str) -> bool {
     let mut ch = s.chars();
@@ -265,14 +285,8 @@ pub fn load(path: &Path) -> Result<Manifest> {
     }
 
     for f in &raw.fflags {
-        let refused = REFUSED_FLAGS.iter().any(|r| f == r || (r.ends_with('=') && f.starts_with(r)));
-        if refused {
-            return Err(err(
-                "fflags",
-                format!(
-                    "\"{f}\" is refused: it changes the arithmetic against blastsph's own core (docs/migration.md)"
-                ),
-            ));
+        if let Some(why) = refused_flag(f) {
+            return Err(err("fflags", format!("\"{f}\" is refused: {why}")));
         }
         if !f.starts_with('-') {
             return Err(err("fflags", format!("\"{f}\" is not a compiler flag (flags start with -)")));
