@@ -149,6 +149,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a negative count", tube, "region.left.count=[-5]"),
         set("a count that is not a whole number", tube, "region.left.count=[1e12]"),
         set("h a million spacings", s1, "sph.h_over_dx=1e6"),
+        set_n("an h cap below the initial h", s1, "sph.h_max_ratio=0.5", "h_max_ratio"),
         // values: every float finite and in its range
         set("NaN pmin", s1, "material.loose_sand.pmin_pa=nan"),
         set("a positive pmin", s1, "material.loose_sand.pmin_pa=1e5"),
@@ -301,6 +302,7 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         bad("a flag without its value", &["run", &s1, "--out"]),
         bad("a flag given twice", &["run", &tube, "--end-time", "1", "--end-time", "2"]),
         bad("threads not a number", &["run", &s1, "--threads", "abc"]),
+        bad("a module in Rust and in Fortran", &["check", &s1, "--rust", "eos", "--fortran", "eos,force"]),
         bad("0 threads", &["run", &s1, "--threads", "0"]),
         bad("a million threads", &["run", &s1, "--threads", "1000000"]),
         bad("threads beyond u64", &["run", &s1, "--threads", "99999999999999999999999"]),

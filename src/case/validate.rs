@@ -328,7 +328,7 @@ impl Case {
         ] {
             v.any(&at, k);
         }
-        v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::above(0.0, 1000.0))?;
+        v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::within(1.0, 1000.0))?;
         v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;

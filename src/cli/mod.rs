@@ -442,18 +442,37 @@ pub fn main() -> i32 {
 
 /// SIGINT and SIGTERM set the run's stop flag: it finishes its step, writes a checkpoint and
 /// stops with status 5. A second signal of the same kind ends the program at once (status 130
-/// for SIGINT, 143 for SIGTERM).
+/// for SIGINT, 143 for SIGTERM) when it comes more than [`SECOND_SIGNAL_S`] after the first: a
+/// batch system or `timeout` that signals the process and then its process group sends two at
+/// once, and both mean one clean stop.
 fn stop_on_signals() -> Result<()> {
     use signal_hook::consts::{SIGINT, SIGTERM};
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
     let flag = runner::stop_flag();
+    // armed a moment after the first signal set the flag
+    let armed = Arc::new(AtomicBool::new(false));
     for (sig, code) in [(SIGINT, 130), (SIGTERM, 143)] {
-        // the second signal: the flag is already set
-        signal_hook::flag::register_conditional_shutdown(sig, code, flag.clone())
+        signal_hook::flag::register_conditional_shutdown(sig, code, armed.clone())
             .and_then(|_| signal_hook::flag::register(sig, flag.clone()))
             .map_err(|e| SphError::Io(format!("cannot install the signal handlers: {e}")))?;
     }
+    let (f, a) = (flag.clone(), armed);
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            while !f.load(Ordering::SeqCst) {
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
+            std::thread::sleep(std::time::Duration::from_secs_f64(SECOND_SIGNAL_S));
+            a.store(true, Ordering::SeqCst);
+        })
+        .map_err(|e| SphError::Io(format!("cannot start the signal watcher: {e}")))?;
     Ok(())
 }
+
+/// Seconds after a first SIGINT or SIGTERM during which a second one is the same request.
+const SECOND_SIGNAL_S: f64 = 1.0;
 
 /// Refuses an `--out` of `bench`, `validate` or `legacy build` that cannot be a folder (a file, a
 /// link, a path under a file) before anything is computed. (Their folders are their own: what

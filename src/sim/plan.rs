@@ -70,6 +70,15 @@ pub fn choices(case: &Case, ov: &Overrides) -> Result<BTreeMap<Module, Backend>>
         choice = all(Backend::parse(d).unwrap_or(Backend::Fortran));
     }
     let unknown = |key: &str, m: &str| input(format!("{key}: unknown module `{m}` (modules: {})", Module::names()));
+    // a module in both lists of one place is a contradiction, not a choice
+    let both = |r: &[String], f: &[String], what: &str| -> Result<()> {
+        match r.iter().find(|m| f.iter().any(|x| x.trim().eq_ignore_ascii_case(m.trim()))) {
+            Some(m) => Err(input(format!("{what}: module `{}` is asked for in Rust and in Fortran", m.trim()))),
+            None => Ok(()),
+        }
+    };
+    both(&case.backend.rust, &case.backend.fortran, "backend.rust and backend.fortran")?;
+    both(&ov.rust, &ov.fortran, "--rust and --fortran")?;
     for (list, b, key) in [
         (&case.backend.rust, Backend::Rust, "backend.rust"),
         (&case.backend.fortran, Backend::Fortran, "backend.fortran"),
