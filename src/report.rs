@@ -25,8 +25,14 @@ pub struct L1 {
 pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     let sp = dir.join("summary.json");
     let summary: Value = match std::fs::read(&sp) {
-        Ok(bytes) => serde_json::from_slice(&bytes)
-            .map_err(|e| input(format!("{}: damaged, not JSON ({e}): not a run directory?", sp.display())))?,
+        Ok(bytes) => {
+            let v: Value = serde_json::from_slice(&bytes)
+                .map_err(|e| input(format!("{}: damaged, not JSON ({e}): not a run directory?", sp.display())))?;
+            if v.is_object() && (v["steps"].as_u64().is_none() || v["dim"].as_u64().is_none()) {
+                return Err(input(format!("{}: not a run's summary (no `steps` or `dim`)", sp.display())));
+            }
+            v
+        }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound && dir.join("case.toml").is_file() => {
             json!({ "status": "killed", "partial": true, "case_toml": "the case as run" })
         }
@@ -47,11 +53,25 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     };
     let cp = dir.join("case.toml");
     let text = crate::case::read_text(&cp)?;
+    // case.toml must be the case this run ran (runs since summary.json carried its hash)
+    if let Some(want) = summary["case_toml_sha256"].as_str()
+        && crate::runner::sha256_hex(text.as_bytes()) != want
+    {
+        return Err(input(format!(
+            "{}: not the case this run ran (its SHA-256 differs from summary.json's case_toml_sha256): restore it, or run the case again",
+            cp.display()
+        )));
+    }
     let name = summary["case"]
         .as_str()
         .map(String::from)
         .or_else(|| dir.file_name().map(|n| n.to_string_lossy().into_owned()));
     let case = case::parse(&text, &cp.display().to_string(), &sets, name.as_deref())?;
+    if let Some(d) = summary["dim"].as_u64()
+        && d as usize != case.dim
+    {
+        return Err(input(format!("{}: dim = {} but summary.json says the run had dim = {d}", cp.display(), case.dim)));
+    }
     Ok((case, summary))
 }
 

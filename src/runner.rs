@@ -450,6 +450,7 @@ impl Loop {
             "outputs": self.h5.steps,
             "version": env!("CARGO_PKG_VERSION"),
             "case_sha256": self.case_sha,
+            "case_toml_sha256": self.case_toml_sha,
             "sets": self.sets,
             "case_toml": "the case as run: every --set (and --end-time, --nnps) already applied",
             "status": status.name(),

@@ -406,13 +406,23 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         ("no particles.h5", Box::new(rm("particles.h5"))),
         ("summary.json not JSON", Box::new(put("summary.json", b"{ not json"))),
         ("summary.json a list", Box::new(put("summary.json", b"[]"))),
+        ("summary.json an empty object", Box::new(put("summary.json", b"{}"))),
         ("case.toml not TOML", Box::new(put("case.toml", b"garbage = ["))),
         ("no case.toml", Box::new(rm("case.toml"))),
+        (
+            "case.toml of another case",
+            Box::new(|d: &Path| {
+                std::fs::copy(root().join("cases/surface_loose_tnt6_rz.toml"), d.join("case.toml")).unwrap();
+            }),
+        ),
         ("a planted link", Box::new(|d: &Path| std::os::unix::fs::symlink("/etc/passwd", d.join("x.png")).unwrap())),
     ];
     for (k, (what, f)) in dirs.iter().enumerate() {
         let dir = damaged(&format!("damaged{k}"), f.as_ref());
         c.push(bad(&format!("report: {what}"), &["report", &dir]));
+        if what.starts_with("case.toml of") {
+            c.push(bad(&format!("revolve: {what}"), &["revolve", &dir]));
+        }
     }
     let rdirs: Vec<(&str, Damage)> = vec![
         ("no checkpoint.bin", Box::new(rm("checkpoint.bin"))),
