@@ -56,6 +56,10 @@ impl Scene {
 /// Runs the scenes (all, or those named) into `out`, returns the Markdown text.
 pub fn validate(cases_dir: &Path, out: &Path, opts: &RunOptions, only: &[String]) -> Result<String> {
     std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    // the folder is validate's from now on (a validation stopped half-way can be run again into
+    // it): validation.md says so until the results replace it
+    std::fs::write(out.join("validation.md"), "(validation running)\n")
+        .map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let mut scenes = Vec::new();
     for name in SCENES {
         if !only.is_empty() && !only.iter().any(|o| o == name) {

@@ -365,6 +365,15 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     std::fs::write(t.join("arun/summary.json"), "{}").unwrap();
     c.push(bad("dual --out a run's folder", &["dual", &tube, "--steps", "1", "--out", &p("arun")]));
     c.push(bad("bench --out a file", &["bench", "--cases", "shock_tube", "--resolutions", "1", "--out", &p("afile")]));
+    c.push(bad(
+        "bench --out a run's folder",
+        &["bench", "--cases", "shock_tube", "--resolutions", "1", "--out", &p("arun")],
+    ));
+    c.push(bad(
+        "bench --out a folder of other files",
+        &["bench", "--cases", "shock_tube", "--resolutions", "1", "--out", &p("theirs")],
+    ));
+    c.push(bad("validate --out a folder of other files", &["validate", "--only", "buried_c4", "--out", &p("theirs")]));
     c.push(bad("validate --out a file", &["validate", "--only", "buried_c4", "--out", &p("afile")]));
     c.push(bad(
         "legacy build --out a file",

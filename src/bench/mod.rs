@@ -148,6 +148,10 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
         eprintln!("bench: warning: {w}");
     }
     std::fs::create_dir_all(&o.out).map_err(|e| SphError::Io(format!("{}: {e}", o.out.display())))?;
+    // the folder is a bench's from now on (a bench stopped half-way can be run again into it):
+    // bench.json says so until the results replace it
+    std::fs::write(o.out.join("bench.json"), "{\"status\": \"running\"}\n")
+        .map_err(|e| SphError::Io(format!("{}: {e}", o.out.display())))?;
     // the date and the commit of the start: what was measured, not what the tree became meanwhile
     let (date, unix) = utc_now();
     let commit = commit();

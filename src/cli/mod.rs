@@ -481,6 +481,24 @@ fn out_folder(dir: &Path) -> Result<()> {
     crate::rundir::inspect(dir, "--out").map(|_| ())
 }
 
+/// Refuses an `--out` of `bench` or `validate` that is not new, empty or the command's own
+/// earlier output (`marker`, the file it always writes there): a run directory or a folder of
+/// other files is not written into.
+fn own_folder(dir: &Path, marker: &str, what: &str) -> Result<()> {
+    match crate::rundir::inspect(dir, "--out")? {
+        crate::rundir::Found::Missing | crate::rundir::Found::Empty => Ok(()),
+        _ if dir.join(marker).is_file() => Ok(()),
+        crate::rundir::Found::Run { .. } => Err(input(format!(
+            "--out {}: a run directory: give {what} a new or empty folder (or one of its own, with {marker})",
+            dir.display()
+        ))),
+        crate::rundir::Found::Other(name) => Err(input(format!(
+            "--out {}: it holds `{name}`, which no {what} wrote there: give a new or empty folder (or one of its own, with {marker})",
+            dir.display()
+        ))),
+    }
+}
+
 /// Refuses an `--out` of `dual` or `legacy ledger` that holds files blastsph did not write or
 /// another of its outputs (a run's files): its own earlier report (`ours`) is replaced, a run
 /// directory is not mixed with it.
@@ -580,7 +598,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         }
         Cmd::Validate { out, cases, only, args, threads: th, quiet } => {
             let cases = crate::casedir::folder(cases.as_deref())?;
-            out_folder(&out)?;
+            own_folder(&out, "validation.md", "validate")?;
             threads(th)?;
             for o in &only {
                 if !crate::validate::SCENES.contains(&o.as_str()) {
@@ -608,7 +626,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         Cmd::Bench { args } => {
             let o = crate::bench::BenchOptions::from_args(&args)?;
             if !o.dry_run {
-                out_folder(&o.out)?;
+                own_folder(&o.out, "bench.json", "bench")?;
                 threads(o.threads)?;
             }
             // on a pool worker, as `run` is: the runs' parallel calls then start from a worker
