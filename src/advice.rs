@@ -87,11 +87,46 @@ pub fn warnings(case: &Case) -> Vec<String> {
 pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
     warnings(case)
         .into_iter()
+        .chain(ignored_keys(case))
         .chain(deposit_warning(case, p))
         .chain(stranded_deposit_warning(case))
         .chain(charge_mass_warnings(case, p, region))
         .chain(seam_warnings(case))
         .collect()
+}
+
+/// Keys the case gives that its other settings leave unused (a value that does nothing is a
+/// mistake more often than not): one line each.
+pub fn ignored_keys(case: &Case) -> Vec<String> {
+    let mut out = Vec::new();
+    if case.time.step == StepRule::Cfl && case.time.dt_s.is_some() {
+        out.push("time.dt_s is given but time.step = \"cfl\" (the default) sets every step: dt_s is not used (set time.step = \"fixed\" to use it)".to_string());
+    }
+    if let Some(d) = &case.detonation
+        && d.mode == BurnMode::Instant
+        && d.point_m.is_some()
+    {
+        out.push("detonation.point_m is given but detonation.mode = \"instant\" burns every explosive particle at t = 0: the point is not used".to_string());
+    }
+    if case.sph.smoothing == crate::case::SmoothingKind::Constant && case.sph.h_max_ratio.is_some() {
+        out.push("sph.h_max_ratio is given but sph.smoothing = \"constant\" keeps h at its initial value: the cap is not used".to_string());
+    }
+    for r in &case.regions {
+        if r.radial_center_m.is_some() && r.radial_velocity_ms.is_none() {
+            out.push(format!(
+                "region `{}`: radial_center_m is given without radial_velocity_ms: the centre is not used",
+                r.name
+            ));
+        }
+        let mut seen = Vec::new();
+        for s in &r.subtract {
+            if seen.contains(&s) {
+                out.push(format!("region `{}`: subtract names `{s}` twice", r.name));
+            }
+            seen.push(s);
+        }
+    }
+    out
 }
 
 /// Each region cut out of a box region (`subtract`) whose flat faces do not lie on that box's
@@ -425,6 +460,25 @@ mod tests {
         let h = hint(&case(""), "step 40: time.max_steps reached at t = 6.4e-5 s before the end time");
         assert!(h.contains("raise time.max_steps"), "{h}");
         assert!(!h.contains("lower time.cfl"), "{h}");
+    }
+
+    #[test]
+    fn keys_that_the_other_settings_leave_unused_are_named() {
+        assert!(ignored_keys(&case("")).is_empty());
+        let with = |sets: &[&str]| {
+            let text = format!(
+                "dim = 1\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.0]\ncount = [10]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n"
+            );
+            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+            ignored_keys(&crate::case::parse(&text, "test", &sets, Some("t")).unwrap())
+        };
+        let w = with(&["time.dt_s=0.01"]);
+        assert!(w.len() == 1 && w[0].contains("time.dt_s") && w[0].contains("not used"), "{w:?}");
+        assert!(with(&["time.dt_s=0.01", "time.step=fixed"]).is_empty());
+        let w = with(&["sph.smoothing=constant", "sph.h_max_ratio=4"]);
+        assert!(w.len() == 1 && w[0].contains("h_max_ratio"), "{w:?}");
+        let w = with(&["region.g.radial_center_m=[0.5]"]);
+        assert!(w.len() == 1 && w[0].contains("radial_center_m"), "{w:?}");
     }
 
     #[test]

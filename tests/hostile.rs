@@ -150,6 +150,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a count that is not a whole number", tube, "region.left.count=[1e12]"),
         set("h a million spacings", s1, "sph.h_over_dx=1e6"),
         set_n("an h cap below the initial h", s1, "sph.h_max_ratio=0.5", "h_max_ratio"),
+        set_n("a box with a radius", s1, "region.soil.radius_m=0.1", "not a key of shape"),
         // values: every float finite and in its range
         set("NaN pmin", s1, "material.loose_sand.pmin_pa=nan"),
         set("a positive pmin", s1, "material.loose_sand.pmin_pa=1e5"),

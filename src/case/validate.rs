@@ -478,6 +478,27 @@ impl Case {
             // the largest coordinate of the region, for the spacing's resolution
             let mut reach = 0.0f64;
             let mut coords = |c: &[f64]| reach = c.iter().fold(reach, |m, x| m.max(x.abs()));
+            // a key of another shape is a mistake (the shape would ignore it)
+            let foreign: &[(&str, bool)] = &[
+                ("lo_m", r.lo_m.is_some() && matches!(r.shape, Shape::Polygon | Shape::Lattice)),
+                ("hi_m", r.hi_m.is_some() && matches!(r.shape, Shape::Polygon | Shape::Lattice)),
+                ("vertices_m", r.vertices_m.is_some() && r.shape != Shape::Polygon),
+                ("origin_m", r.origin_m.is_some() && r.shape != Shape::Lattice),
+                ("count", r.count.is_some() && r.shape != Shape::Lattice),
+                ("center_m", r.center_m.is_some() && !matches!(r.shape, Shape::Cylinder | Shape::Sphere)),
+                ("radius_m", r.radius_m.is_some() && !matches!(r.shape, Shape::Cylinder | Shape::Sphere)),
+                ("height_m", r.height_m.is_some() && !matches!(r.shape, Shape::Cylinder | Shape::Sphere)),
+            ];
+            if let Some((k, _)) = foreign.iter().find(|(_, bad)| *bad) {
+                let name = match r.shape {
+                    Shape::Box => "box",
+                    Shape::Polygon => "polygon",
+                    Shape::Lattice => "lattice",
+                    Shape::Cylinder => "cylinder",
+                    Shape::Sphere => "sphere",
+                };
+                return Err(input(format!("{}: not a key of shape = \"{name}\"", at.key(k))));
+            }
             match r.shape {
                 Shape::Box => {
                     let lo = r
