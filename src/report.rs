@@ -163,12 +163,12 @@ fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
     plot::panels(&png, &panels, 2, (1200, 900))?;
     let (rl, rr) = rs.rho_star();
     println!(
-        "exact: p* = {:.6}, u* = {:.6}, rho*L = {:.6}, rho*R = {:.6}, shock speed {:.5}",
+        "exact: p* = {:.6}, u* = {:.6}, rho*L = {:.6}, rho*R = {:.6}; {} (m/s)",
         rs.p_star,
         rs.u_star,
         rl,
         rr,
-        rs.right_shock_speed()
+        rs.waves()
     );
     println!(
         "L1 errors at t = {:.4} s over [{}, {}] m ({} particles): rho {:.4e}  v {:.4e}  p {:.4e}  e {:.4e}",
@@ -176,7 +176,7 @@ fn riemann_report(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Value> {
     );
     println!("plot: {}", png.display());
     Ok(json!({
-        "exact": { "p_star": rs.p_star, "u_star": rs.u_star, "rho_star_left": rl, "rho_star_right": rr, "shock_speed": rs.right_shock_speed() },
+        "exact": { "p_star": rs.p_star, "u_star": rs.u_star, "rho_star_left": rl, "rho_star_right": rr, "shock_speed": (rs.p_star > rs.right.p).then(|| rs.right_shock_speed()), "waves": rs.waves() },
         "time": last.time,
         "window_m": w,
         "l1": l1,

@@ -101,6 +101,24 @@ impl Riemann {
         self.right.u + cr * ((g + 1.0) / (2.0 * g) * self.p_star / self.right.p + (g - 1.0) / (2.0 * g)).sqrt()
     }
 
+    /// The two outer waves in words: on each side a shock with its speed when p* exceeds that
+    /// side's pressure (Toro 4.52, 4.59), else a rarefaction with its head and tail speeds (m/s).
+    pub fn waves(&self) -> String {
+        let g = self.gamma;
+        let (rl, rr) = self.rho_star();
+        let wave = |s: Side, rho_star: f64, sign: f64| {
+            let c = sound(s, g);
+            if self.p_star > s.p {
+                let q = ((g + 1.0) / (2.0 * g) * self.p_star / s.p + (g - 1.0) / (2.0 * g)).sqrt();
+                format!("shock at {:.5}", s.u + sign * c * q)
+            } else {
+                let c_star = (g * self.p_star / rho_star).sqrt();
+                format!("rarefaction, head {:.5}, tail {:.5}", s.u + sign * c, self.u_star + sign * c_star)
+            }
+        };
+        format!("left wave {}; right wave {}", wave(self.left, rl, -1.0), wave(self.right, rr, 1.0))
+    }
+
     /// The solution at ξ = (x − x0)/t (Toro 4.5).
     pub fn sample(&self, xi: f64) -> State {
         let g = self.gamma;
@@ -152,5 +170,31 @@ impl Riemann {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Toro's tests 1 (Sod: a left rarefaction, a right shock at 1.75216, p* 0.30313) and 2 (the
+    /// "123" problem: two rarefactions, p* 0.00189), γ = 1.4 (Toro, Riemann Solvers, Table 4.2).
+    #[test]
+    fn the_waves_are_named_shock_or_rarefaction() {
+        let sod = Riemann::solve(Side { rho: 1.0, u: 0.0, p: 1.0 }, Side { rho: 0.125, u: 0.0, p: 0.1 }, 1.4).unwrap();
+        assert!((sod.p_star - 0.30313).abs() < 1e-5, "{}", sod.p_star);
+        let w = sod.waves();
+        assert!(
+            w.starts_with("left wave rarefaction, head -1.18322") && w.ends_with("right wave shock at 1.75216"),
+            "{w}"
+        );
+        let r123 = Riemann::solve(Side { rho: 1.0, u: -2.0, p: 0.4 }, Side { rho: 1.0, u: 2.0, p: 0.4 }, 1.4).unwrap();
+        assert!((r123.p_star - 0.00189).abs() < 1e-5, "{}", r123.p_star);
+        let w = r123.waves();
+        assert!(
+            w.contains("left wave rarefaction, head -2.74833") && w.contains("right wave rarefaction, head 2.74833"),
+            "{w}"
+        );
+        assert!(!w.contains("shock"), "{w}");
     }
 }
