@@ -153,7 +153,7 @@ impl Comparator {
         st.max_ulp = st.max_ulp.max(iw.max_ulp);
         let k = iw.index / iw.width.max(1);
         let at = if iw.per_particle { who(k, p) } else { format!("pair {k}") };
-        let at = if iw.width > 1 { format!("{at}, component {}", iw.index % iw.width) } else { at };
+        let at = if iw.width > 1 { format!("{at}, {} component", ["x", "y", "z"][(iw.index % iw.width).min(2)]) } else { at };
         let d = Divergence { step, index: iw.index, at, fortran: iw.after, rust: iw.before };
         if st.first_difference.is_none() {
             st.first_difference = Some(d.clone());
@@ -190,19 +190,30 @@ impl Comparator {
 
     fn locate(&self, f: Field, l: usize, p: &Particles, w: &Work) -> String {
         let (per, width) = f.layout(self.dim);
+        // the component of a vector or tensor value (x, y, z where there are dim of them)
+        let comp = |c: usize| -> String {
+            if width <= 1 {
+                String::new()
+            } else if width == self.dim {
+                format!(", {} component", ["x", "y", "z"][c.min(2)])
+            } else {
+                format!(", component {c}")
+            }
+        };
         match per {
             Per::Term => {
                 let nt = p.ntotal.max(1);
                 let term = l / (width * nt);
-                format!("term {term}, {}", who((l % (width * nt)) / width, p))
+                let r = l % (width * nt);
+                format!("term {term}, {}{}", who(r / width, p), comp(r % width))
             }
             Per::One => "the step".into(),
             Per::Pair => {
                 let k = l / width;
                 let (i, j) = (w.pairs.i.get(k).copied().unwrap_or(-1), w.pairs.j.get(k).copied().unwrap_or(-1));
-                format!("pair {k} ({i}, {j})")
+                format!("pair {k} ({i}, {j}){}", comp(l % width))
             }
-            Per::Particle => who(l / width, p),
+            Per::Particle => format!("{}{}", who(l / width, p), comp(l % width)),
         }
     }
 
@@ -344,6 +355,16 @@ fn note_len(st: &mut Stat, step: u64, a: usize, b: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_first_divergence_names_the_component_of_a_vector() {
+        let cmp = Comparator::new(2);
+        let p = Particles { dim: 2, nreal: 3, ntotal: 4, id: vec![0, 1, 2], ..Default::default() };
+        let w = Work::default();
+        assert_eq!(cmp.locate(Field::V, 3, &p, &w), "particle 1, y component");
+        assert_eq!(cmp.locate(Field::V, 6, &p, &w), "mirror 0, x component");
+        assert_eq!(cmp.locate(Field::Rho, 2, &p, &w), "particle 2");
+    }
 
     #[test]
     fn a_nan_difference_stays_in_the_rows_largest_difference() {
