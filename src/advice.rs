@@ -40,6 +40,14 @@ pub fn warnings(case: &Case) -> Vec<String> {
     if s.h_over_dx < 0.9 {
         w.push(format!("sph.h_over_dx = {}: below 0.9 the thesis's runs failed (THESIS.md s.1)", s.h_over_dx));
     }
+    if case.geometry == Geometry::Axisymmetric
+        && beta > 2.0
+        && case.regions.iter().any(|r| r.radial_velocity_ms.is_some_and(|u| u < 0.0))
+    {
+        w.push(format!(
+            "viscosity.beta = {beta} with a flow converging in axisymmetric geometry: the rings next to the axis clump and run ahead along it (spherical Noh in RZ at 1 cm: the densest ring 11 x the exact peak density, 1.36 shock radii up the axis, post-shock density 0.85 of the exact; at beta = 2: 1.86 x and 0.96; docs/validation.md, \"Noh in RZ\"; cases/verify/noh_rz.toml)"
+        ));
+    }
     if case.geometry == Geometry::Axisymmetric && s.h_over_dx > 1.05 {
         w.push(format!(
             "sph.h_over_dx = {} in axisymmetric geometry: a ring next to the axis can be driven onto it and ride up as a jet (the RZ Sedov blast at h = 1.2 dx, beta = 10: one ring at 19 x the exact peak density; docs/validation.md, \"Other deposits in RZ and 3D\"); at h_over_dx = 1 (the default) the densest rings stay below 1.7 x the exact peak density",

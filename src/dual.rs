@@ -153,7 +153,11 @@ impl Comparator {
         st.max_ulp = st.max_ulp.max(iw.max_ulp);
         let k = iw.index / iw.width.max(1);
         let at = if iw.per_particle { who(k, p) } else { format!("pair {k}") };
-        let at = if iw.width > 1 { format!("{at}, {} component", ["x", "y", "z"][(iw.index % iw.width).min(2)]) } else { at };
+        let at = if iw.width > 1 {
+            format!("{at}, {} component", ["x", "y", "z"][(iw.index % iw.width).min(2)])
+        } else {
+            at
+        };
         let d = Divergence { step, index: iw.index, at, fortran: iw.after, rust: iw.before };
         if st.first_difference.is_none() {
             st.first_difference = Some(d.clone());
