@@ -178,6 +178,8 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
                     "--end-time {t}: the checkpoint is at t = {t_cp:e} s already; give a later end"
                 )));
             }
+            // the text must parse first: its error names the file and line, as `check`'s does
+            crate::case::parse(&text, &case_path.display().to_string(), &[], None)?;
             crate::case::apply_sets(&text, &[format!("time.end_s={t:?}")])?
         }
         None => {
