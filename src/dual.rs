@@ -136,7 +136,7 @@ impl Comparator {
         let key = (format!("{} (inputs)", stage.name()), iw.field);
         let fate = if iw.kept { "the state keeps the change" } else { "the change is dropped" };
         let st = self.stats.entry(key).or_insert_with(|| Stat {
-            module: stage.module().name().into(),
+            module: stage.module_of(iw.field).name().into(),
             stage: stage.name().into(),
             field: format!("{} (input `{}` changed)", iw.field.name(), iw.arg),
             tolerance_ulp: 0,
@@ -232,7 +232,7 @@ impl Comparator {
         for (&f, r) in stage.writes().iter().zip(rust) {
             let key = (stage.name().to_string(), f);
             let mut st = self.stats.remove(&key).unwrap_or_else(|| Stat {
-                module: stage.module().name().into(),
+                module: stage.module_of(f).name().into(),
                 stage: stage.name().into(),
                 field: f.name(),
                 tolerance_ulp: tol.ulp,

@@ -438,7 +438,7 @@ fn divergence_locations_mirror_pair_length() {
     };
     cmp.run(&s, &mut p, &mut w, &k, 2);
     let d = stat(&cmp, "boundary.x", Field::X);
-    assert_eq!((d.step, d.index, d.at.as_str()), (2, 11, "mirror 1"));
+    assert_eq!((d.step, d.index, d.at.as_str()), (2, 11, "mirror 1, y component"));
 
     // W of pair 2 (particles 3 and 5), in kernel
     let s = Perturb { module: Module::Kernel, name: "kernel.w", field: [Field::W], edit: |_, w| w.w[2] = 30.5 };

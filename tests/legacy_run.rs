@@ -33,6 +33,9 @@ fn dual_legacy_with_the_liu_book_profile_is_at_zero_ulp_for_every_mapped_routine
             assert_eq!(x["out_of_tolerance"], 0, "{stage} {f}: {x}");
         }
     }
+    // a routine standing for stages of two modules: each row names the module of its field
+    assert_eq!(row(&rows, "legacy.int_force", "p")["module"], "eos");
+    assert_eq!(row(&rows, "legacy.int_force", "acc")["module"], "force");
     // what each routine was compared with (the chain of Rust twins) and what was not run
     let lg = &r["legacy"]["routines"];
     assert_eq!(lg["direct_find"]["stands_for"], serde_json::json!(["nnps.search", "kernel.pairs"]));
@@ -339,7 +342,7 @@ fn the_books_h_upgrade_is_matched_until_the_run_blows_up() {
     let (bs, cs, out) = (b.to_str().unwrap(), case.to_str().unwrap(), d.join("dual"));
     let so =
         blastsph_ok(&["dual", cs, "--legacy", bs, "--compat", "liu-book,h_upgrade", "--out", out.to_str().unwrap()], 3);
-    assert!(so.contains("steps compared; STOPPED before the end: unstable"), "{so}");
+    assert!(so.contains("up to where it stopped); STOPPED before the end: unstable"), "{so}");
     let (r, rows) = report_rows(&out.join("dual_report.json"));
     assert_eq!(r["legacy"]["routines"]["h_upgrade"]["stands_for"], serde_json::json!(["smoothing.h_upgrade"]));
     // every step and the evaluation at t = 0 for the output

@@ -138,7 +138,10 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     };
     // a run that stopped before the end says so on the summary line (the case went unstable:
     // the steps before it were compared)
-    let stopped = diag.as_ref().map_or(String::new(), |d| format!("; STOPPED before the end: {d}"));
+    // (the step that failed was compared up to where it stopped: its rows hold step `done`)
+    let stopped = diag.as_ref().map_or(String::new(), |d| {
+        format!(" (and step {} up to where it stopped); STOPPED before the end: {d}", done + 1)
+    });
     println!(
         "{} steps compared{stopped}; {}{}; report {}",
         done,

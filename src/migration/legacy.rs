@@ -517,6 +517,9 @@ impl Stage for LegacyStage {
             s.assign(slots);
         }
     }
+    fn module_of(&self, f: Field) -> Module {
+        self.chain.iter().rev().find(|s| s.writes().contains(&f)).map_or(self.module, |s| s.module())
+    }
     fn take_input_writes(&self) -> Vec<InputWrite> {
         std::mem::take(&mut *self.input_writes.lock().unwrap_or_else(|e| e.into_inner()))
     }

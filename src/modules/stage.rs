@@ -216,6 +216,11 @@ pub trait Stage: Send + Sync {
     fn counterpart(&self) -> Counterpart {
         Counterpart::Fortran
     }
+    /// The module an output field belongs to (a legacy routine that stands for stages of several
+    /// modules: the module of the stage that writes it); its own module by default.
+    fn module_of(&self, _f: Field) -> Module {
+        self.module()
+    }
     /// The inputs its last run changed (a legacy routine writing an argument that its stages
     /// only read), taken: the dual run reports each as a divergence. Empty for blastsph's own
     /// stages, which write only their outputs.
