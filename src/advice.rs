@@ -476,7 +476,7 @@ mod tests {
         let with = |sets: &[&str]| {
             let text = "dim = 1\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = { kind = \"ideal_gas\", gamma = 1.4 }\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.0]\ncount = [10]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n";
             let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-            ignored_keys(&crate::case::parse(&text, "test", &sets, Some("t")).unwrap())
+            ignored_keys(&crate::case::parse(text, "test", &sets, Some("t")).unwrap())
         };
         let w = with(&["time.dt_s=0.01"]);
         assert!(w.len() == 1 && w[0].contains("time.dt_s") && w[0].contains("not used"), "{w:?}");
