@@ -234,6 +234,94 @@ fn material_colours(case: &Case) -> Vec<RGBColor> {
         .collect()
 }
 
+/// The unit of a list of pressures whose largest is `max` (Pa): the factor from Pa and its
+/// name — MPa from 1 MPa up (a blast's gauges), kPa from 1 kPa, else Pa (a gas-dynamics case).
+pub fn pressure_unit(max: f64) -> (f64, &'static str) {
+    if max >= 1e6 {
+        (1e-6, "MPa")
+    } else if max >= 1e3 {
+        (1e-3, "kPa")
+    } else {
+        (1.0, "Pa")
+    }
+}
+
+/// One line per gauge of summary.json: peak pressure and its time, arrival, impulse, PPV. The
+/// pressure's unit follows the largest peak ([`pressure_unit`]: MPa and the impulse in kPa·s for
+/// a blast), the times are in µs up to 20 ms, else in ms.
+pub fn print_gauge_lines(summary: &Value) {
+    let gl = summary["gauges"].as_array().cloned().unwrap_or_default();
+    let max_of = |k: &str| gl.iter().filter_map(|g| g[k].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
+    let (ps, pu) = pressure_unit(max_of("peak_pa"));
+    let (is, iu, id) = if pu == "MPa" { (1e-3, "kPa·s", 3) } else { (ps, if pu == "kPa" { "kPa·s" } else { "Pa·s" }, 4) };
+    let (ts, tu, td) = if max_of("peak_time_s").max(max_of("arrival_s")) < 0.02 { (1e6, "µs", 0) } else { (1e3, "ms", 2) };
+    for g in &gl {
+        let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
+            g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
+        };
+        println!(
+            "gauge {} ({}): peak {} at {}, arrival {}, impulse {}, PPV {}",
+            g["name"].as_str().unwrap_or("?"),
+            g["kind"].as_str().unwrap_or("particle"),
+            f("peak_pa", ps, pu, 2),
+            f("peak_time_s", ts, tu, td),
+            f("arrival_s", ts, tu, td),
+            f("impulse_pa_s", is, iu, id),
+            f("ppv_ms", 1.0, "m/s", 2)
+        );
+    }
+}
+
+/// gauges.png (pressure, in `unit` = (factor from Pa, name), with `refs` as triangles) and
+/// gauges_velocity.png (|v|) from the records of gauges.csv; returns the files written.
+fn draw_gauges(
+    dir: &Path,
+    case: &Case,
+    recs: &[GaugeRecord],
+    tu: TimeUnit,
+    unit: (f64, &str),
+    refs: &[Reference],
+) -> Result<Vec<String>> {
+    let series = |f: &dyn Fn(&(f64, f64, f64)) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
+        recs.iter().map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|x| (tu.of(x.0), f(x))).collect())).collect()
+    };
+    plot::lines_with_refs(
+        &dir.join("gauges.png"),
+        &format!(
+            "{}: pressure at the gauges{}",
+            case.name(),
+            if refs.is_empty() { "" } else { " (thesis values as triangles)" }
+        ),
+        &tu.axis(),
+        &format!("p ({})", unit.1),
+        &series(&|x| x.1 * unit.0),
+        refs,
+    )?;
+    plot::lines_with_refs(
+        &dir.join("gauges_velocity.png"),
+        &format!("{}: particle velocity |v| at the gauges", case.name()),
+        &tu.axis(),
+        "|v| (m/s)",
+        &series(&|x| x.2),
+        &[],
+    )?;
+    Ok(vec!["gauges.png".into(), "gauges_velocity.png".into()])
+}
+
+/// The gauges of a case that is not a blast (a verification problem, a 1D case): their lines
+/// and plots, as a blast's report gives them; the files written.
+pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Result<Vec<String>> {
+    let gpath = dir.join("gauges.csv");
+    if case.gauges.is_empty() || !gpath.exists() {
+        return Ok(Vec::new());
+    }
+    print_gauge_lines(summary);
+    let recs = read_gauges(&gpath)?;
+    let sg = summary["gauges"].as_array().cloned().unwrap_or_default();
+    let max = sg.iter().filter_map(|g| g["peak_pa"].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
+    draw_gauges(dir, case, &recs, TimeUnit::for_end(t_end), pressure_unit(max), &[])
+}
+
 /// The unit of the report's times (plot axes, titles, the crater's and the products' lines): µs
 /// for a blast's first milliseconds, ms for a run to a fraction of a second (a late crater), s
 /// beyond; chosen from the run's end time. Gauges' peak and arrival times stay in µs.
@@ -495,10 +583,6 @@ pub fn report(
     let mut peaks = Vec::new();
     if gpath.exists() {
         let recs = read_gauges(&gpath)?;
-        let ps: Vec<(String, Vec<(f64, f64)>)> = recs
-            .iter()
-            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, p, _)| (tu.of(*t), p / 1e6)).collect()))
-            .collect();
         let sg: Vec<Value> = summary["gauges"].as_array().cloned().unwrap_or_default();
         let mut refs = Vec::new();
         for tg in &case.analysis.thesis_gauge {
@@ -509,32 +593,7 @@ pub fn report(
                 refs.push(Reference { label: format!("thesis {}: {what}", tg.gauge), points: vec![(tu.of(t), y)] });
             }
         }
-        plot::lines_with_refs(
-            &dir.join("gauges.png"),
-            &format!(
-                "{}: pressure at the gauges{}",
-                case.name(),
-                if refs.is_empty() { "" } else { " (thesis values as triangles)" }
-            ),
-            &t_axis,
-            "p (MPa)",
-            &ps,
-            &refs,
-        )?;
-        written.push("gauges.png".into());
-        let vs: Vec<(String, Vec<(f64, f64)>)> = recs
-            .iter()
-            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|(t, _, v)| (tu.of(*t), *v)).collect()))
-            .collect();
-        plot::lines_with_refs(
-            &dir.join("gauges_velocity.png"),
-            &format!("{}: particle velocity |v| at the gauges", case.name()),
-            &t_axis,
-            "|v| (m/s)",
-            &vs,
-            &[],
-        )?;
-        written.push("gauges_velocity.png".into());
+        written.extend(draw_gauges(dir, case, &recs, tu, (1e-6, "MPa"), &refs)?);
         // peak pressure against scaled distance from the charge's centre (the detonation point,
         // else the explosive's initial centroid) over the whole charge's mass
         let (centre, w) = (charge.centre.clone(), charge.mass_kg);
@@ -835,21 +894,7 @@ fn print_text(
         }
     }
     let gauge_list = summary["gauges"].as_array().cloned().unwrap_or_default();
-    for g in &gauge_list {
-        let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
-            g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
-        };
-        println!(
-            "gauge {} ({}): peak {} at {}, arrival {}, impulse {}, PPV {}",
-            g["name"].as_str().unwrap_or("?"),
-            g["kind"].as_str().unwrap_or("particle"),
-            f("peak_pa", 1e-6, "MPa", 2),
-            f("peak_time_s", 1e6, "µs", 0),
-            f("arrival_s", 1e6, "µs", 0),
-            f("impulse_pa_s", 1e-3, "kPa·s", 3),
-            f("ppv_ms", 1.0, "m/s", 2)
-        );
-    }
+    print_gauge_lines(summary);
     // a point gauge inside the contained charge's cavity at the end reads the products
     if let Some(Ok(Crater { cavity: Some(cv), .. })) = &last {
         let axis = map.and_then(|m| m.as_ref().ok()).map(|m| m.axis_m);

@@ -257,6 +257,17 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         AnalysisKind::None => json!({}),
     };
     let mut out = out;
+    // the gauges of a case that is not a blast (a blast's report has them already)
+    let blast = matches!(case.analysis.kind, AnalysisKind::Crater) || (case.analysis.kind == AnalysisKind::None && case.dim >= 2);
+    if !blast {
+        let files = crate::blast_report::gauges_only(dir, &case, &summary, last.time)?;
+        if !files.is_empty() {
+            println!("plots in {}: {}", dir.display(), files.join(", "));
+            if out.is_object() {
+                out["gauge_plots"] = json!(files);
+            }
+        }
+    }
     if partial && out.is_object() {
         out["partial"] = json!(true);
         out["partial_note"] = json!(format!(
