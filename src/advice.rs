@@ -101,7 +101,57 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(charge_mass_warnings(case, p, region))
         .chain(seam_warnings(case))
         .chain(close_particle_warning(case, p, region))
+        .chain(several_charges(case))
         .collect()
+}
+
+/// Explosive regions whose boxes lie more than two spacings apart: several charges. The crater
+/// measure, the charge's axis and the peaks' scaled distances are made for one charge (about
+/// the explosive's centroid, with its whole mass), and a programmed burn has one lighting point;
+/// one line saying so, for `check`, `run` and `report`.
+pub fn several_charges(case: &Case) -> Option<String> {
+    let boxes: Vec<(usize, [f64; 3], [f64; 3])> = case
+        .regions
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| {
+            case.material_index(&r.material).is_some_and(|m| matches!(case.materials[m].eos, EosCfg::Jwl { .. }))
+        })
+        .filter_map(|(k, _)| crate::setup::region_box(case, k).map(|(lo, hi)| (k, lo, hi)))
+        .collect();
+    // groups of boxes that touch (within two spacings), by a simple merge
+    let d = case.dim;
+    let near = |a: &(usize, [f64; 3], [f64; 3]), b: &(usize, [f64; 3], [f64; 3])| {
+        let gap = 2.0 * case.regions[a.0].spacing_m.max(case.regions[b.0].spacing_m);
+        (0..d).all(|x| a.1[x] <= b.2[x] + gap && b.1[x] <= a.2[x] + gap)
+    };
+    let mut group: Vec<usize> = (0..boxes.len()).collect();
+    for i in 0..boxes.len() {
+        for j in 0..i {
+            if near(&boxes[i], &boxes[j]) {
+                let (gi, gj) = (group[i], group[j]);
+                group.iter_mut().filter(|g| **g == gi).for_each(|g| *g = gj);
+            }
+        }
+    }
+    let mut ids = group.clone();
+    ids.sort_unstable();
+    ids.dedup();
+    if ids.len() < 2 {
+        return None;
+    }
+    let names: Vec<String> = boxes.iter().map(|b| format!("`{}`", case.regions[b.0].name)).collect();
+    let burn = match &case.detonation {
+        Some(det) if det.mode == BurnMode::Programmed => {
+            "; a programmed burn has one lighting point, so the other charges are lit by the first's shock through what lies between (detonation.mode = \"instant\" fires them all at t = 0)"
+        }
+        _ => "",
+    };
+    Some(format!(
+        "{} separate charges (explosive regions {}): the crater, the charge's axis and the peaks' scaled distances are measured for one charge, about the explosive's centroid with its whole mass — between the charges, so summary.json's crater and peaks.png do not describe either charge's crater (read crater_map.png, the sections and the particles){burn}",
+        ids.len(),
+        names.join(", ")
+    ))
 }
 
 /// Particles of two regions closer than half the finer region's spacing at the start (a
@@ -662,6 +712,25 @@ mod tests {
         assert!(hint(&c, "step 11: total energy 2 J exceeds").contains("time.viscous_step = true"));
         assert!(hint(&case(""), "particle 3 crossed wall 0").contains("boundary.d_m2s2"));
         assert!(hint(&case(""), "something else").contains("time.cfl"));
+    }
+
+    /// Two TNT boxes 0.2 m apart are two charges (the programmed burn's single point named); two
+    /// boxes that touch are one.
+    #[test]
+    fn several_charges_are_named() {
+        let two = |x0: f64, burn: &str| {
+            let text = format!(
+                "dim = 2\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
+                 [[region]]\nname = \"a\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [0.04, 0.04]\nspacing_m = 0.01\n\
+                 [[region]]\nname = \"b\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [{x0}, 0.0]\nhi_m = [{}, 0.04]\nspacing_m = 0.01\n{burn}",
+                x0 + 0.04
+            );
+            several_charges(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
+        };
+        let w = two(0.24, "[detonation]\nmode = \"programmed\"\npoint_m = [0.02, 0.02]\n").expect("two charges");
+        assert!(w.starts_with("2 separate charges (explosive regions `a`, `b`)") && w.contains("one lighting point"), "{w}");
+        assert!(!two(0.24, "").unwrap().contains("lighting"));
+        assert_eq!(two(0.04, ""), None, "boxes that touch are one charge");
     }
 
     /// A TNT sphere in water on its own lattice (the docs-only check's case, coarser) puts a water

@@ -815,6 +815,9 @@ fn print_text(
                 ),
                 Some(why) => println!("crater at t = {t_end}: {why}"),
             }
+            if let Some(w) = crate::advice::several_charges(case) {
+                println!("note: {w}");
+            }
             if let Some(cv) = &c.cavity {
                 println!(
                     "cavity: {} cm wide, {} cm tall, {:.1} cm² in section, its top {} cm {} the original surface",
