@@ -481,7 +481,9 @@ pub fn report(
         // ejecta flying far above a crater (a long run: metres against decimetres) would flatten
         // the crater's curves: then they get a plot of their own
         let widest = ok_hist.iter().map(|(_, c)| c.diameter_m).fold(0.0, f64::max);
-        let ejecta_apart = ok_hist.iter().any(|(_, c)| c.ejecta_height_m > 5.0 * widest);
+        // (no crater at all, a contained charge: the highest soil is the dome over it, drawn
+        // beside the zero crater so that the plot has a scale)
+        let ejecta_apart = widest > 0.0 && ok_hist.iter().any(|(_, c)| c.ejecta_height_m > 5.0 * widest);
         if ejecta_apart {
             plot::lines(
                 &dir.join("ejecta_height.png"),
@@ -492,8 +494,10 @@ pub fn report(
                 false,
             )?;
             written.push("ejecta_height.png".into());
-        } else {
+        } else if widest > 0.0 {
             grow.push(("ejecta height (cm)".to_string(), ejecta));
+        } else {
+            grow.push(("highest soil above the original ground: no crater, the dome (cm)".to_string(), ejecta));
         }
         let mut refs = Vec::new();
         let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
