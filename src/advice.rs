@@ -558,7 +558,15 @@ pub fn hint(case: &Case, msg: &str) -> String {
     {
         out.push("use detonation.width_h = 2 and beta_burn = true (the defaults)");
     }
-    if out.is_empty() {
+    // a failure in the first steps is the set-up's more often than the step's
+    let after = msg.find("step ").map(|k| &msg[k + 5..]).unwrap_or("");
+    let digits: String = after.chars().take_while(|c| c.is_ascii_digit()).collect();
+    let step: Option<u64> = digits.parse().ok();
+    let early = step.is_some_and(|n| n <= 3);
+    if early {
+        out.push("read `blastsph check`'s warnings first: a run that fails within its first steps usually starts from a bad set-up (particles of two regions too close, a charge off the soil's cells)");
+    }
+    if out.is_empty() || (early && out.len() == 1) {
         out.push(if case.time.step == StepRule::Cfl { "lower time.cfl (e.g. 0.15)" } else { "lower time.dt_s" });
     }
     format!("likely fix: {} (docs/validation.md, \"Safe defaults: what `check` and `run` warn of\")", out.join("; "))
@@ -712,6 +720,9 @@ mod tests {
         assert!(hint(&c, "step 11: total energy 2 J exceeds").contains("time.viscous_step = true"));
         assert!(hint(&case(""), "particle 3 crossed wall 0").contains("boundary.d_m2s2"));
         assert!(hint(&case(""), "something else").contains("time.cfl"));
+        let first = hint(&case(""), "step 1 (t = 4.8e-9 s): total energy 1.3e8 J exceeds the initial 8.0e6 J");
+        assert!(first.contains("check`'s warnings first") && first.contains("time.cfl"), "{first}");
+        assert!(!hint(&case(""), "step 40: particle 3 velocity").contains("warnings first"));
     }
 
     /// Two TNT boxes 0.2 m apart are two charges (the programmed burn's single point named); two
@@ -728,7 +739,10 @@ mod tests {
             several_charges(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
         };
         let w = two(0.24, "[detonation]\nmode = \"programmed\"\npoint_m = [0.02, 0.02]\n").expect("two charges");
-        assert!(w.starts_with("2 separate charges (explosive regions `a`, `b`)") && w.contains("one lighting point"), "{w}");
+        assert!(
+            w.starts_with("2 separate charges (explosive regions `a`, `b`)") && w.contains("one lighting point"),
+            "{w}"
+        );
         assert!(!two(0.24, "").unwrap().contains("lighting"));
         assert_eq!(two(0.04, ""), None, "boxes that touch are one charge");
     }

@@ -253,8 +253,10 @@ pub fn print_gauge_lines(summary: &Value) {
     let gl = summary["gauges"].as_array().cloned().unwrap_or_default();
     let max_of = |k: &str| gl.iter().filter_map(|g| g[k].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
     let (ps, pu) = pressure_unit(max_of("peak_pa"));
-    let (is, iu, id) = if pu == "MPa" { (1e-3, "kPa·s", 3) } else { (ps, if pu == "kPa" { "kPa·s" } else { "Pa·s" }, 4) };
-    let (ts, tu, td) = if max_of("peak_time_s").max(max_of("arrival_s")) < 0.02 { (1e6, "µs", 0) } else { (1e3, "ms", 2) };
+    let (is, iu, id) =
+        if pu == "MPa" { (1e-3, "kPa·s", 3) } else { (ps, if pu == "kPa" { "kPa·s" } else { "Pa·s" }, 4) };
+    let (ts, tu, td) =
+        if max_of("peak_time_s").max(max_of("arrival_s")) < 0.02 { (1e6, "µs", 0) } else { (1e3, "ms", 2) };
     for g in &gl {
         let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
             g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
@@ -283,7 +285,9 @@ fn draw_gauges(
     refs: &[Reference],
 ) -> Result<Vec<String>> {
     let series = |f: &dyn Fn(&(f64, f64, f64)) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
-        recs.iter().map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|x| (tu.of(x.0), f(x))).collect())).collect()
+        recs.iter()
+            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|x| (tu.of(x.0), f(x))).collect()))
+            .collect()
     };
     plot::lines_with_refs(
         &dir.join("gauges.png"),

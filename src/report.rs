@@ -258,7 +258,8 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     };
     let mut out = out;
     // the gauges of a case that is not a blast (a blast's report has them already)
-    let blast = matches!(case.analysis.kind, AnalysisKind::Crater) || (case.analysis.kind == AnalysisKind::None && case.dim >= 2);
+    let blast = matches!(case.analysis.kind, AnalysisKind::Crater)
+        || (case.analysis.kind == AnalysisKind::None && case.dim >= 2);
     if !blast {
         let files = crate::blast_report::gauges_only(dir, &case, &summary, last.time)?;
         if !files.is_empty() {

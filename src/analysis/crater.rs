@@ -1262,7 +1262,14 @@ mod tests {
         let crack: Vec<[f64; 3]> =
             soil1.iter().filter(|p| !(p[0] == 0.155 && p[1] == 0.155 && p[2] > 0.28)).cloned().collect();
         let k = surface_map((0.0, 0.0), ds, &[], &soil0, &crack, &[]).unwrap();
-        assert!(k.note.as_deref().is_some_and(|n| n.contains("crack or gap")), "{:?} {} {} {}", k.note, k.depth_m, k.plan_area_m2, k.cell_m);
+        assert!(
+            k.note.as_deref().is_some_and(|n| n.contains("crack or gap")),
+            "{:?} {} {} {}",
+            k.note,
+            k.depth_m,
+            k.plan_area_m2,
+            k.cell_m
+        );
         assert_eq!((k.depth_m, k.plan_area_m2, k.volume_m3), (0.0, 0.0, 0.0));
     }
 
