@@ -413,6 +413,28 @@ fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
     assert_eq!(o.status.code(), Some(0), "{se}");
     assert_eq!(se.matches("changed its input `vx`").count(), 1, "warned once: {se}");
     assert!(se.contains("the state keeps it"), "{se}");
+    // a routine called per particle (p_gas, `call = "each_particle"`) that writes its u
+    let d = variant_built("input_write_each", "eos.f", |t| {
+        t.replacen("      c = sqrt((gam - 1)*u)\n", "      c = sqrt((gam - 1)*u)\n      u = 1.5d0*u\n", 1)
+    });
+    let out = d.join("dual");
+    let o = blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        d.join("build").to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--steps",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stderr));
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let r = row(&rows, "legacy.p_gas", "e (input `u` changed)");
+    assert!(r["out_of_tolerance"].as_u64().unwrap() >= 400, "every particle's u: {r}");
+    assert!(r["first_divergence"]["at"].as_str().unwrap().starts_with("particle 0"), "{r}");
 }
 
 /// A `STOP` in the legacy code (libgfortran exits with status 0 for `STOP 'text'`) ends blastsph

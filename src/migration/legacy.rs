@@ -338,7 +338,7 @@ fn input_change(
         let w = iw.get_or_insert_with(|| InputWrite {
             field,
             arg: arg.to_string(),
-            per_particle: shape.per_particle(),
+            per_particle: !shape.per_pair(),
             width,
             index: l,
             before: a,
@@ -414,7 +414,9 @@ impl LegacyStage {
             .enumerate()
             .filter_map(|(k, b)| {
                 let f = bind::field_of(&b.name)?;
-                (b.shape != Shape::Scalar && !self.writes.contains(&f)).then(|| (k, f, bufs[k].clone()))
+                // (an each_particle routine's arguments are scalars per call: the buffer is the
+                // whole per-particle array all the same)
+                (!self.writes.contains(&f)).then(|| (k, f, bufs[k].clone()))
             })
             .collect();
         super::ffi::set_context(format!("at step {itimestep}"));
@@ -425,7 +427,7 @@ impl LegacyStage {
         for (k, f, before) in &watched {
             let b = &r.bindings[*k];
             let width = if is_vec(b.shape) { p.dim } else { 1 };
-            let n = if b.shape.per_particle() { nt } else { np };
+            let n = if b.shape.per_pair() { np } else { nt };
             if let Some(iw) = input_change(*f, &b.name, b.shape, width, n, before, &bufs[*k]) {
                 changed.push(iw);
             }
