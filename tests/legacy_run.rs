@@ -456,4 +456,9 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
         let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{cmd}: {se}"));
         assert!(line.contains("legacy routine p_gas executed STOP at step 1"), "{cmd}: {se}");
     }
+    // the run's particles.h5 was closed, not cut off by the exit: a valid file (the STOP came
+    // before the first frame, so it holds no step)
+    let o = blastsph(&["report", d.join("run").to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert!(se.contains("holds no step") && !se.contains("damaged"), "{se}");
 }

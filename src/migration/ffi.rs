@@ -58,6 +58,13 @@ unsafe extern "C" {
     fn _gfortran_flush_i4(unit: *const i32);
 }
 
+#[cfg(feature = "io")]
+unsafe extern "C" {
+    /// HDF5's library close: flushes and closes every open file (particles.h5 created before the
+    /// first frame is otherwise left truncated by `_exit`).
+    fn H5close() -> i32;
+}
+
 /// Runs at `exit`: when a legacy call is in progress the legacy code executed `STOP` (libgfortran
 /// calls `exit`, with status 0 for `STOP 'text'`): says so in one line and ends with
 /// [`STOP_STATUS`] instead. particles.h5 is flushed after every frame and gauges.csv after every
@@ -76,11 +83,15 @@ extern "C" fn legacy_exit() {
     eprintln!(
         "error: legacy routine {name} executed STOP{at}: your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
     );
-    // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); `_exit`
-    // ends the process at once without running the remaining exit handlers (this one would
-    // otherwise return into libgfortran's exit with status 0).
+    // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); H5close
+    // closes the HDF5 library's open files (no HDF5 call is in progress: the legacy call is, and
+    // they are serialised on this thread); `_exit` ends the process at once without running the
+    // remaining exit handlers (this one would otherwise return into libgfortran's exit with
+    // status 0).
     unsafe {
         _gfortran_flush_i4(std::ptr::null());
+        #[cfg(feature = "io")]
+        H5close();
         libc::_exit(STOP_STATUS);
     }
 }
