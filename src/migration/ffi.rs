@@ -67,8 +67,8 @@ unsafe extern "C" {
 
 /// Runs at `exit`: when a legacy call is in progress the legacy code executed `STOP` (libgfortran
 /// calls `exit`, with status 0 for `STOP 'text'`): says so in one line and ends with
-/// [`STOP_STATUS`] instead. particles.h5 is flushed after every frame and gauges.csv after every
-/// line, so what the run wrote so far stays readable.
+/// [`STOP_STATUS`] instead, after flushing the Fortran units and closing HDF5's files (what the
+/// run wrote so far stays readable; gauges.csv is flushed after every line).
 extern "C" fn legacy_exit() {
     let (name, ctx) = match IN_CALL.try_lock() {
         Ok(g) => g.clone(),
