@@ -148,7 +148,7 @@ pub fn several_charges(case: &Case) -> Option<String> {
         _ => "",
     };
     Some(format!(
-        "{} separate charges (explosive regions {}): the crater, the charge's axis and the peaks' scaled distances are measured for one charge, about the explosive's centroid with its whole mass — between the charges, so summary.json's crater and peaks.png do not describe either charge's crater (read crater_map.png, the sections and the particles){burn}",
+        "{} separate charges (explosive regions {}): the crater, the charge's axis and the peaks' scaled distances are measured for one charge, about detonation.point_m where given (else the explosive's centroid, between the charges) with the whole explosive's mass, so summary.json's crater and peaks.png describe at most the charge at that point (read the others from crater_map.png, the sections and the particles){burn}",
         ids.len(),
         names.join(", ")
     ))
@@ -221,12 +221,6 @@ pub fn ignored_keys(case: &Case) -> Vec<String> {
     let mut out = Vec::new();
     if case.time.step == StepRule::Cfl && case.time.dt_s.is_some() {
         out.push("time.dt_s is given but time.step = \"cfl\" (the default) sets every step: dt_s is not used (set time.step = \"fixed\" to use it)".to_string());
-    }
-    if let Some(d) = &case.detonation
-        && d.mode == BurnMode::Instant
-        && d.point_m.is_some()
-    {
-        out.push("detonation.point_m is given but detonation.mode = \"instant\" burns every explosive particle at t = 0: the point is not used".to_string());
     }
     if case.sph.smoothing == crate::case::SmoothingKind::Constant && case.sph.h_max_ratio.is_some() {
         out.push("sph.h_max_ratio is given but sph.smoothing = \"constant\" keeps h at its initial value: the cap is not used".to_string());
@@ -562,7 +556,7 @@ pub fn hint(case: &Case, msg: &str) -> String {
     let after = msg.find("step ").map(|k| &msg[k + 5..]).unwrap_or("");
     let digits: String = after.chars().take_while(|c| c.is_ascii_digit()).collect();
     let step: Option<u64> = digits.parse().ok();
-    let early = step.is_some_and(|n| n <= 3);
+    let early = step.is_some_and(|n| n <= 3) && !msg.contains("max_steps");
     if early {
         out.push("read `blastsph check`'s warnings first: a run that fails within its first steps usually starts from a bad set-up (particles of two regions too close, a charge off the soil's cells)");
     }

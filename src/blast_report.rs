@@ -246,17 +246,18 @@ pub fn pressure_unit(max: f64) -> (f64, &'static str) {
     }
 }
 
-/// One line per gauge of summary.json: peak pressure and its time, arrival, impulse, PPV. The
-/// pressure's unit follows the largest peak ([`pressure_unit`]: MPa and the impulse in kPa·s for
-/// a blast), the times are in µs up to 20 ms, else in ms.
-pub fn print_gauge_lines(summary: &Value) {
+/// One line per gauge of summary.json: peak pressure and its time, arrival, impulse, PPV. A
+/// blast's report (`blast`) keeps MPa, kPa·s and µs, as its gauges.png; another case's pressure
+/// unit follows its largest peak ([`pressure_unit`]) and its times are in µs up to 20 ms, else
+/// in ms.
+pub fn print_gauge_lines(summary: &Value, blast: bool) {
     let gl = summary["gauges"].as_array().cloned().unwrap_or_default();
     let max_of = |k: &str| gl.iter().filter_map(|g| g[k].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
-    let (ps, pu) = pressure_unit(max_of("peak_pa"));
+    let (ps, pu) = if blast { (1e-6, "MPa") } else { pressure_unit(max_of("peak_pa")) };
     let (is, iu, id) =
         if pu == "MPa" { (1e-3, "kPa·s", 3) } else { (ps, if pu == "kPa" { "kPa·s" } else { "Pa·s" }, 4) };
-    let (ts, tu, td) =
-        if max_of("peak_time_s").max(max_of("arrival_s")) < 0.02 { (1e6, "µs", 0) } else { (1e3, "ms", 2) };
+    let late = !blast && max_of("peak_time_s").max(max_of("arrival_s")) >= 0.02;
+    let (ts, tu, td) = if late { (1e3, "ms", 2) } else { (1e6, "µs", 0) };
     for g in &gl {
         let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
             g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
@@ -319,7 +320,7 @@ pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Resu
     if case.gauges.is_empty() || !gpath.exists() {
         return Ok(Vec::new());
     }
-    print_gauge_lines(summary);
+    print_gauge_lines(summary, false);
     let recs = read_gauges(&gpath)?;
     let sg = summary["gauges"].as_array().cloned().unwrap_or_default();
     let max = sg.iter().filter_map(|g| g["peak_pa"].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
@@ -328,7 +329,7 @@ pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Resu
 
 /// The unit of the report's times (plot axes, titles, the crater's and the products' lines): µs
 /// for a blast's first milliseconds, ms for a run to a fraction of a second (a late crater), s
-/// beyond; chosen from the run's end time. Gauges' peak and arrival times stay in µs.
+/// beyond; chosen from the run's end time. A blast's gauge lines keep µs ([`print_gauge_lines`]).
 #[derive(Debug, Clone, Copy)]
 struct TimeUnit {
     per_s: f64,
@@ -430,6 +431,14 @@ pub fn report(
     // 3D: the final crater as a surface, on the whole scene
     let map = if crater && case.dim == 3 { frames.last().map(|f| surface_map_of(case, &frames[0], f)) } else { None };
     let charge = charge_of(case, frames);
+    // a half or quarter model (symmetry planes through the charge's axis): the sums above are
+    // the modelled part's
+    if charge.images > 1.0 {
+        println!(
+            "  (mass and energies above: the modelled part, 1/{:.0} of the scene its symmetry planes complete)",
+            charge.images
+        );
+    }
     let bubble = bubble_history(case, frames);
     let tu = TimeUnit::for_end(frames[frames.len() - 1].time);
     let t_axis = tu.axis();
@@ -905,7 +914,7 @@ fn print_text(
         }
     }
     let gauge_list = summary["gauges"].as_array().cloned().unwrap_or_default();
-    print_gauge_lines(summary);
+    print_gauge_lines(summary, true);
     // a point gauge inside the contained charge's cavity at the end reads the products
     if let Some(Ok(Crater { cavity: Some(cv), .. })) = &last {
         let axis = map.and_then(|m| m.as_ref().ok()).map(|m| m.axis_m);

@@ -245,15 +245,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         en["balance_residual"].as_f64().unwrap_or(0.0),
         en["balance_residual_relative"].as_f64().unwrap_or(0.0)
     );
-    // a half or quarter model: the energies are the modelled part's
-    let planes = case.walls.iter().filter(|w| w.kind == crate::case::WallKind::Mirror).count();
-    if planes > 0 {
-        println!(
-            "  (mass and energies of the modelled part only: its {planes} symmetry plane{} make{} images that these sums do not count)",
-            if planes == 1 { "" } else { "s" },
-            if planes == 1 { "s" } else { "" }
-        );
-    }
+
     let out = match case.analysis.kind {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
         AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?,

@@ -286,6 +286,9 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         start: Instant::now(),
         det_frames,
     };
+    // summary.json at once, as a fresh run writes it: a run killed before its first checkpoint
+    // must not keep the summary (and case.toml hash) of the run before the resume
+    lp.write_summary(crate::runner::Status::Running, None)?;
     let ro = RunOptions {
         quiet: o.quiet,
         checkpoints: o.checkpoints,

@@ -140,7 +140,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     // the steps before it were compared)
     // (the step that failed was compared up to where it stopped: its rows hold step `done`)
     let stopped = diag.as_ref().map_or(String::new(), |d| {
-        format!(" (and step {} up to where it stopped); STOPPED before the end: {d}", done + 1)
+        format!(" (and step {done} of the report's rows, counted from 0, up to where it stopped); STOPPED before the end: {d}")
     });
     println!(
         "{} steps compared{stopped}; {}{}; report {}",

@@ -284,28 +284,67 @@ fn swapped_arguments(name: &str, file: &str, args: &[ArgInfo]) -> Vec<String> {
     out
 }
 
-/// Whether a source is fixed form (by its extension, as gfortran decides).
+/// Whether a source is fixed form (by its extension, as the build compiles it).
 fn fixed_form(p: &Path) -> bool {
-    p.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| matches!(e, "f" | "F" | "for" | "FOR" | "f77" | "F77" | "ftn"))
+    p.extension().and_then(|e| e.to_str()).is_some_and(|e| FIXED_FORM.contains(&e))
 }
 
-/// The lines of subroutine `name` in the source `text` (lower case, comment lines dropped), from
-/// its `subroutine` statement to its `end`; None when the text defines no such subroutine.
+/// The statements of subroutine `name` in the source `text` (lower case, comments dropped,
+/// continuation lines joined: `&` at a free-form line's end, a character in column 6 of fixed
+/// form), from its `subroutine` statement to its `end` or its `contains` (an internal
+/// procedure's declarations are not its own), one a line; None when the text defines no such
+/// subroutine.
 fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
     let name = name.to_ascii_lowercase();
-    let mut out: Option<String> = None;
+    // the statements, continuations joined
+    let mut stmts: Vec<String> = Vec::new();
+    let mut open = false;
     for raw in text.lines() {
-        let comment = fixed && matches!(raw.chars().next(), Some('c' | 'C' | '*'));
-        let l = raw.to_ascii_lowercase();
-        let t = l.split('!').next().unwrap_or("").trim();
-        if comment || t.is_empty() {
+        if fixed && matches!(raw.chars().next(), Some('c' | 'C' | '*' | '!')) {
             continue;
         }
+        let l = raw.to_ascii_lowercase();
+        // fixed form: columns 1-5 a label, 6 a continuation mark; or a tab then the statement
+        // (a digit right after the tab marks a continuation, the DEC form gfortran takes)
+        let (cont_fixed, body) = if !fixed {
+            (false, l.as_str())
+        } else if let Some(r) = l.strip_prefix('\t') {
+            match r.chars().next() {
+                Some(c @ '1'..='9') => (true, &r[c.len_utf8()..]),
+                _ => (false, r),
+            }
+        } else if l.len() > 6 && l.is_char_boundary(6) {
+            let b = l.as_bytes()[5];
+            (b != b' ' && b != b'0', &l[6..])
+        } else {
+            (false, "")
+        };
+        let t = body.split('!').next().unwrap_or("").trim();
+        if t.is_empty() && !cont_fixed {
+            continue;
+        }
+        let t = t.strip_prefix('&').unwrap_or(t).trim();
+        if (open || cont_fixed) && !stmts.is_empty() {
+            let last = stmts.last_mut().expect("a statement");
+            last.push(' ');
+            last.push_str(t.trim_end_matches('&'));
+        } else {
+            stmts.push(t.trim_end_matches('&').to_string());
+        }
+        open = !fixed && t.ends_with('&');
+    }
+    let mut out: Option<String> = None;
+    for t in stmts {
+        let t = t.trim();
         match &mut out {
             None => {
-                let head = t.strip_prefix("recursive ").unwrap_or(t);
+                let mut head = t;
+                while let Some(r) = ["recursive ", "pure ", "elemental ", "impure ", "module "]
+                    .iter()
+                    .find_map(|p| head.strip_prefix(p))
+                {
+                    head = r.trim_start();
+                }
                 if let Some(rest) = head.strip_prefix("subroutine ")
                     && rest.trim_start().strip_prefix(&name).is_some_and(|r| r.is_empty() || r.starts_with([' ', '(']))
                 {
@@ -313,7 +352,8 @@ fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
                 }
             }
             Some(o) => {
-                if t == "end" || t.starts_with("end subroutine") {
+                let flat: String = t.chars().filter(|c| !c.is_whitespace()).collect();
+                if flat == "end" || flat.starts_with("endsubroutine") || flat == "contains" {
                     break;
                 }
                 o.push_str(t);
@@ -324,35 +364,32 @@ fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
     out
 }
 
-/// Whether `dummy` is declared assumed-shape (`x(:)`, `dimension(:, :) :: x`) in a routine's
-/// text from [`routine_text`].
+/// Whether `dummy` is declared assumed-shape in a routine's statements from [`routine_text`]:
+/// `x(:)` or `x(:, :)` anywhere in a declaration (`real*8 x(:)`, `double precision :: x(:)`,
+/// `dimension x(:)`), or a `dimension(:)` attribute over a list that names it.
 fn assumed_shape(body: &str, dummy: &str) -> bool {
+    const DECL: [&str; 9] =
+        ["real", "double", "integer", "logical", "complex", "character", "type(", "class(", "dimension"];
     let d = dummy.to_ascii_lowercase();
-    body.lines().filter(|l| l.contains("::")).any(|l| {
-        let (attrs, ents) = l.split_once("::").unwrap_or(("", l));
-        let ents: String = ents.chars().filter(|c| !c.is_whitespace()).collect();
-        let attrs: String = attrs.chars().filter(|c| !c.is_whitespace()).collect();
-        // the entities, split at commas outside parentheses
-        let mut names = Vec::new();
-        let (mut depth, mut cur) = (0, String::new());
-        for ch in ents.chars() {
-            match ch {
-                '(' => depth += 1,
-                ')' => depth -= 1,
-                ',' if depth == 0 => {
-                    names.push(std::mem::take(&mut cur));
-                    continue;
-                }
-                _ => {}
-            }
-            cur.push(ch);
+    let word = |c: Option<char>| c.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
+    body.lines().any(|l| {
+        let st: String = l.chars().filter(|c| !c.is_whitespace()).collect();
+        if !DECL.iter().any(|k| st.starts_with(k)) {
+            return false;
         }
-        names.push(cur);
-        names.iter().any(|e| {
-            let (n, dims) = e.split_once('(').map_or((e.as_str(), ""), |(n, r)| (n, r));
-            let n = n.split('=').next().unwrap_or(n);
-            n == d && (dims.starts_with(':') || (dims.is_empty() && attrs.contains("dimension(:")))
-        })
+        // the name as a word, then `(` and `:` (spaces allowed between), in the statement as
+        // written (`real*8 a(:)`: the space keeps `8` and `a` apart)
+        let direct = l.match_indices(d.as_str()).any(|(k, _)| {
+            let after = l[k + d.len()..].trim_start();
+            !word(l[..k].chars().last())
+                && !word(l[k + d.len()..].chars().next())
+                && after.strip_prefix('(').is_some_and(|r| r.trim_start().starts_with(':'))
+        });
+        // the attribute: dimension(:...) :: a, d, b
+        let attr = st.split_once("::").is_some_and(|(attrs, ents)| {
+            attrs.contains("dimension(:") && ents.split(',').any(|e| e.split(['(', '=']).next().unwrap_or("") == d)
+        });
+        direct || attr
     })
 }
 
@@ -775,6 +812,33 @@ fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), lo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn assumed_shape_dummies_are_found_in_every_declaration_form() {
+        let has =
+            |text: &str, fixed: bool, d: &str| routine_text(text, "eos", fixed).is_some_and(|b| assumed_shape(&b, d));
+        // free form: an attribute list, a type statement without ::, a DIMENSION statement, a
+        // declaration continued with &
+        assert!(has("subroutine eos(a, b)\n  double precision, dimension(:) :: a, b\nend subroutine\n", false, "b"));
+        assert!(has("subroutine eos(a)\n  real*8 a(:)\nend\n", false, "a"));
+        assert!(has("subroutine eos(a)\n  double precision a\n  dimension a(:, :)\nend\n", false, "a"));
+        assert!(has("pure subroutine eos(a, b)\n  double precision :: b, &\n     a(:)\nendsubroutine\n", false, "a"));
+        // explicit shape and assumed size are not assumed shape; neither is another name
+        assert!(!has("subroutine eos(a, ab)\n  double precision :: a(maxn), ab(:)\nend\n", false, "a"));
+        assert!(!has("subroutine eos(a)\n  double precision a(*)\nend\n", false, "a"));
+        // an internal procedure's declarations after CONTAINS are not the routine's
+        assert!(!has(
+            "subroutine eos(a)\n  double precision a(10)\ncontains\n  subroutine h(a)\n  double precision :: a(:)\n  end subroutine\nend subroutine\n",
+            false,
+            "a"
+        ));
+        // fixed form: a continuation in column 6, a comment line, a label
+        let f77 = "      subroutine eos(a, b)\nc     a comment: b(:)\n      double precision :: b,\n     &  a(:)\n   10 continue\n      end\n";
+        assert!(has(f77, true, "a") && !has(f77, true, "b"));
+        // a tab-formatted line
+        assert!(has("\tsubroutine eos(a)\n\treal*8 a(:)\n\tend\n", true, "a"));
+        assert!(routine_text("      subroutine other(a)\n      end\n", "eos", true).is_none());
+    }
 
     #[test]
     fn prototypes_are_parsed() {

@@ -67,8 +67,9 @@ unsafe extern "C" {
 
 /// Runs at `exit`: when a legacy call is in progress the legacy code executed `STOP` (libgfortran
 /// calls `exit`, with status 0 for `STOP 'text'`): says so in one line and ends with
-/// [`STOP_STATUS`] instead, after flushing the Fortran units and closing HDF5's files (what the
-/// run wrote so far stays readable; gauges.csv is flushed after every line).
+/// [`STOP_STATUS`] instead, after flushing the Fortran units and closing HDF5's files (particles.h5
+/// stays readable; gauges.csv keeps the lines up to the last frame written, when it is flushed:
+/// later ones are in a buffer the exit loses).
 extern "C" fn legacy_exit() {
     let (name, ctx) = match IN_CALL.try_lock() {
         Ok(g) => g.clone(),
@@ -80,7 +81,9 @@ extern "C" fn legacy_exit() {
     use std::io::Write;
     let _ = std::io::stdout().flush();
     let at = if ctx.is_empty() { String::new() } else { format!(" {ctx}") };
-    eprintln!(
+    // (writeln, not eprintln: a closed stderr must not panic inside an extern "C" handler)
+    let _ = writeln!(
+        std::io::stderr(),
         "error: legacy routine {name} executed STOP{at}: your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
     );
     // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); H5close

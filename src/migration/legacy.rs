@@ -419,7 +419,7 @@ impl LegacyStage {
                 (!self.writes.contains(&f)).then(|| (k, f, bufs[k].clone()))
             })
             .collect();
-        super::ffi::set_context(format!("at step {itimestep}"));
+        super::ffi::set_context(format!("at step {itimestep} (its itimestep, from 1)"));
         if let Err(e) = lg.call_raw(&r.name, &r.bindings, &mut bufs) {
             die(e.to_string());
         }
@@ -430,6 +430,13 @@ impl LegacyStage {
             let n = if b.shape.per_pair() { np } else { nt };
             if let Some(iw) = input_change(*f, &b.name, b.shape, width, n, before, &bufs[*k]) {
                 changed.push(iw);
+            }
+        }
+        // a field the case does not carry (no burn fraction without a programmed burn, no stress
+        // without strength) cannot take a change
+        for iw in changed.iter_mut() {
+            if (iw.field == Field::Burn && p.burn.is_empty()) || (iw.field == Field::Tau && p.tau.is_empty()) {
+                iw.kept = false;
             }
         }
         let mut writes = self.writes.clone();
@@ -445,7 +452,7 @@ impl LegacyStage {
                     "dropped: blastsph does not take it from a routine that does not compute it"
                 };
                 eprintln!(
-                    "warning: legacy routine {} changed its input `{}` at step {itimestep} ({} values; first at {what} {}: {:e} -> {:e}), which blastsph's twin of it leaves alone: {fate} (`dual --legacy` reports it as a divergence)",
+                    "warning: legacy routine {} changed its input `{}` at step {itimestep} (its itimestep, from 1; {} values; first at {what} {}: {:e} -> {:e}), which blastsph's twin of it leaves alone: {fate} (`dual --legacy` reports it as a divergence)",
                     r.name,
                     iw.arg,
                     iw.count,

@@ -181,6 +181,9 @@ pub const REFUSED_FLAGS: &[&str] = &[
     "-march=native",
     "-mtune=native",
     "-mfma",
+    "-mfpmath=387",
+    "-mfpmath=both",
+    "-m80387",
 ];
 
 /// Why a flag of `fflags` is refused, if it is.
@@ -188,7 +191,7 @@ fn refused_flag(f: &str) -> Option<&'static str> {
     if REFUSED_FLAGS.contains(&f) {
         return Some("it changes the arithmetic against blastsph's own core (docs/migration.md A.4)");
     }
-    if f.starts_with("-O") {
+    if f.starts_with("-O") && f != "-O2" {
         return Some("the optimisation level is fixed at -O2, as blastsph's own core is built (docs/migration.md A.4)");
     }
     if matches!(f, "-shared" | "-c" | "-o" | "-S" | "-E") || f.starts_with("-fsyntax-only") || f.starts_with("-Wl,") {
