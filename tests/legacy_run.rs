@@ -370,18 +370,7 @@ fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
     });
     let lg = d.join("build");
     let out = d.join("dual");
-    let o = blastsph(&[
-        "dual",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--steps",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = dual_book(&lg, 3, &out);
     let se = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(4), "{se}");
     // (the third particle is at rest at step 1: its first change is at step 2)
@@ -418,18 +407,7 @@ fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
         t.replacen("      c = sqrt((gam - 1)*u)\n", "      c = sqrt((gam - 1)*u)\n      u = 1.5d0*u\n", 1)
     });
     let out = d.join("dual");
-    let o = blastsph(&[
-        "dual",
-        "shock_tube",
-        "--legacy",
-        d.join("build").to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--steps",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = dual_book(&d.join("build"), 2, &out);
     assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stderr));
     let (_, rows) = report_rows(&out.join("dual_report.json"));
     let r = row(&rows, "legacy.p_gas", "e (input `u` changed)");

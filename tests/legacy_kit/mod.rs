@@ -40,6 +40,23 @@ pub fn blastsph(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).current_dir(root()).output().expect("blastsph runs")
 }
 
+/// `blastsph dual shock_tube --legacy LG --compat liu-book --steps STEPS --out OUT`.
+pub fn dual_book(lg: &Path, steps: usize, out: &Path) -> Output {
+    let steps = steps.to_string();
+    blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--steps",
+        &steps,
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 /// A deterministic generator of inputs (xorshift64*), values in [0, 1).
 pub struct Rng(pub u64);
 impl Rng {
