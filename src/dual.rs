@@ -19,13 +19,13 @@ use crate::state::{Array, Clock, Field, Particles, Per, Snap, Work};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
-/// Distance in units in the last place between two doubles (0 for +0 and −0).
 /// The larger of `m` and `v`, NaN when either is: a NaN on either side of a comparison (a twin
 /// that broke) stays visible in the row's largest difference, where `f64::max` would drop it.
-fn sticky_max(m: f64, v: f64) -> f64 {
+pub(crate) fn sticky_max(m: f64, v: f64) -> f64 {
     if m.is_nan() || v.is_nan() { f64::NAN } else { m.max(v) }
 }
 
+/// Distance in units in the last place between two doubles (0 for +0 and −0).
 pub fn ulp_diff(a: f64, b: f64) -> u64 {
     if a == b {
         return 0;

@@ -203,19 +203,7 @@ fn a_pair_list_in_another_order_is_compared_as_a_set() {
     let lg = d.join("build");
     build(&d.join("legacy.toml"), &lg).expect("the variant builds");
     let out = d.join("dual");
-    let so = blastsph_ok(
-        &[
-            "dual",
-            "shock_tube",
-            "--legacy",
-            lg.to_str().unwrap(),
-            "--compat",
-            "liu-book",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        0,
-    );
+    let so = blastsph_ok(&dual_book_args(&lg, None, &out), 0);
     assert!(so.contains("pairs as sets: 40 steps in another order"), "{so}");
     let (_, rows) = report_rows(&out.join("dual_report.json"));
     for f in ["pair_i", "pair_j", "w", "dwdx"] {
@@ -370,7 +358,7 @@ fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
     });
     let lg = d.join("build");
     let out = d.join("dual");
-    let o = dual_book(&lg, 3, &out);
+    let o = dual_book(&lg, Some(3), &out);
     let se = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(4), "{se}");
     // (the third particle is at rest at step 1: its first change is at step 2)
@@ -407,7 +395,7 @@ fn a_routine_that_changes_an_input_is_reported_by_the_dual_run() {
         t.replacen("      c = sqrt((gam - 1)*u)\n", "      c = sqrt((gam - 1)*u)\n      u = 1.5d0*u\n", 1)
     });
     let out = d.join("dual");
-    let o = dual_book(&d.join("build"), 2, &out);
+    let o = dual_book(&d.join("build"), Some(2), &out);
     assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stderr));
     let (_, rows) = report_rows(&out.join("dual_report.json"));
     let r = row(&rows, "legacy.p_gas", "e (input `u` changed)");

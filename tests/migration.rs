@@ -477,19 +477,7 @@ fn the_books_manifest_in_the_docs_builds_against_the_fixture() {
     assert_eq!(info.routines.len(), 15);
     let lg = d.join("build");
     let out = d.join("dual");
-    blastsph_ok(
-        &[
-            "dual",
-            "shock_tube",
-            "--legacy",
-            lg.to_str().unwrap(),
-            "--compat",
-            "liu-book",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        0,
-    );
+    blastsph_ok(&dual_book_args(&lg, None, &out), 0);
     let (r, rows) = report_rows(&out.join("dual_report.json"));
     for (stage, fields) in MAPPED {
         for f in *fields {

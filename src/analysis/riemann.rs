@@ -96,9 +96,13 @@ impl Riemann {
 
     /// Shock speed on the right (if a right shock).
     pub fn right_shock_speed(&self) -> f64 {
+        self.shock_speed(self.right, 1.0)
+    }
+
+    /// The speed of a shock into side `s` (sign −1 left, +1 right; Toro 4.52, 4.59).
+    fn shock_speed(&self, s: Side, sign: f64) -> f64 {
         let g = self.gamma;
-        let cr = sound(self.right, g);
-        self.right.u + cr * ((g + 1.0) / (2.0 * g) * self.p_star / self.right.p + (g - 1.0) / (2.0 * g)).sqrt()
+        s.u + sign * sound(s, g) * ((g + 1.0) / (2.0 * g) * self.p_star / s.p + (g - 1.0) / (2.0 * g)).sqrt()
     }
 
     /// The two outer waves in words: on each side a shock with its speed when p* exceeds that
@@ -109,8 +113,7 @@ impl Riemann {
         let wave = |s: Side, rho_star: f64, sign: f64| {
             let c = sound(s, g);
             if self.p_star > s.p {
-                let q = ((g + 1.0) / (2.0 * g) * self.p_star / s.p + (g - 1.0) / (2.0 * g)).sqrt();
-                format!("shock at {:.5}", s.u + sign * c * q)
+                format!("shock at {:.5}", self.shock_speed(s, sign))
             } else {
                 let c_star = (g * self.p_star / rho_star).sqrt();
                 format!("rarefaction, head {:.5}, tail {:.5}", s.u + sign * c, self.u_star + sign * c_star)
@@ -129,7 +132,7 @@ impl Riemann {
             let l = self.left;
             let cl = sound(l, g);
             if ps > l.p {
-                let sl = l.u - cl * ((g + 1.0) / (2.0 * g) * ps / l.p + (g - 1.0) / (2.0 * g)).sqrt();
+                let sl = self.shock_speed(l, -1.0);
                 if xi <= sl { st(l.rho, l.u, l.p) } else { st(rl, us, ps) }
             } else {
                 let shl = l.u - cl;

@@ -351,9 +351,8 @@ fn input_change(
             kept: KEEPS.contains(&field),
         });
         w.count += 1;
-        // (NaN stays: f64::max would drop it)
-        w.max_abs = if abs.is_nan() || w.max_abs.is_nan() { f64::NAN } else { w.max_abs.max(abs) };
-        w.max_rel = if rel.is_nan() || w.max_rel.is_nan() { f64::NAN } else { w.max_rel.max(rel) };
+        w.max_abs = crate::dual::sticky_max(w.max_abs, abs);
+        w.max_rel = crate::dual::sticky_max(w.max_rel, rel);
         w.max_ulp = w.max_ulp.max(crate::dual::ulp_diff(a, b));
     }
     iw

@@ -36,25 +36,27 @@ pub fn lib() -> LegacyLib {
     LegacyLib::open(shared()).expect("the fixture's library loads")
 }
 
-pub fn blastsph(args: &[&str]) -> Output {
+pub fn blastsph<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).current_dir(root()).output().expect("blastsph runs")
 }
 
-/// `blastsph dual shock_tube --legacy LG --compat liu-book --steps STEPS --out OUT`.
-pub fn dual_book(lg: &Path, steps: usize, out: &Path) -> Output {
-    let steps = steps.to_string();
-    blastsph(&[
-        "dual",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--steps",
-        &steps,
-        "--out",
-        out.to_str().unwrap(),
-    ])
+/// The arguments of `blastsph dual shock_tube --legacy LG --compat liu-book [--steps N] --out OUT`
+/// (the dual run of the fixture's builds with the book's profile).
+pub fn dual_book_args(lg: &Path, steps: Option<usize>, out: &Path) -> Vec<String> {
+    let mut a: Vec<String> = ["dual", "shock_tube", "--legacy", lg.to_str().unwrap(), "--compat", "liu-book"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    if let Some(n) = steps {
+        a.extend(["--steps".to_string(), n.to_string()]);
+    }
+    a.extend(["--out".to_string(), out.to_str().unwrap().to_string()]);
+    a
+}
+
+/// [`dual_book_args`] run.
+pub fn dual_book(lg: &Path, steps: Option<usize>, out: &Path) -> Output {
+    blastsph(&dual_book_args(lg, steps, out))
 }
 
 /// A deterministic generator of inputs (xorshift64*), values in [0, 1).
@@ -170,7 +172,7 @@ pub fn refused(dir: &Path, needles: &[&str]) -> String {
 }
 
 /// `blastsph ARGS`, which must exit with `code`; returns stdout.
-pub fn blastsph_ok(args: &[&str], code: i32) -> String {
+pub fn blastsph_ok<S: AsRef<std::ffi::OsStr> + std::fmt::Debug>(args: &[S], code: i32) -> String {
     let o = blastsph(args);
     let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert_eq!(o.status.code(), Some(code), "blastsph {args:?}\nstdout: {so}\nstderr: {se}");

@@ -105,40 +105,36 @@ pub fn w_dw(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, dwdx: &mut
     w
 }
 
-/// W_ij and ∇_i W_ij of every pair.
+/// W_ij and ∇_i W_ij of every pair. The lattice normalisation (`gscale` ≠ 1) multiplies each
+/// component of ∇W in the same loops, as the Fortran does in its pair loop.
 pub(super) fn pairs(a: &mut Pairs) {
-    let Pairs { dim, kind, pairs: pl, x, h, w, dwdx, gscale } = a;
-    match *dim {
-        1 => pairs_d::<1>(*kind, pl, x, h, w, dwdx),
-        2 => pairs_d::<2>(*kind, pl, x, h, w, dwdx),
-        _ => pairs_d::<3>(*kind, pl, x, h, w, dwdx),
-    }
-    // the lattice normalisation: ∇W × gscale, as the Fortran multiplies each component
-    let gs = *gscale;
-    if gs != 1.0 {
-        let n = *dim * pl.len();
-        par_rows(&mut dwdx[..n], *dim, |_, g| g.iter_mut().for_each(|v| *v *= gs));
+    match a.dim {
+        1 => pairs_d::<1>(a),
+        2 => pairs_d::<2>(a),
+        _ => pairs_d::<3>(a),
     }
 }
 
 const KINDS: [KernelKind; 4] = [KernelKind::Cubic, KernelKind::Gauss, KernelKind::Quintic, KernelKind::Wendland];
 
-fn pairs_d<const D: usize>(kind: KernelKind, pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
-    match kind {
-        KernelKind::Cubic => pairs_dk::<D, 0>(pl, x, h, w, dwdx),
-        KernelKind::Gauss => pairs_dk::<D, 1>(pl, x, h, w, dwdx),
-        KernelKind::Quintic => pairs_dk::<D, 2>(pl, x, h, w, dwdx),
-        KernelKind::Wendland => pairs_dk::<D, 3>(pl, x, h, w, dwdx),
+fn pairs_d<const D: usize>(a: &mut Pairs) {
+    match a.kind {
+        KernelKind::Cubic => pairs_dk::<D, 0>(a),
+        KernelKind::Gauss => pairs_dk::<D, 1>(a),
+        KernelKind::Quintic => pairs_dk::<D, 2>(a),
+        KernelKind::Wendland => pairs_dk::<D, 3>(a),
     }
 }
 
 /// The pair loop for one dimension and one kernel (`KINDS[K]`), so both are constants in it.
-fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64], w: &mut [f64], dwdx: &mut [f64]) {
+fn pairs_dk<const D: usize, const K: usize>(a: &mut Pairs) {
+    let Pairs { pairs: pl, x, h, w, dwdx, gscale, .. } = a;
+    let (pl, x, h, gs): (&PairList, &[f64], &[f64], f64) = (pl, x, h, *gscale);
     let np = pl.len();
     let (pi, pj) = (&pl.i, &pl.j);
     if K == 0 {
         // the cubic spline in blocks, with a per-thread buffer of D + 2 values per pair
-        let inp = In { pi, pj, x, h };
+        let inp = In { pi, pj, x, h, gs };
         let mut guard = pl.scratch.lock();
         guard.per_thread.ensure();
         let tls = &guard.per_thread;
@@ -166,6 +162,9 @@ fn pairs_dk<const D: usize, const K: usize>(pl: &PairList, x: &[f64], h: &[f64],
         }
         let hij = 0.5 * (h[i] + h[j]);
         wk[0] = w_dw(D, KINDS[K], r2.sqrt(), &dx, hij, g);
+        if gs != 1.0 {
+            g.iter_mut().for_each(|v| *v *= gs);
+        }
     });
 }
 
@@ -176,13 +175,15 @@ struct In<'a> {
     pj: &'a [i32],
     x: &'a [f64],
     h: &'a [f64],
+    /// The lattice normalisation of ∇W (1: none).
+    gs: f64,
 }
 
 /// The cubic spline over a block of pairs, in loops over contiguous arrays (in `tmp`: D + 2 values
 /// per pair) so that the square roots and divisions, the branches written as selects, run on
 /// vectors: the same operations per pair, so the same bits.
 fn cubic_block<const D: usize>(inp: &In, k0: usize, w: &mut [f64], g: &mut [f64], tmp: &mut [f64]) {
-    let In { pi, pj, x, h } = *inp;
+    let In { pi, pj, x, h, gs } = *inp;
     let len = w.len();
     let (dx, rest) = tmp.split_at_mut(D * len);
     let (r2s, hs) = rest.split_at_mut(len);
@@ -223,6 +224,9 @@ fn cubic_block<const D: usize>(inp: &In, k0: usize, w: &mut [f64], g: &mut [f64]
         for d in 0..D {
             g[D * l + d] = dx[d * len + l];
         }
+    }
+    if gs != 1.0 {
+        g.iter_mut().for_each(|v| *v *= gs);
     }
 }
 
