@@ -126,27 +126,9 @@ impl H5Part {
         self.dim = dim;
         let g = self.file.create_group(&format!("Step#{}", self.steps)).map_err(h5err)?;
         let chunk = n.clamp(1, CHUNK);
-        let put = |name: &str, data: &[f64]| -> Result<()> {
-            g.new_dataset_builder()
-                .chunk(chunk)
-                .shuffle()
-                .deflate(DEFLATE)
-                .with_data(data)
-                .create(name)
-                .map(|_| ())
-                .map_err(h5err)
-        };
+        let put = |name: &str, data: &[f64]| put_data(&g, name, data, chunk);
         // a component that is zero by construction: declared, never written (no storage)
-        let zero = |name: &str| -> Result<()> {
-            g.new_dataset_builder()
-                .empty::<f64>()
-                .shape(n)
-                .chunk(chunk)
-                .fill_value(0.0f64)
-                .create(name)
-                .map(|_| ())
-                .map_err(h5err)
-        };
+        let zero = |name: &str| put_zero(&g, name, n, chunk);
         let comp = |a: usize, src: &[f64]| -> Vec<f64> { (0..n).map(|i| src[a + dim * i]).collect() };
         for (a, name) in ["x", "y", "z"].iter().enumerate() {
             if a < dim { put(name, &comp(a, &p.x))? } else { zero(name)? }
@@ -160,20 +142,8 @@ impl H5Part {
         put("h", &p.h[..n])?;
         put("c", &p.c[..n])?;
         put("mass", &p.mass[..n])?;
-        g.new_dataset_builder()
-            .chunk(chunk)
-            .shuffle()
-            .deflate(DEFLATE)
-            .with_data(&p.mat[..n])
-            .create("mat")
-            .map_err(h5err)?;
-        g.new_dataset_builder()
-            .chunk(chunk)
-            .shuffle()
-            .deflate(DEFLATE)
-            .with_data(&p.id[..n])
-            .create("id")
-            .map_err(h5err)?;
+        put_data(&g, "mat", &p.mat[..n], chunk)?;
+        put_data(&g, "id", &p.id[..n], chunk)?;
         let stress = !p.tau.is_empty();
         if stress {
             // total stress sigma = -p I + tau (Pa), components xx yy zz xy xz yz
@@ -197,39 +167,8 @@ impl H5Part {
             put("ppv", &by_index(&pk.ppv))?;
             put("p_peak", &by_index(&pk.p_peak))?;
         }
-        // interleaved views for the XDMF readers, in /xdmf/Step#N (outside the H5Part groups,
-        // whose reader expects 1D datasets only): ParaView's Xdmf3 reader (the one its
-        // OpenDataFile picks for .xmf) builds points and vectors only from (N, 3) arrays. They
-        // are HDF5 virtual datasets: each column maps a 1D dataset of /Step#N, a column that is
-        // zero by construction maps nothing (the fill value 0), so they store no data.
-        {
-            let top = match self.file.group("xdmf") {
-                Ok(t) => t,
-                Err(_) => self.file.create_group("xdmf").map_err(h5err)?,
-            };
-            let step = self.steps;
-            let gx = top.create_group(&format!("Step#{step}")).map_err(h5err)?;
-            let view = |name: &str, cols: &[Option<&str>]| -> Result<()> {
-                let mut b = gx.new_dataset_builder().empty::<f64>().shape((n, cols.len())).fill_value(0.0f64);
-                for (c, src) in cols.iter().enumerate() {
-                    if let Some(src) = src {
-                        b = b.virtual_map(".", format!("/Step#{step}/{src}"), n, .., (n, cols.len()), (.., c));
-                    }
-                }
-                b.create(name).map(|_| ()).map_err(h5err)
-            };
-            let live = |a: usize, name: &'static str| if a < dim { Some(name) } else { None };
-            view("xyz", &[live(0, "x"), live(1, "y"), live(2, "z")])?;
-            view("vxyz", &[live(0, "vx"), live(1, "vy"), live(2, "vz")])?;
-            if stress {
-                // 3 x 3, row by row: xx xy xz / xy yy yz / xz yz zz
-                let xz = live(2, "sxz");
-                let yz = live(2, "syz");
-                view("stress", &[Some("sxx"), Some("sxy"), xz, Some("sxy"), Some("syy"), yz, xz, yz, Some("szz")])?;
-            }
-        }
-        let attr = g.new_attr::<f64>().create("TimeValue").map_err(h5err)?;
-        attr.write_scalar(&sim.t).map_err(h5err)?;
+        write_views(&self.file, self.steps, n, dim, stress)?;
+        put_time(&g, sim.t)?;
         self.file.flush().map_err(h5err)?;
         self.steps += 1;
         self.written.push(StepInfo { time: sim.t, n, stress, burn, peaks: peaks.is_some() });
@@ -276,40 +215,188 @@ impl H5Part {
                 peaks: f & 4 != 0,
             })
             .collect();
-        let damaged = |e: hdf5::Error| crate::error::input(format!("{}: damaged or not HDF5 ({e})", path.display()));
-        let file = hdf5::File::open_rw(path).map_err(damaged)?;
         let steps = written.len();
-        for k in 0..steps {
-            if !file.link_exists(&format!("Step#{k}")) {
-                return Err(crate::error::input(format!(
-                    "{}: Step#{k} is missing, the checkpoint needs {steps} steps written",
-                    path.display()
-                )));
-            }
-        }
-        // steps past the checkpoint, in /Step#k and /xdmf/Step#k
-        let later = |g: &hdf5::Group| -> Result<Vec<String>> {
-            Ok(g.member_names()
-                .map_err(damaged)?
-                .into_iter()
-                .filter(|m| m.strip_prefix("Step#").and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= steps))
-                .collect())
-        };
-        for m in later(&file)? {
-            file.unlink(&m).map_err(damaged)?;
-        }
-        if let Ok(x) = file.group("xdmf") {
-            for m in later(&x)? {
-                x.unlink(&m).map_err(damaged)?;
-            }
-        }
-        file.flush().map_err(damaged)?;
-        let h5_name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         let dim = usize::try_from(b.count("h5.dim")?).unwrap_or(0);
+        let file = match cut_back(path, steps) {
+            Ok(f) => f,
+            Err(Cut::Missing(e)) => return Err(e),
+            Err(Cut::Failed(e)) => {
+                // a step written after the checkpoint was left half-written by a kill: copy the
+                // steps the checkpoint needs into a new file
+                rebuild(path, &written, dim).map_err(|e2| {
+                    crate::error::input(format!(
+                        "{e}; rebuilding it from its first {steps} steps failed too ({})",
+                        e2.to_string().replace(&format!("{}: ", path.display()), "")
+                    ))
+                })?;
+                eprintln!(
+                    "warning: {} could not be cut back in place ({}); rebuilt from its first {steps} steps, the ones the checkpoint needs",
+                    path.display(),
+                    e.to_string().replace(&format!("{}: ", path.display()), "")
+                );
+                hdf5::File::open_rw(path).map_err(h5err)?
+            }
+        };
+        let h5_name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         let h = H5Part { file, h5_name, xmf: Some(path.with_extension("xmf")), dim, written, steps };
         h.write_xdmf()?;
         Ok(h)
     }
+}
+
+/// Why a particles.h5 could not be cut back in place.
+enum Cut {
+    /// A step the checkpoint needs is missing: nothing to rebuild it from.
+    Missing(SphError),
+    /// HDF5 refused (a damaged later step): the file may be rebuilt.
+    Failed(SphError),
+}
+
+/// Opens `path` for writing and removes the steps past the first `steps` (in /Step#k and
+/// /xdmf/Step#k), checking that those `steps` are there.
+fn cut_back(path: &Path, steps: usize) -> std::result::Result<hdf5::File, Cut> {
+    let damaged =
+        |e: hdf5::Error| Cut::Failed(crate::error::input(format!("{}: damaged or not HDF5 ({e})", path.display())));
+    let file = hdf5::File::open_rw(path).map_err(damaged)?;
+    for k in 0..steps {
+        if !file.link_exists(&format!("Step#{k}")) {
+            return Err(Cut::Missing(crate::error::input(format!(
+                "{}: Step#{k} is missing, the checkpoint needs {steps} steps written",
+                path.display()
+            ))));
+        }
+    }
+    let later = |g: &hdf5::Group| -> std::result::Result<Vec<String>, Cut> {
+        Ok(g.member_names()
+            .map_err(damaged)?
+            .into_iter()
+            .filter(|m| m.strip_prefix("Step#").and_then(|k| k.parse::<usize>().ok()).is_some_and(|k| k >= steps))
+            .collect())
+    };
+    for m in later(&file)? {
+        file.unlink(&m).map_err(damaged)?;
+    }
+    if let Ok(x) = file.group("xdmf") {
+        for m in later(&x)? {
+            x.unlink(&m).map_err(damaged)?;
+        }
+    }
+    file.flush().map_err(damaged)?;
+    Ok(file)
+}
+
+/// A chunked, compressed 1D dataset `name` of `data` in `g` (the storage of the module doc).
+fn put_data<T: hdf5::H5Type>(g: &hdf5::Group, name: &str, data: &[T], chunk: usize) -> Result<()> {
+    g.new_dataset_builder()
+        .chunk(chunk)
+        .shuffle()
+        .deflate(DEFLATE)
+        .with_data(data)
+        .create(name)
+        .map(|_| ())
+        .map_err(h5err)
+}
+
+/// A float64 dataset of `n` zeros by construction: declared with fill value 0, never written.
+fn put_zero(g: &hdf5::Group, name: &str, n: usize, chunk: usize) -> Result<()> {
+    g.new_dataset_builder()
+        .empty::<f64>()
+        .shape(n)
+        .chunk(chunk)
+        .fill_value(0.0f64)
+        .create(name)
+        .map(|_| ())
+        .map_err(h5err)
+}
+
+/// The H5Part `TimeValue` attribute (s) of a step group.
+fn put_time(g: &hdf5::Group, t: f64) -> Result<()> {
+    let attr = g.new_attr::<f64>().create("TimeValue").map_err(h5err)?;
+    attr.write_scalar(&t).map_err(h5err)
+}
+
+/// The interleaved views of step `step` (n particles) for the XDMF readers, in /xdmf/Step#N
+/// (outside the H5Part groups, whose reader expects 1D datasets only): ParaView's Xdmf3 reader
+/// (the one its OpenDataFile picks for .xmf) builds points and vectors only from (N, 3) arrays.
+/// They are HDF5 virtual datasets: each column maps a 1D dataset of /Step#N, a column that is
+/// zero by construction maps nothing (the fill value 0), so they store no data.
+fn write_views(file: &hdf5::File, step: usize, n: usize, dim: usize, stress: bool) -> Result<()> {
+    let top = match file.group("xdmf") {
+        Ok(t) => t,
+        Err(_) => file.create_group("xdmf").map_err(h5err)?,
+    };
+    let gx = top.create_group(&format!("Step#{step}")).map_err(h5err)?;
+    let view = |name: &str, cols: &[Option<&str>]| -> Result<()> {
+        let mut b = gx.new_dataset_builder().empty::<f64>().shape((n, cols.len())).fill_value(0.0f64);
+        for (c, src) in cols.iter().enumerate() {
+            if let Some(src) = src {
+                b = b.virtual_map(".", format!("/Step#{step}/{src}"), n, .., (n, cols.len()), (.., c));
+            }
+        }
+        b.create(name).map(|_| ()).map_err(h5err)
+    };
+    let live = |a: usize, name: &'static str| if a < dim { Some(name) } else { None };
+    view("xyz", &[live(0, "x"), live(1, "y"), live(2, "z")])?;
+    view("vxyz", &[live(0, "vx"), live(1, "vy"), live(2, "vz")])?;
+    if stress {
+        // 3 x 3, row by row: xx xy xz / xy yy yz / xz yz zz
+        let xz = live(2, "sxz");
+        let yz = live(2, "syz");
+        view("stress", &[Some("sxx"), Some("sxy"), xz, Some("sxy"), Some("syy"), yz, xz, yz, Some("szz")])?;
+    }
+    Ok(())
+}
+
+/// Copies the first `written.len()` steps of the particles.h5 at `path` into a new file renamed
+/// over it: for a file that cannot be cut back in place. A run killed while it wrote a step can
+/// leave that step's object header unwritten while the root group already links it, and HDF5
+/// then refuses to unlink it ("bad object header version number"); the steps before it are
+/// intact. Values are copied exactly (a column zero by construction stays declared, unwritten).
+fn rebuild(path: &Path, written: &[StepInfo], dim: usize) -> Result<()> {
+    use hdf5::types::{FloatSize, IntSize, TypeDescriptor};
+    let bad = |what: String| crate::error::input(format!("{}: {what}", path.display()));
+    let src = hdf5::File::open(path).map_err(|e| bad(format!("damaged or not HDF5 ({e})")))?;
+    let tmp = path.with_extension("h5.rebuild");
+    match std::fs::remove_file(&tmp) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
+    }
+    {
+        let dst = hdf5::File::create_excl(&tmp).map_err(h5err)?;
+        for (k, st) in written.iter().enumerate() {
+            let name = format!("Step#{k}");
+            let unreadable = |e: hdf5::Error| bad(format!("{name} cannot be read ({e})"));
+            let g = src.group(&name).map_err(unreadable)?;
+            let o = dst.create_group(&name).map_err(h5err)?;
+            let chunk = st.n.clamp(1, CHUNK);
+            for m in g.member_names().map_err(unreadable)? {
+                let ds = g.dataset(&m).map_err(unreadable)?;
+                if ds.size() != st.n {
+                    return Err(bad(format!("{name}/{m} holds {} values, the checkpoint says {}", ds.size(), st.n)));
+                }
+                match ds.dtype().and_then(|t| t.to_descriptor()).map_err(unreadable)? {
+                    TypeDescriptor::Float(FloatSize::U8) if ds.storage_size() == 0 => put_zero(&o, &m, st.n, chunk)?,
+                    TypeDescriptor::Float(FloatSize::U8) => {
+                        put_data(&o, &m, &ds.read_raw::<f64>().map_err(unreadable)?, chunk)?
+                    }
+                    TypeDescriptor::Integer(IntSize::U4) => {
+                        put_data(&o, &m, &ds.read_raw::<i32>().map_err(unreadable)?, chunk)?
+                    }
+                    TypeDescriptor::Integer(IntSize::U8) => {
+                        put_data(&o, &m, &ds.read_raw::<i64>().map_err(unreadable)?, chunk)?
+                    }
+                    t => return Err(bad(format!("{name}/{m}: a dataset of type {t:?}, not one blastsph writes"))),
+                }
+            }
+            let t: f64 = g.attr("TimeValue").and_then(|a| a.read_scalar()).map_err(unreadable)?;
+            put_time(&o, t)?;
+            write_views(&dst, k, st.n, dim, st.stress)?;
+        }
+        dst.flush().map_err(h5err)?;
+    }
+    drop(src);
+    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
 }
 
 /// A float64 dataset item.
