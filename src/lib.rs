@@ -24,6 +24,7 @@ pub mod error;
 pub mod gauges;
 pub mod migration;
 pub mod modules;
+pub mod os_ffi;
 #[cfg(feature = "io")]
 pub mod output;
 #[cfg(feature = "plot")]

@@ -241,7 +241,9 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
     // a detonation's history: its outputs up to the checkpoint (read before the file is cut)
     let det_frames = if sim.case.analysis.kind == crate::case::AnalysisKind::Detonation {
-        crate::output::read_frames(&dir.join("particles.h5"))?
+        // (a last step a kill left half-written is not read: it is past the checkpoint)
+        crate::output::read_complete_frames(&dir.join("particles.h5"))?
+            .0
             .into_iter()
             .filter(|f| f.time <= sim.t * (1.0 + 1e-12))
             .map(crate::analysis::verify::slim)

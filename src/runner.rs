@@ -128,7 +128,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     if !opts.quiet {
         // the settings known to fail, as `blastsph check` lists them (once the run directory is
         // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
+        for w in crate::advice::all(&sim.case, &sim.p, &sim.region).into_iter().chain(sim.plan.legacy_warnings()) {
             eprintln!("warning: {w}");
         }
     }

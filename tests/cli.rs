@@ -478,3 +478,23 @@ fn report_says_which_point_gauges_end_inside_a_contained_charges_cavity() {
     assert!(so.contains("gauge shallow: its point lies inside the cavity"), "{so}");
     assert!(!so.contains("gauge far: its point lies inside"), "{so}");
 }
+
+/// Output into a pipe whose reader has gone ends the process by SIGPIPE, quietly (no
+/// "internal error" line: the write used to panic): the reader's end is closed before the
+/// process starts, so its first line meets it.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_ends_the_process_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    let o = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["check", "shock_tube"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(writer)
+        .output()
+        .expect("blastsph runs");
+    let err = text(&o.stderr);
+    assert!(!err.contains("internal error"), "{err}");
+    assert_eq!(o.status.signal(), Some(13), "ended by SIGPIPE: {:?} {err}", o.status);
+}

@@ -235,6 +235,16 @@ fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
     assert!(line.contains("not run") && line.contains("twice"), "{so}");
     assert!(!so.contains("legacy.art_visc"), "{so}");
     assert!(so.contains("energy rate = legacy.int_force + viscosity.monaghan\n"), "{so}");
+    // what it lacks, and the setting that asks for it
+    assert!(line.contains("also writes mumax") && line.contains("time.viscous_step=false"), "{so}");
+    // the dual run says so in a warning and on its verdict line (it was read as agreement)
+    let out = scratch("unrun_dual");
+    let mut args = dual_book_args(shared(), Some(2), &out.join("d"));
+    args.extend(["--set", "time.step=cfl", "--set", "time.viscous_step=true"].map(String::from));
+    let o = blastsph(&args);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(se.contains("warning: legacy art_visc is not run:") && se.contains("mumax"), "{se}");
+    assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}");
 }
 
 /// The switches of param.inc that the book ships off, each met by its compat item (found on the
@@ -420,7 +430,7 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
         let se = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(3), "{cmd}: {se}");
         let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{cmd}: {se}"));
-        assert!(line.contains("legacy routine p_gas executed STOP at step 1"), "{cmd}: {se}");
+        assert!(line.contains("legacy routine p_gas ended the process at step 1 (a STOP"), "{cmd}: {se}");
     }
     // the run's particles.h5 was closed, not cut off by the exit: a valid file (the STOP came
     // before the first frame, so it holds no step)

@@ -396,6 +396,9 @@ fn one_line(s: &str) -> String {
 /// Entry point; returns the exit status: 0 done, 1 an I/O failure during a run, 2 refused input,
 /// 3 unstable, 4 a dual run out of tolerance, 5 stopped cleanly by a signal (README).
 pub fn main() -> i32 {
+    // output into a pipe that closes (`blastsph dual … | head -1`) ends the process quietly, as
+    // it ends other command-line tools (Rust ignores SIGPIPE, and the failed write would panic)
+    crate::os_ffi::default_sigpipe();
     // a panic is a bug: one line saying so (never a backtrace on a user's terminal)
     std::panic::set_hook(Box::new(|info| {
         let msg = info

@@ -93,6 +93,10 @@ pub fn check_text(sim: &Sim) -> String {
 /// `blastsph dual`: returns exit 0 when every module is within tolerance, 4 otherwise.
 pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result<i32> {
     let mut sim = Sim::new(c, ov)?;
+    let unrun = sim.plan.legacy_warnings();
+    for w in &unrun {
+        eprintln!("warning: {w}");
+    }
     sim.enable_dual(Comparator::new(sim.cfg.dim));
     let mut done = 0;
     let mut diag = None;
@@ -139,6 +143,14 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     // a run that stopped before the end says so on the summary line (the case went unstable:
     // the steps before it were compared)
     // (the step that failed was compared up to where it stopped: its rows hold step `done`)
+    let not = if unrun.is_empty() {
+        not
+    } else {
+        format!(
+            "{not}; {} mapped legacy routine(s) NOT RUN, blastsph's own stages ran in their place (the warning above says why)",
+            unrun.len()
+        )
+    };
     let stopped = diag.as_ref().map_or(String::new(), |d| {
         format!(" (and step {done} of the report's rows, counted from 0, up to where it stopped); STOPPED before the end: {d}")
     });

@@ -84,7 +84,7 @@ extern "C" fn legacy_exit() {
     // (writeln, not eprintln: a closed stderr must not panic inside an extern "C" handler)
     let _ = writeln!(
         std::io::stderr(),
-        "error: legacy routine {name} executed STOP{at}: your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
+        "error: legacy routine {name} ended the process{at} (a STOP, a CALL EXIT, or a Fortran runtime error such as -fcheck=bounds finds: libgfortran's own line, if any, is above): your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
     );
     // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); H5close
     // closes the HDF5 library's open files (no HDF5 call is in progress: the legacy call is, and

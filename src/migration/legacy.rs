@@ -635,19 +635,61 @@ impl Legacy {
                     bind::is_scratch(n) && bound.iter().enumerate().any(|(o, names)| o != ri && names.contains(n))
                 });
                 let term = bound[ri].iter().any(|n| n == "dvxdt" || n == "dedt");
+                // a near miss: a stage whose inputs are all among the routine's arguments but
+                // whose outputs are not all (the same physics, one output short: a routine of
+                // another formulation, the book's con_density in a summation case, is no miss)
+                let near = mods.iter().flat_map(|&m| fresh(m, ctx)).any(|(_, s)| {
+                    s.reads().iter().all(|f| argf.contains(f) || IMPLIED.contains(f))
+                        && !s.writes().iter().all(|f| argf.contains(f))
+                });
+                // what each stage it might stand for needs and the routine does not give
+                let lacks: Vec<String> = mods
+                    .iter()
+                    .flat_map(|&m| fresh(m, ctx))
+                    .map(|(_, s)| {
+                        let out: Vec<String> =
+                            s.writes().iter().filter(|f| !argf.contains(f)).map(|f| f.name().to_string()).collect();
+                        let inp: Vec<String> = s
+                            .reads()
+                            .iter()
+                            .filter(|f| !argf.contains(f) && !IMPLIED.contains(f))
+                            .map(|f| f.name().to_string())
+                            .collect();
+                        if !out.is_empty() {
+                            format!("{} also writes {}", s.name(), out.join(", "))
+                        } else {
+                            format!("{} reads {}", s.name(), inp.join(", "))
+                        }
+                    })
+                    .collect();
+                let hint = if ctx.case.time.viscous_step
+                    && mods.contains(&Module::Viscosity)
+                    && !argf.contains(&Field::Mumax)
+                {
+                    " (mumax, the largest mu_ij, is asked for by the viscous time-step limit: --set time.viscous_step=false drops it)"
+                } else {
+                    ""
+                };
                 if !active || !(term || shared_scratch) {
-                    let why = if !active {
-                        format!("the case does not run {}", r.modules.join(","))
-                    } else {
-                        let stages: Vec<String> =
-                            mods.iter().flat_map(|&m| fresh(m, ctx)).map(|(_, s)| s.name().to_string()).collect();
+                    if !active {
+                        note("not run", format!("the case does not run {}", r.modules.join(",")), json!({}));
+                        continue;
+                    }
+                    let why = if near {
                         format!(
-                            "it computes none of the case's {} stages ({}) from its arguments",
+                            "it computes none of the case's {} stages from its arguments: {}, not among them{hint}; blastsph's own {} runs in its place",
                             r.modules.join(","),
-                            stages.join(", ")
+                            lacks.join("; "),
+                            r.modules.join(",")
+                        )
+                    } else {
+                        format!(
+                            "it computes none of the case's {} stages from its arguments ({}, not among them: the case uses another formulation)",
+                            r.modules.join(","),
+                            lacks.join("; ")
                         )
                     };
-                    note("not run", why, json!({}));
+                    note("not run", why, if near { json!({ "replaced": false }) } else { json!({}) });
                     continue;
                 }
                 // a routine that adds rate terms beside a Rust stage of its own module that it
@@ -660,11 +702,13 @@ impl Legacy {
                     .collect();
                 if term && !left.is_empty() {
                     let why = format!(
-                        "it adds rate terms of {} but cannot stand for {} (which writes more than the routine gives); running both would count that physics twice",
+                        "it adds rate terms of {} but cannot stand for {} ({}, not among its arguments{hint}); running both would count that physics twice, so blastsph's own {} runs in its place",
                         r.modules.join(","),
-                        left.join(", ")
+                        left.join(", "),
+                        lacks.join("; "),
+                        r.modules.join(",")
                     );
-                    note("not run", why, json!({}));
+                    note("not run", why, json!({ "replaced": false }));
                     continue;
                 }
                 if bound[ri].iter().any(|n| n == "dvxdt") {

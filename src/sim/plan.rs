@@ -223,6 +223,18 @@ impl Plan {
 
     /// The plan as `blastsph check` prints it: the modules (what each computes, which
     /// implementation, why), then the stages of a step in order with what they read and write.
+    /// One line per mapped legacy routine that does not run although the case runs its
+    /// modules (it computes none of their stages from its arguments): blastsph's own stages run
+    /// in its place, which a dual run would otherwise report as agreement.
+    pub fn legacy_warnings(&self) -> Vec<String> {
+        let Some(routines) = self.legacy["routines"].as_object() else { return Vec::new() };
+        routines
+            .iter()
+            .filter(|(_, r)| r["replaced"] == serde_json::json!(false))
+            .map(|(name, r)| format!("legacy {name} is not run: {}", r["why"].as_str().unwrap_or("")))
+            .collect()
+    }
+
     pub fn text(&self) -> String {
         let mut s = String::from("module plan:\n");
         // a stage's implementation as printed: its backend, or "legacy" / "compat"
