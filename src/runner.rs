@@ -346,7 +346,12 @@ impl Loop {
                 }
                 Err(SphError::Unstable(msg)) => {
                     // the diagnostic names the likely fix (src/advice.rs)
-                    let hint = crate::advice::hint(&self.sim.case, &msg);
+                    let mut hint = crate::advice::hint(&self.sim.case, &msg);
+                    if !self.sim.plan.legacy.is_null() {
+                        hint = format!(
+                            "with --legacy, a mapped routine may have made it: `blastsph dual --legacy` names the first one whose output differs from blastsph's; else {hint}"
+                        );
+                    }
                     diag = Some(SphError::Unstable(format!("{msg}; {hint}")));
                     break;
                 }

@@ -448,14 +448,15 @@ impl LegacyStage {
                 let fate = if iw.kept {
                     "the state keeps it, as your program's arrays do"
                 } else {
-                    "dropped: blastsph does not take it from a routine that does not compute it"
+                    "dropped: blastsph does not take it from a routine that does not compute it, so from here on `run --legacy` differs from your program, whose later routines see the change"
                 };
+                let at = iw.index / iw.width;
                 eprintln!(
-                    "warning: legacy routine {} changed its input `{}` at step {itimestep} (its itimestep, from 1; {} values; first at {what} {}: {:e} -> {:e}), which blastsph's twin of it leaves alone: {fate} (`dual --legacy` reports it as a divergence)",
+                    "warning: legacy routine {} changed its input `{}` at step {itimestep} (its itimestep, from 1; {} values; first at {what} {at} counted from 0, your index {}: {:e} -> {:e}), which blastsph's twin of it leaves alone: {fate} (`dual --legacy` reports it as a divergence)",
                     r.name,
                     iw.arg,
                     iw.count,
-                    iw.index / iw.width,
+                    at + 1,
                     iw.before,
                     iw.after
                 );

@@ -12,7 +12,7 @@ pub const PACE_WINDOW: u64 = 1000;
 /// How far beyond `time.max_steps` a projection may reach before the run is stopped.
 pub const PACE_FACTOR: f64 = 10.0;
 use crate::modules::param::NSTR;
-use crate::state::Particles;
+use crate::state::{Field, Particles};
 
 /// What is wrong with a particle's state.
 #[derive(Debug, Clone, Copy)]
@@ -150,9 +150,47 @@ impl Sim {
         }
         let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", self.p.x[d + dim * i])).collect();
         let pl = &self.w.pairs;
-        let neighbours = (0..pl.len()).filter(|&k| pl.i[k] as usize == i || pl.j[k] as usize == i).count();
+        let others: Vec<usize> = (0..pl.len())
+            .filter_map(|k| {
+                let (a, b) = (pl.i[k] as usize, pl.j[k] as usize);
+                if a == i {
+                    Some(b)
+                } else if b == i {
+                    Some(a)
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let neighbours = others.len();
+        // where the non-finite value came from: a state value the rates read (this particle's or
+        // a neighbour's), made by the stages that write it (a legacy routine's NaN sound speed
+        // shows first in the viscosity of its neighbours)
+        let fields: [(Field, &[f64]); 5] =
+            [(Field::Rho, &self.p.rho), (Field::P, &self.p.p), (Field::C, &self.p.c), (Field::E, &self.p.e), (Field::H, &self.p.h)];
+        let source = std::iter::once(i).chain(others.iter().copied()).find_map(|j| {
+            fields.iter().find(|(_, a)| a.get(j).is_some_and(|v| !v.is_finite())).map(|(f, a)| (j, *f, a[j]))
+        });
+        let source = source.map_or(String::new(), |(j, f, v)| {
+            // the stages of the step (the once-only set-up ones only when no other writes it)
+            let writers = |init: bool| -> Vec<&str> {
+                self.plan
+                    .entries
+                    .iter()
+                    .filter(|e| (e.phase == crate::modules::Phase::Init) == init && e.stage.writes().contains(&f))
+                    .map(|e| e.stage.name())
+                    .collect()
+            };
+            let by = Some(writers(false)).filter(|b| !b.is_empty()).unwrap_or_else(|| writers(true));
+            let who = if j == i { "its".to_string() } else { format!("its neighbour {}'s", self.p.id[j]) };
+            format!(
+                "; {who} {} is {v} already (written by {})",
+                f.name(),
+                if by.is_empty() { "the set-up".to_string() } else { by.join(", ") }
+            )
+        });
         Err(SphError::Unstable(format!(
-            "step {} (t = {:.6e} s): particle {} (material {}) at [{}] m has a non-finite rate: {} (rho = {:e} kg/m3, p = {:e} Pa, h = {:e} m, {neighbours} neighbours)",
+            "step {} (t = {:.6e} s): particle {} (material {}) at [{}] m has a non-finite rate: {}{source} (rho = {:e} kg/m3, p = {:e} Pa, h = {:e} m, {neighbours} neighbours)",
             self.nstep,
             self.t,
             self.p.id[i],
