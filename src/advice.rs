@@ -40,6 +40,15 @@ pub fn warnings(case: &Case) -> Vec<String> {
     if s.h_over_dx < 0.9 {
         w.push(format!("sph.h_over_dx = {}: below 0.9 the thesis's runs failed (THESIS.md s.1)", s.h_over_dx));
     }
+    for r in &case.regions {
+        if let Some(h) = r.h_m.filter(|h| *h < 0.9 * r.spacing_m) {
+            w.push(format!(
+                "region {}: h_m = {h:e} m is {:.3} of its spacing: below 0.9 the thesis's runs failed (THESIS.md s.1), and the particles have few neighbours",
+                r.name,
+                h / r.spacing_m
+            ));
+        }
+    }
     if case.geometry == Geometry::Axisymmetric
         && beta > 2.0
         && case.regions.iter().any(|r| r.radial_velocity_ms.is_some_and(|u| u < 0.0))

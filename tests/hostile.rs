@@ -147,6 +147,12 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a count that wraps", tube, "region.left.count=[9223372036854775807]"),
         set("a count of 1e12", tube, "region.left.count=[1000000000000]"),
         set("a negative count", tube, "region.left.count=[-5]"),
+        // smoothing lengths whose kernel reaches no neighbour (the run was silent garbage: no
+        // particle moved, status ok)
+        set_n("a region's h of 0.1 spacings", s1, "region.soil.h_m=0.001", "neighbour"),
+        set_n("h_over_dx of 0.4 with the cubic kernel", tube, "sph.h_over_dx=0.4", "neighbour"),
+        // a table for every entry of an array of tables (a table for one entry sets its keys)
+        set_n("a table for all the regions", s1, "region={rho_kgm3=1500.0}", "every [[region]] entry"),
         set("a count that is not a whole number", tube, "region.left.count=[1e12]"),
         set("h a million spacings", s1, "sph.h_over_dx=1e6"),
         set_n("an h cap below the initial h", s1, "sph.h_max_ratio=0.5", "h_max_ratio"),
@@ -276,6 +282,8 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
     c.push(bad("a folder as the case", &["check", &t.display().to_string()]));
     c.push(bad("a missing case", &["check", &t.join("nosuch.toml").display().to_string()]));
     c.push(bad("a device as the case", &["check", "/dev/zero"]));
+    let deep = format!("{}=1", vec!["a"; 40_000].join("."));
+    c.push(bad("a --set key 40 000 levels deep (it overflowed the stack)", &["check", &case(tube), "--set", &deep]));
     c.push(bad("a fixed-step run too long for max_steps", &["run", &case(tube), "--set", "time.max_steps=3"]));
     let n = check_all(t, c);
     assert!(n > 90, "{n} inputs");

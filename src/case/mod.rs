@@ -68,6 +68,19 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Case> {
 /// the text ([`apply_sets`]); an error they cause names the override, not a line of the edited
 /// text.
 pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> Result<Case> {
+    // a key deeper than any case's (an element of a vector in a region's table has 5 levels:
+    // region.soil.subtract.0.lo_m) is refused before the TOML parser's recursion meets it (40 000 levels overflowed
+    // the stack)
+    for s in sets {
+        let key = s.split_once('=').map_or(s.as_str(), |(k, _)| k);
+        let depth = key.split('.').count();
+        if depth > 16 {
+            return Err(input(format!(
+                "--set {}: a key of {depth} levels, more than 16 (a case's keys have a few: material.NAME.eos.KEY)",
+                sets::shown(key)
+            )));
+        }
+    }
     text.parse::<toml::Table>().map_err(|e| toml_error(origin, text, &e))?;
     let attempt = |k: usize| -> Result<Case> {
         let edited = apply_sets(text, &sets[..k])?;

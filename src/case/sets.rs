@@ -83,6 +83,27 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
         }
     } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
         return Err(input(format!("--set {ks}: replaces a table with a value")));
+    } else if matches!(&*cur, Item::ArrayOfTables(_)) {
+        return Err(input(format!(
+            "--set {ks}: would replace every [[{ks}]] entry with one table: set an entry's keys (`{ks}.NAME.KEY=VALUE`, or `{ks}.0.KEY=VALUE`)"
+        )));
+    } else if matches!(&*cur, Item::Table(_)) {
+        // a table given for a table (`region.soil={rho_kgm3=1500.0}`): its keys are set one by
+        // one, the others kept (replacing the table would drop them, and an entry of an array
+        // of tables cannot hold an inline value: it vanished from the case)
+        let toml_edit::Value::InlineTable(t) = parsed else { unreachable!("checked above") };
+        if t.is_empty() {
+            return Err(input(format!("--set {ks}: an empty table sets nothing")));
+        }
+        for (k, v) in t.iter() {
+            if k.contains(['.', '=']) || k.trim() != k || k.is_empty() {
+                return Err(input(format!("--set {ks}: the key `{}` inside the table cannot be set", shown(k))));
+            }
+            let mut v = v.clone();
+            v.decor_mut().clear();
+            apply_set(doc, &format!("{key}.{k}={v}"))?;
+        }
+        return Ok(());
     }
     *cur = Item::Value(parsed);
     Ok(())
@@ -114,5 +135,25 @@ mod tests {
         assert_eq!(v["material"][0]["eos"]["s"][1].as_integer(), Some(3));
         assert_eq!(v["time"]["end_s"].as_float(), Some(2.0));
         assert!(out.contains("end_s = 2.0  # set by --set (was 1.0)"), "{out}");
+    }
+
+    /// A table given for a table sets its keys and keeps the others (it used to replace the
+    /// table: an entry of an array of tables vanished from the case); a table for a whole array
+    /// of tables is refused.
+    #[test]
+    fn a_table_given_for_a_table_sets_its_keys() {
+        let t = "[[region]]\nname = \"soil\"\nrho_kgm3 = 1450.0\nspacing_m = 0.01\n[[region]]\nname = \"charge\"\nrho_kgm3 = 1630.0\n[time]\nend_s = 1.0\n";
+        let out = apply_sets(t, &["region.soil={rho_kgm3=1500.0, e_jkg=2.0}".to_string()]).unwrap();
+        let v: toml::Table = out.parse().unwrap_or_else(|e| panic!("{out}\n{e}"));
+        let r = v["region"].as_array().unwrap();
+        assert_eq!(r.len(), 2, "{out}");
+        assert_eq!(r[0]["rho_kgm3"].as_float(), Some(1500.0));
+        assert_eq!(r[0]["e_jkg"].as_float(), Some(2.0));
+        assert_eq!(r[0]["spacing_m"].as_float(), Some(0.01), "the other keys kept: {out}");
+        let out = apply_sets(t, &["time={end_s=2.0}".to_string()]).unwrap();
+        assert!(out.contains("end_s = 2.0  # set by --set (was 1.0)"), "{out}");
+        let e = apply_sets(t, &["region={name=\"x\"}".to_string()]).unwrap_err().to_string();
+        assert!(e.contains("would replace every [[region]] entry"), "{e}");
+        assert!(apply_sets(t, &["region.soil={}".to_string()]).is_err());
     }
 }

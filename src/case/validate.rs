@@ -330,6 +330,15 @@ impl Case {
         }
         v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::within(1.0, 1000.0))?;
         v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
+        if s.kernel.support() * s.h_over_dx <= 1.0 {
+            return Err(input(format!(
+                "{} = {}: the kernel's support ({} h) would not reach the next particle one spacing away: no particle would have a neighbour (h_over_dx must be above {})",
+                at.key("h_over_dx"),
+                s.h_over_dx,
+                s.kernel.support(),
+                1.0 / s.kernel.support()
+            )));
+        }
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
         v.num(&at, "jitter", s.jitter, Range::within(0.0, 0.5))?;
@@ -626,6 +635,16 @@ impl Case {
                         at.key("h_m"),
                         H_OVER_DX.0,
                         h_over_dx_max(d)
+                    )));
+                }
+                let kappa = self.sph.kernel.support();
+                if kappa * ratio <= 1.0 {
+                    return Err(input(format!(
+                        "{} = {h:e}: the kernel's support {kappa} h = {:e} m does not reach the next particle, {:e} m away: no particle of the region would have a neighbour of its own (h_m must be above {:e} m)",
+                        at.key("h_m"),
+                        kappa * h,
+                        r.spacing_m,
+                        r.spacing_m / kappa
                     )));
                 }
             }

@@ -166,8 +166,13 @@ impl Sim {
         // where the non-finite value came from: a state value the rates read (this particle's or
         // a neighbour's), made by the stages that write it (a legacy routine's NaN sound speed
         // shows first in the viscosity of its neighbours)
-        let fields: [(Field, &[f64]); 5] =
-            [(Field::Rho, &self.p.rho), (Field::P, &self.p.p), (Field::C, &self.p.c), (Field::E, &self.p.e), (Field::H, &self.p.h)];
+        let fields: [(Field, &[f64]); 5] = [
+            (Field::Rho, &self.p.rho),
+            (Field::P, &self.p.p),
+            (Field::C, &self.p.c),
+            (Field::E, &self.p.e),
+            (Field::H, &self.p.h),
+        ];
         let source = std::iter::once(i).chain(others.iter().copied()).find_map(|j| {
             fields.iter().find(|(_, a)| a.get(j).is_some_and(|v| !v.is_finite())).map(|(f, a)| (j, *f, a[j]))
         });
