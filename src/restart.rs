@@ -50,6 +50,7 @@ pub(crate) fn write(lp: &mut Loop) -> Result<()> {
     // stamped below then includes it, so that a resumed run's total is not short of it
     let _ = binary_sha256();
     lp.gauges.sync()?;
+    lp.h5.sync_xdmf()?;
     let gpath = lp.dir.join("gauges.csv");
     let gauges_bytes = std::fs::symlink_metadata(&gpath).map(|m| m.len()).unwrap_or(0);
     let mut b = Blob::default();

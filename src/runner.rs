@@ -390,6 +390,7 @@ impl Loop {
             self.h5.write(&self.sim, Some(&self.peaks))?;
             self.last_written = self.sim.nstep;
         }
+        self.h5.sync_xdmf()?;
         self.gauges.flush();
         if diag.is_none() && cp.at_end {
             crate::restart::write(&mut self)?;

@@ -553,6 +553,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             stop_on_signals()?;
             let r = on_pool(|| runner::run(&case, &opts))?;
             println!("{}", finished_line(&r.summary, "wall", &r.dir));
+            if let Some(w) = crate::report::energy_warning(&r.summary) {
+                eprintln!("warning: {w}");
+            }
             Ok(0)
         }
         Cmd::Resume {
@@ -578,6 +581,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             stop_on_signals()?;
             let r = on_pool(|| crate::restart::resume(&dir, &o))?;
             println!("{}", finished_line(&r.summary, "wall in all", &r.dir));
+            if let Some(w) = crate::report::energy_warning(&r.summary) {
+                eprintln!("warning: {w}");
+            }
             Ok(0)
         }
         Cmd::Check { case, args, case_dir } => {
