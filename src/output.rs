@@ -608,7 +608,8 @@ pub fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)>
     }
 }
 
-fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
+/// One `Step#N` group of an open particles.h5, read whole.
+pub(crate) fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
     let g = f.group(name).map_err(h5err)?;
     let rd = |n: &str| -> Result<Vec<f64>> { g.dataset(n).and_then(|d| d.read_raw::<f64>()).map_err(h5err) };
     let opt = |n: &str| -> Result<Vec<f64>> { if g.link_exists(n) { rd(n) } else { Ok(Vec::new()) } };

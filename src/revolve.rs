@@ -10,7 +10,7 @@
 //! (a temporal collection of polyvertex grids) goes beside the run's own files.
 
 use crate::error::{Result, SphError, input};
-use crate::output::{Frame, read_frames};
+use crate::output::{Frame, read_group};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -35,9 +35,37 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
             dir.display()
         )));
     }
-    let frames = read_frames(&dir.join("particles.h5"))?;
-    if frames.is_empty() {
+    let path = dir.join("particles.h5");
+    let damaged = |e: hdf5::Error| input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
+    let src = hdf5::File::open(&path).map_err(damaged)?;
+    let mut names: Vec<(usize, String)> = src
+        .member_names()
+        .map_err(damaged)?
+        .into_iter()
+        .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
+        .collect();
+    names.sort();
+    if names.is_empty() {
         return Err(input(format!("{}: particles.h5 holds no output step", dir.display())));
+    }
+    // the memory one revolved step takes while it is written, before anything is: the rings of
+    // the largest step times the sectors (a million rings at 720 sectors asked for 17 GB at once)
+    let rings = names
+        .iter()
+        .map(|(_, n)| src.group(n).and_then(|g| g.dataset("x")).map(|d| d.size()))
+        .collect::<std::result::Result<Vec<usize>, _>>()
+        .map_err(damaged)?;
+    let most = rings.iter().copied().max().unwrap_or(0);
+    let need = (most * sectors) as f64 * POINT_BYTES + most as f64 * RING_BYTES;
+    let (limit, from) = crate::case::size::memory_limit();
+    if need > limit {
+        let fit = ((limit - most as f64 * RING_BYTES) / (most as f64 * POINT_BYTES)).floor().max(0.0);
+        return Err(input(format!(
+            "--sectors {sectors}: {most} rings make {} points a step, about {} of memory while a step is written, more than {} ({from}): at most {fit} sectors here",
+            most * sectors,
+            crate::case::size::bytes_text(need),
+            crate::case::size::bytes_text(limit)
+        )));
     }
     let h5 = dir.join("revolved.h5");
     let xmf = dir.join("revolved.xmf");
@@ -46,17 +74,35 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
             return Err(input(format!("{}: exists (remove it to revolve again)", p.display())));
         }
     }
-    let file = hdf5::File::create_excl(&h5).map_err(h5err)?;
+    // written under a temporary name, renamed when complete (a revolve that was killed left a
+    // revolved.h5 that refused the next one)
+    let tmp = dir.join("revolved.h5.part");
+    match std::fs::remove_file(&tmp) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
+    }
+    let file = hdf5::File::create_excl(&tmp).map_err(h5err)?;
     let theta = angle_deg.to_radians();
     let mut steps = Vec::new();
-    for (k, f) in frames.iter().enumerate() {
-        let m = write_step(&file, k, f, sectors, theta)?;
+    // one output step at a time
+    for (k, (_, name)) in names.iter().enumerate() {
+        let f = read_group(&src, name).map_err(|e| input(format!("{}: {name}: {e}", path.display())))?;
+        let m = write_step(&file, k, &f, sectors, theta)?;
         steps.push((f.time, m));
     }
     file.flush().map_err(h5err)?;
+    drop(file);
+    std::fs::rename(&tmp, &h5).map_err(|e| SphError::Io(format!("{}: {e}", h5.display())))?;
     crate::rundir::write_atomic(&xmf, xdmf("revolved.h5", &steps).as_bytes())?;
     Ok(xmf)
 }
+
+/// Bytes a revolved point takes while its step is written (the arrays of `write_step`: xyz and
+/// vxyz 48, the five scalars 40, mat, id and cell 20, with a margin for HDF5's chunk buffers).
+const POINT_BYTES: f64 = 128.0;
+/// Bytes a ring of the run takes in the step read from particles.h5 (its 16 arrays).
+const RING_BYTES: f64 = 128.0;
 
 /// One output step, revolved: returns the number of points written.
 fn write_step(file: &hdf5::File, k: usize, f: &Frame, sectors: usize, theta: f64) -> Result<usize> {
