@@ -153,6 +153,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set_n("h_over_dx of 0.4 with the cubic kernel", tube, "sph.h_over_dx=0.4", "neighbour"),
         // a table for every entry of an array of tables (a table for one entry sets its keys)
         set_n("a table for all the regions", s1, "region={rho_kgm3=1500.0}", "every [[region]] entry"),
+        set_n("an RZ Sedov centre off the axis", "verify/sedov_rz.toml", "analysis.center_m=[-1.0,0.0]", "on the axis"),
         set("a count that is not a whole number", tube, "region.left.count=[1e12]"),
         set("h a million spacings", s1, "sph.h_over_dx=1e6"),
         set_n("an h cap below the initial h", s1, "sph.h_max_ratio=0.5", "h_max_ratio"),
@@ -319,6 +320,18 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         bad("--end-time NaN", &["run", &tube, "--end-time", "NaN"]),
         bad("--end-time 0", &["run", &tube, "--end-time", "0"]),
         bad("--end-time negative", &["run", &tube, "--end-time=-1"]),
+        {
+            // a negative number after a space is the flag's value, refused by its own check
+            // (it was "unexpected argument '-1'")
+            let mut b = bad("--end-time -1 (after a space)", &["run", &tube, "--end-time", "-1"]);
+            b.needle = Some("--end-time -1: must be a positive time".into());
+            b
+        },
+        {
+            let mut b = bad("--threads -1 (after a space)", &["run", &tube, "--threads", "-1"]);
+            b.needle = Some("'--threads <N>'".into());
+            b
+        },
         bad("--end-time 1e300", &["check", &tube, "--end-time", "1e300"]),
         bad("--progress-every NaN", &["run", &tube, "--progress-every", "nan"]),
         bad("--progress-every negative", &["run", &tube, "--progress-every=-5"]),

@@ -393,6 +393,17 @@ fn one_line(s: &str) -> String {
         .join(" ")
 }
 
+/// The command line, parsed: a negative number after a flag is its value (`--end-time -1` is
+/// refused by the flag's own range check, naming it, not taken for an unknown flag `-1`).
+fn parse_args() -> std::result::Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    fn negatives(c: clap::Command) -> clap::Command {
+        c.allow_negative_numbers(true).mut_subcommands(negatives)
+    }
+    let m = negatives(Cli::command()).try_get_matches()?;
+    Cli::from_arg_matches(&m)
+}
+
 /// Entry point; returns the exit status: 0 done, 1 an I/O failure during a run, 2 refused input,
 /// 3 unstable, 4 a dual run out of tolerance, 5 stopped cleanly by a signal (README).
 pub fn main() -> i32 {
@@ -410,7 +421,7 @@ pub fn main() -> i32 {
         let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
         eprintln!("{}", one_line(&format!("internal error (a bug in blastsph, please report it): {msg}{at}")));
     }));
-    let cli = match Cli::try_parse() {
+    let cli = match parse_args() {
         Ok(c) => c,
         Err(e) => {
             use clap::error::ErrorKind;
