@@ -195,6 +195,7 @@ pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
 
 /// The report, with snapshots at `times` and, when `animate`, animation.gif.
 pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
+    let _lock = crate::rundir::lock_read(dir, "report")?;
     let (case, mut summary) = load_case(dir)?;
     let (frames, skipped) = crate::output::read_complete_frames(&dir.join("particles.h5"))?;
     let last = frames.last().ok_or_else(|| input(format!("{}: particles.h5 holds no step", dir.display())))?;

@@ -136,6 +136,9 @@ pub fn read(dir: &Path) -> Result<(Blob<'static>, Value)> {
 pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let shown = dir.display().to_string();
     crate::rundir::check_existing(dir, "resume")?;
+    // held until the resumed run ends (two resumes of one folder both ran; the later one failed
+    // at its end)
+    let _lock = crate::rundir::lock_run(dir, "resume")?;
     let (blob, meta) = read(dir)?;
     let case_path = dir.join("case.toml");
     let text = crate::case::read_text(&case_path).map_err(|e| input(format!("resume {shown}: {e}")))?;

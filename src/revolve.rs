@@ -28,6 +28,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     if !(angle_deg.is_finite() && angle_deg > 0.0 && angle_deg <= 360.0) {
         return Err(input(format!("--angle {angle_deg}: degrees, in (0, 360]")));
     }
+    let _lock = crate::rundir::lock_read(dir, "revolve")?;
     let (case, _) = crate::report::load_case(dir)?;
     if !case.axisymmetric() {
         return Err(input(format!(

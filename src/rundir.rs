@@ -32,7 +32,52 @@ pub fn is_ours(name: &str) -> bool {
             | "dual_report.json"
             | "dual_free.json"
             | "ledger.json"
+            | LOCK
     ) || (base.ends_with(".png") && !base.contains('/'))
+}
+
+/// The file a run locks (flock) in its run directory while it writes it.
+pub const LOCK: &str = "run.lock";
+
+/// A lock on a run directory, held until it is dropped (or the process ends, however it ends).
+pub struct DirLock(#[allow(dead_code)] File);
+
+/// Takes the run directory `dir` (which exists) for a run or a resume: an exclusive lock on
+/// `dir/run.lock`; refused with one line when another process holds it (a run writing the
+/// folder). A file system without locks is not refused (nothing to lock with).
+pub fn lock_run(dir: &Path, what: &str) -> Result<DirLock> {
+    let path = dir.join(LOCK);
+    let mut o = OpenOptions::new();
+    o.read(true).write(true).create(true).truncate(false);
+    nofollow(&mut o);
+    let f = o.open(&path).map_err(|e| input(format!("{what} {}: cannot open {LOCK} ({e})", dir.display())))?;
+    match f.try_lock() {
+        Ok(()) => Ok(DirLock(f)),
+        Err(std::fs::TryLockError::WouldBlock) => Err(input(format!(
+            "{what} {}: a run is writing it now (another blastsph process holds its {LOCK}): wait for it to end, or stop it (Ctrl-C, kill -TERM) first",
+            dir.display()
+        ))),
+        Err(std::fs::TryLockError::Error(_)) => Ok(DirLock(f)),
+    }
+}
+
+/// For a reader of a run directory (`report`, `revolve`): refused with one line while a run
+/// holds the folder's lock (its particles.h5 is open for writing and its summary not final);
+/// `None` where the folder has no lock file.
+pub fn lock_read(dir: &Path, what: &str) -> Result<Option<DirLock>> {
+    let path = dir.join(LOCK);
+    let mut o = OpenOptions::new();
+    o.read(true);
+    nofollow(&mut o);
+    let Ok(f) = o.open(&path) else { return Ok(None) };
+    match f.try_lock_shared() {
+        Ok(()) => Ok(Some(DirLock(f))),
+        Err(std::fs::TryLockError::WouldBlock) => Err(input(format!(
+            "{what} {}: a run is writing it now (another blastsph process holds its {LOCK}): {what} it when the run has ended or stopped, or {what} a copy of the folder",
+            dir.display()
+        ))),
+        Err(std::fs::TryLockError::Error(_)) => Ok(None),
+    }
 }
 
 /// A folder name from a case name: at most 100 characters of `[A-Za-z0-9._-]`, others `_`, no
@@ -144,7 +189,10 @@ pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
                 if ft.is_symlink() || ft.is_dir() || !is_ours(&name) {
                     return Ok(Found::Other(name));
                 }
-                entries.push(name);
+                // the lock alone is no run
+                if name != LOCK {
+                    entries.push(name);
+                }
             }
             if entries.is_empty() {
                 return Ok(Found::Empty);
@@ -170,6 +218,10 @@ pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
             let e = e.map_err(|e| io(dir, e))?;
             let name = e.file_name().to_string_lossy().into_owned();
             let ft = e.file_type().map_err(|e| io(dir, e))?;
+            // (the lock stays: the run clearing the folder holds it)
+            if name == LOCK && ft.is_file() {
+                continue;
+            }
             if ft.is_dir() || !(is_ours(&name) || ft.is_symlink()) {
                 return Err(input(format!(
                     "--force {}: it holds `{name}`, which blastsph did not write (--force clears only run directories)",

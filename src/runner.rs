@@ -90,6 +90,12 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     let dir = opts.out.clone().unwrap_or_else(|| rundir::default_dir(case.name()));
     let as_run = case_as_run(&text, &origin, opts)?;
     let found = rundir::inspect(&dir, "--out")?;
+    // a folder that exists is locked before it is looked into further or cleared (a run into a
+    // folder another run is writing deleted that run's files); a new one once it is made
+    let lock = match found {
+        Found::Missing => None,
+        _ => Some(rundir::lock_run(&dir, "--out")?),
+    };
     let shown = dir.display();
     let clear = match found {
         Found::Missing | Found::Empty => false,
@@ -109,6 +115,8 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
                 eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
             }
             let ro = crate::restart::ResumeOptions::of_run(opts);
+            // (resume takes the lock itself)
+            drop(lock);
             return crate::restart::resume(&dir, &ro);
         }
         _ if opts.force => true,
@@ -125,6 +133,10 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     };
     let sim = Sim::new(case, &opts.ov)?;
     rundir::prepare(&dir, clear)?;
+    let _lock = match lock {
+        Some(l) => l,
+        None => rundir::lock_run(&dir, "--out")?,
+    };
     if !opts.quiet {
         // the settings known to fail, as `blastsph check` lists them (once the run directory is
         // ready: a refused run stays one line)

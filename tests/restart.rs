@@ -487,3 +487,40 @@ fn a_checkpoint_one_ulp_off_gives_another_run() {
     let diff = difference(&r, &dir);
     assert!(diff.is_some(), "{moved} velocities one ULP off, and the run is bitwise the same");
 }
+
+/// A run directory a run is writing is locked (run.lock): `run --force` into it, `resume` and
+/// `report` are refused with one line while the run goes on (`--force` deleted the running run's
+/// files, which then died at its next output); after the run the folder reports as usual.
+#[test]
+fn a_folder_a_run_is_writing_is_refused_to_other_commands() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path().join("live");
+    let mut child = run_to(&dir, "rust", 1, 1.0, &["--checkpoint-every", "20"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    while summary(&dir).is_none_or(|s| s["status"] != "running") {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before it could be disturbed");
+        assert!(t0.elapsed() < Duration::from_secs(120), "no summary.json after 2 minutes");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let force = run_to(&dir, "rust", 1, END, &["--force"]).output().unwrap();
+    let rep = bin().arg("report").arg(&dir).output().unwrap();
+    let res = resume(&dir, 1, &[]);
+    let alive = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(alive, "the run was still going while the others were refused");
+    for (what, o) in [("run --force", &force), ("report", &rep), ("resume", &res)] {
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{what}: {}", shown(o));
+        assert_eq!(err.lines().count(), 1, "{what}: one line: {err}");
+        assert!(err.contains("a run is writing it now"), "{what}: {err}");
+    }
+    assert!(dir.join("particles.h5").is_file() && dir.join("case.toml").is_file(), "the run's files are there");
+    // the run was killed: its folder is free again
+    let r = resume(&dir, 1, &["--end-time", "2e-5"]);
+    assert!(!text(&r.stderr).contains("a run is writing it now"), "{}", shown(&r));
+}
