@@ -545,6 +545,11 @@ pub fn hint(case: &Case, msg: &str) -> String {
     if msg.contains("smoothing length") {
         out.push("cap h with sph.h_max_ratio, or use sph.smoothing = \"density\"");
     }
+    if msg.contains("the end is out of reach") {
+        // the step is what it is (a smaller CFL number would only need more of them): the end
+        // time, the step's caps or the steps allowed are what to change
+        out.push("give an end time the run can reach (--end-time), raise time.max_steps, or lift a cap on the step (time.dt_max_s)");
+    }
     if msg.contains("max_steps reached") {
         // not a blow-up: the step limit (lowering the CFL number would only need more steps)
         out.push("raise time.max_steps (a safety limit: t over the steps taken shows whether the step has collapsed)");
@@ -569,7 +574,7 @@ pub fn hint(case: &Case, msg: &str) -> String {
     if early {
         out.push("read `blastsph check`'s warnings first: a run that fails within its first steps usually starts from a bad set-up (particles of two regions too close, a charge off the soil's cells)");
     }
-    if out.is_empty() || (early && out.len() == 1) {
+    if out.is_empty() || (early && out.len() == 1 && !msg.contains("the end is out of reach")) {
         out.push(if case.time.step == StepRule::Cfl { "lower time.cfl (e.g. 0.15)" } else { "lower time.dt_s" });
     }
     format!("likely fix: {} (docs/validation.md, \"Safe defaults: what `check` and `run` warn of\")", out.join("; "))
@@ -591,6 +596,11 @@ mod tests {
         let h = hint(&case(""), "step 40: time.max_steps reached at t = 6.4e-5 s before the end time");
         assert!(h.contains("raise time.max_steps"), "{h}");
         assert!(!h.contains("lower time.cfl"), "{h}");
+        let h = hint(
+            &case(""),
+            "step 200 (t = 1e-3 s): at the pace of the last 100 steps (mean dt = 1e-5 s) the run needs about 1e11 more steps to reach 1e6 s, more than 10 × time.max_steps = 1e7 in all: the end is out of reach",
+        );
+        assert!(h.contains("--end-time") && !h.contains("lower time.cfl"), "{h}");
     }
 
     #[test]

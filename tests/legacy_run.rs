@@ -430,7 +430,10 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
         let se = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(3), "{cmd}: {se}");
         let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{cmd}: {se}"));
-        assert!(line.contains("legacy routine p_gas ended the process at step 1 (a STOP"), "{cmd}: {se}");
+        assert!(
+            line.contains("legacy routine p_gas ended the process at step 1") && line.contains("(a STOP, a CALL EXIT"),
+            "{cmd}: {se}"
+        );
     }
     // the run's particles.h5 was closed, not cut off by the exit: a valid file (the STOP came
     // before the first frame, so it holds no step)

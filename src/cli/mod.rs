@@ -748,6 +748,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 println!("{rep}");
                 Ok(0)
             } else {
+                // a signal stops it after the step, with the steps so far reported (status 5)
+                stop_on_signals()?;
                 on_pool(|| dual_run(c, &ov, steps.unwrap_or(100), &dir))
             }
         }

@@ -100,6 +100,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
     sim.enable_dual(Comparator::new(sim.cfg.dim));
     let mut done = 0;
     let mut diag = None;
+    let mut signalled = false;
     // a fixed step: the number of steps `run` takes, round(end/dt)
     let fixed =
         (sim.cfg.step == case::StepRule::Fixed).then(|| (sim.cfg.end / sim.cfg.dt_fixed).round().max(1.0) as u64);
@@ -114,6 +115,11 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
             break;
         }
         done += 1;
+        // SIGINT or SIGTERM: the steps so far are reported, and the status is 5
+        if crate::runner::stop_flag().load(std::sync::atomic::Ordering::Relaxed) {
+            signalled = true;
+            break;
+        }
     }
     let cmp = sim.cmp.take().unwrap_or_default();
     print!("{}", cmp.table());
@@ -124,6 +130,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         "steps": done,
         "time": sim.t,
         "within_tolerance": ok,
+        "stopped_by_signal": signalled,
         "diagnostic": diag,
         "not_compared": uncompared,
         "legacy": sim.plan.legacy,
@@ -151,6 +158,7 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
             unrun.len()
         )
     };
+    let not = if signalled { format!("{not}; STOPPED by a signal before --steps") } else { not };
     let stopped = diag.as_ref().map_or(String::new(), |d| {
         format!(" (and step {done} of the report's rows, counted from 0, up to where it stopped); STOPPED before the end: {d}")
     });
@@ -170,6 +178,8 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         4
     } else if diag.is_some() {
         3
+    } else if signalled {
+        5
     } else {
         0
     })
