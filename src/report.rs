@@ -199,6 +199,24 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     let (case, mut summary) = load_case(dir)?;
     let (frames, skipped) = crate::output::read_complete_frames(&dir.join("particles.h5"))?;
     let last = frames.last().ok_or_else(|| input(format!("{}: particles.h5 holds no step", dir.display())))?;
+    // the file is this run's: its first step holds the run's particles, of the case's materials
+    // (another run's particles.h5 copied in was reported as this case's)
+    if let Some(n) = summary["particles"].as_u64()
+        && frames[0].x.len() as u64 != n
+    {
+        return Err(input(format!(
+            "{}: particles.h5 holds {} particles at its first step, summary.json says the run has {n}: not this run's file",
+            dir.display(),
+            frames[0].x.len()
+        )));
+    }
+    if let Some(&m) = frames.iter().flat_map(|f| f.mat.iter()).find(|&&m| m < 0 || m as usize >= case.materials.len()) {
+        return Err(input(format!(
+            "{}: particles.h5 holds material {m}, the case has {} materials: not this run's file",
+            dir.display(),
+            case.materials.len()
+        )));
+    }
     crate::rundir::remove_report(dir)?;
     // a run that did not finish: reported up to its last complete output
     let partial = summary["partial"].as_bool().unwrap_or(false)

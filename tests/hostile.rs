@@ -447,6 +447,15 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
             }),
         ),
         ("a planted link", Box::new(|d: &Path| std::os::unix::fs::symlink("/etc/passwd", d.join("x.png")).unwrap())),
+        (
+            // as when another run's particles.h5 is copied in (it was reported as this case's)
+            "particles.h5 of another particle count",
+            Box::new(|d: &Path| {
+                let s = std::fs::read_to_string(d.join("summary.json")).unwrap();
+                assert!(s.contains("\"particles\": 400"), "{s}");
+                std::fs::write(d.join("summary.json"), s.replace("\"particles\": 400", "\"particles\": 401")).unwrap();
+            }),
+        ),
     ];
     for (k, (what, f)) in dirs.iter().enumerate() {
         let dir = damaged(&format!("damaged{k}"), f.as_ref());
