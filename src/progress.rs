@@ -102,7 +102,7 @@ impl Progress {
         match self.mode {
             Mode::Quiet => {}
             Mode::Bar => {
-                if nstep % 10 == 0 {
+                if nstep.is_multiple_of(10) {
                     let el = self.start.elapsed().as_secs_f64().max(1e-9);
                     self.bar.set_position(((t / self.end) * 1000.0).clamp(0.0, 1000.0) as u64);
                     self.bar.set_message(format!(

@@ -119,7 +119,7 @@ impl Sim {
     /// One leapfrog step. Returns the step taken (s).
     pub fn step(&mut self) -> Result<f64> {
         let every = self.case.sph.reorder_every;
-        if every > 0 && self.nstep > 0 && self.nstep % every == 0 {
+        if every > 0 && self.nstep > 0 && self.nstep.is_multiple_of(every) {
             self.reorder();
         }
         if self.nstep > 0 {
