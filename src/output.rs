@@ -402,11 +402,7 @@ fn rebuild(path: &Path, written: &[StepInfo], dim: usize) -> Result<()> {
     let bad = |what: String| crate::error::input(format!("{}: {what}", path.display()));
     let src = hdf5::File::open(path).map_err(|e| bad(format!("damaged or not HDF5 ({e})")))?;
     let tmp = path.with_extension("h5.rebuild");
-    match std::fs::remove_file(&tmp) {
-        Ok(()) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
-    }
+    remove_stale(&tmp)?;
     {
         let dst = hdf5::File::create_excl(&tmp).map_err(h5err)?;
         for (k, st) in written.iter().enumerate() {
@@ -536,9 +532,9 @@ pub struct Frame {
     pub p_peak: Vec<f64>,
 }
 
-/// Reads the groups of a particles.h5, in step order.
-pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
-    // a file that cannot be read is the input's fault (a damaged run directory): exit status 2
+/// Opens a particles.h5 for reading and lists its `Step#N` groups by N (a file that cannot be
+/// read is the input's fault, a damaged run directory: exit status 2).
+pub(crate) fn open_steps(path: &Path) -> Result<(hdf5::File, Vec<(usize, String)>)> {
     let damaged =
         |e: hdf5::Error| crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
     let f = hdf5::File::open(path).map_err(damaged)?;
@@ -549,6 +545,21 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
         .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
         .collect();
     names.sort();
+    Ok((f, names))
+}
+
+/// Removes a temporary file a killed writer may have left (none is no error).
+pub(crate) fn remove_stale(tmp: &Path) -> Result<()> {
+    match std::fs::remove_file(tmp) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(SphError::Io(format!("{}: {e}", tmp.display()))),
+    }
+}
+
+/// Reads the groups of a particles.h5, in step order.
+pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
+    let (f, names) = open_steps(path)?;
     let mut out = Vec::new();
     for (_, name) in names {
         let fr = read_group(&f, &name).map_err(|e| crate::error::input(format!("{}: {name}: {e}", path.display())))?;
@@ -582,17 +593,7 @@ pub fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)>
     match read_frames(path) {
         Ok(f) => Ok((f, None)),
         Err(e) => {
-            let damaged = |e: hdf5::Error| {
-                crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()))
-            };
-            let f = hdf5::File::open(path).map_err(damaged)?;
-            let mut names: Vec<(usize, String)> = f
-                .member_names()
-                .map_err(damaged)?
-                .into_iter()
-                .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
-                .collect();
-            names.sort();
+            let (f, names) = open_steps(path)?;
             let mut out = Vec::new();
             for (k, (_, name)) in names.iter().enumerate() {
                 match read_group(&f, name) {

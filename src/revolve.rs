@@ -38,14 +38,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     }
     let path = dir.join("particles.h5");
     let damaged = |e: hdf5::Error| input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
-    let src = hdf5::File::open(&path).map_err(damaged)?;
-    let mut names: Vec<(usize, String)> = src
-        .member_names()
-        .map_err(damaged)?
-        .into_iter()
-        .filter_map(|n| n.strip_prefix("Step#").and_then(|k| k.parse().ok()).map(|k| (k, n.clone())))
-        .collect();
-    names.sort();
+    let (src, names) = crate::output::open_steps(&path)?;
     if names.is_empty() {
         return Err(input(format!("{}: particles.h5 holds no output step", dir.display())));
     }
@@ -78,11 +71,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     // written under a temporary name, renamed when complete (a revolve that was killed left a
     // revolved.h5 that refused the next one)
     let tmp = dir.join("revolved.h5.part");
-    match std::fs::remove_file(&tmp) {
-        Ok(()) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
-    }
+    crate::output::remove_stale(&tmp)?;
     let file = hdf5::File::create_excl(&tmp).map_err(h5err)?;
     let theta = angle_deg.to_radians();
     let mut steps = Vec::new();
