@@ -90,11 +90,12 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     let dir = opts.out.clone().unwrap_or_else(|| rundir::default_dir(case.name()));
     let as_run = case_as_run(&text, &origin, opts)?;
     let found = rundir::inspect(&dir, "--out")?;
-    // a folder that exists is locked before it is looked into further or cleared (a run into a
-    // folder another run is writing deleted that run's files); a new one once it is made
+    // a run's folder is locked before it is looked into further or cleared (a run into a folder
+    // another run is writing deleted that run's files); a new or empty one once it is made (a
+    // refused run writes nothing into it), and one of other files is refused below untouched
     let lock = match found {
-        Found::Missing => None,
-        _ => Some(rundir::lock_run(&dir, "--out")?),
+        Found::Run { .. } => Some(rundir::lock_run(&dir, "--out")?),
+        _ => None,
     };
     let shown = dir.display();
     let clear = match found {

@@ -441,3 +441,25 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
     let se = String::from_utf8_lossy(&o.stderr);
     assert!(se.contains("holds no step") && !se.contains("damaged"), "{se}");
 }
+
+/// A NaN sound speed from a legacy EOS shows first in its neighbours' viscosity rates; the
+/// diagnostic names the non-finite value and the legacy stages that write it (it named only the
+/// viscosity), and the hint points at `dual --legacy`.
+#[test]
+fn a_nan_from_a_legacy_routine_is_traced_to_the_routine_that_writes_it() {
+    let d = variant_built("nan_c", "eos.f", |t| {
+        t.replacen(
+            "      c = sqrt((gam - 1)*u)\n",
+            "      c = sqrt((gam - 1)*u)\n      if (rho .gt. 0.3d0 .and. rho .lt. 0.99d0) c = sqrt(-u)\n",
+            1,
+        )
+    });
+    let lg = d.join("build");
+    let o =
+        blastsph(&["run", "shock_tube", "--legacy", lg.to_str().unwrap(), "--out", d.join("run").to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{se}");
+    let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{se}"));
+    assert!(line.contains("non-finite rate") && line.contains("c is NaN already (written by legacy."), "{line}");
+    assert!(line.contains("`blastsph dual --legacy` names the first one"), "{line}");
+}

@@ -187,7 +187,12 @@ impl Sim {
                     .collect()
             };
             let by = Some(writers(false)).filter(|b| !b.is_empty()).unwrap_or_else(|| writers(true));
-            let who = if j == i { "its".to_string() } else { format!("its neighbour {}'s", self.p.id[j]) };
+            let who = match (j == i, self.p.id.get(j).filter(|_| j < self.p.nreal)) {
+                (true, _) => "its".to_string(),
+                (false, Some(id)) => format!("its neighbour {id}'s"),
+                // a wall's or symmetry plane's image, which has no id of its own
+                (false, None) => format!("its neighbour {j}'s (a virtual particle, a wall's image)"),
+            };
             format!(
                 "; {who} {} is {v} already (written by {})",
                 f.name(),
