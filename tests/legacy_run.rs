@@ -463,3 +463,26 @@ fn a_nan_from_a_legacy_routine_is_traced_to_the_routine_that_writes_it() {
     assert!(line.contains("non-finite rate") && line.contains("c is NaN already (written by legacy."), "{line}");
     assert!(line.contains("`blastsph dual --legacy` names the first one"), "{line}");
 }
+
+/// A set-up routine whose particles are not the ones the case describes is said once (the run
+/// takes the routine's; only maxn was checked).
+#[test]
+fn a_setup_routine_of_another_particle_count_is_warned_of() {
+    let d = scratch("setup_count");
+    let lg = shared().to_str().unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        let mut a = vec!["run", "shock_tube", "--legacy", lg, "--compat", "liu-book", "--quiet", "--out", out];
+        a.extend_from_slice(extra);
+        blastsph(&a)
+    };
+    let same = run(d.join("same").to_str().unwrap(), &[]);
+    assert_eq!(same.status.code(), Some(0), "{}", String::from_utf8_lossy(&same.stderr));
+    assert!(!String::from_utf8_lossy(&same.stderr).contains("particles, the case describes"));
+    let other = run(
+        d.join("other").to_str().unwrap(),
+        &["--set", "region.left.count=[300]", "--set", "region.left.spacing_m=0.002"],
+    );
+    let se = String::from_utf8_lossy(&other.stderr);
+    assert_eq!(other.status.code(), Some(0), "{se}");
+    assert!(se.contains("warning: legacy input made 400 particles, the case describes 380"), "{se}");
+}

@@ -263,6 +263,16 @@ impl Legacy {
         let region: Vec<u32> = mat.iter().map(|&m| region_of(m)).collect();
         let mut counts = vec![0usize; case.regions.len().max(1)];
         region.iter().for_each(|&r| counts[r as usize] += 1);
+        // the case must still describe these particles (docs/migration.md A.6): a count that
+        // differs is said once (the run takes the routine's particles, while the case's gauges,
+        // charge and walls were written for its own)
+        let described = base.x.len() / dim.max(1);
+        if described != n {
+            eprintln!(
+                "warning: legacy {} made {n} particles, the case describes {described}: the run takes the routine's (check that the case's regions, gauges and charge are the ones your program sets up)",
+                r.name
+            );
+        }
         Ok(Initial { x, v, rho, e, h, mass, mat, region, counts, dx_min: base.dx_min })
     }
 
