@@ -563,10 +563,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| runner::run(&case, &opts))?;
-            println!("{}", finished_line(&r.summary, "wall", &r.dir));
-            if let Some(w) = crate::report::energy_warning(&r.summary) {
-                eprintln!("warning: {w}");
-            }
+            finished(&r, "wall");
             Ok(0)
         }
         Cmd::Resume {
@@ -591,10 +588,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| crate::restart::resume(&dir, &o))?;
-            println!("{}", finished_line(&r.summary, "wall in all", &r.dir));
-            if let Some(w) = crate::report::energy_warning(&r.summary) {
-                eprintln!("warning: {w}");
-            }
+            finished(&r, "wall in all");
             Ok(0)
         }
         Cmd::Check { case, args, case_dir } => {
@@ -753,6 +747,15 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 on_pool(|| dual_run(c, &ov, steps.unwrap_or(100), &dir))
             }
         }
+    }
+}
+
+/// What a finished `run` or `resume` prints: its line, and a warning when its energy balance is
+/// off (src/report.rs `energy_warning`).
+fn finished(r: &runner::RunResult, wall: &str) {
+    println!("{}", finished_line(&r.summary, wall, &r.dir));
+    if let Some(w) = crate::report::energy_warning(&r.summary) {
+        eprintln!("warning: {w}");
     }
 }
 

@@ -646,30 +646,32 @@ impl Legacy {
                     bind::is_scratch(n) && bound.iter().enumerate().any(|(o, names)| o != ri && names.contains(n))
                 });
                 let term = bound[ri].iter().any(|n| n == "dvxdt" || n == "dedt");
-                // a near miss: a stage whose inputs are all among the routine's arguments but
-                // whose outputs are not all (the same physics, one output short: a routine of
-                // another formulation, the book's con_density in a summation case, is no miss)
-                let near = mods.iter().flat_map(|&m| fresh(m, ctx)).any(|(_, s)| {
-                    s.reads().iter().all(|f| argf.contains(f) || IMPLIED.contains(f))
-                        && !s.writes().iter().all(|f| argf.contains(f))
-                });
-                // what each stage it might stand for needs and the routine does not give
-                let lacks: Vec<String> = mods
+                // for each stage it might stand for, what it writes and what it reads that are
+                // not among the routine's arguments
+                let missing: Vec<(&'static str, Vec<String>, Vec<String>)> = mods
                     .iter()
                     .flat_map(|&m| fresh(m, ctx))
                     .map(|(_, s)| {
-                        let out: Vec<String> =
-                            s.writes().iter().filter(|f| !argf.contains(f)).map(|f| f.name().to_string()).collect();
-                        let inp: Vec<String> = s
-                            .reads()
-                            .iter()
-                            .filter(|f| !argf.contains(f) && !IMPLIED.contains(f))
-                            .map(|f| f.name().to_string())
-                            .collect();
-                        if !out.is_empty() {
-                            format!("{} also writes {}", s.name(), out.join(", "))
+                        let names = |fs: &[Field], implied: bool| -> Vec<String> {
+                            fs.iter()
+                                .filter(|f| !(argf.contains(f) || (implied && IMPLIED.contains(f))))
+                                .map(|f| f.name().to_string())
+                                .collect()
+                        };
+                        (s.name(), names(s.writes(), false), names(s.reads(), true))
+                    })
+                    .collect();
+                // a near miss: a stage whose inputs are all among the arguments but not all its
+                // outputs (the same physics, one output short; a routine of another formulation,
+                // the book's con_density in a summation case, is no miss)
+                let near = missing.iter().any(|(_, out, inp)| inp.is_empty() && !out.is_empty());
+                let lacks: Vec<String> = missing
+                    .iter()
+                    .map(|(name, out, inp)| {
+                        if out.is_empty() {
+                            format!("{name} reads {}", inp.join(", "))
                         } else {
-                            format!("{} reads {}", s.name(), inp.join(", "))
+                            format!("{name} also writes {}", out.join(", "))
                         }
                     })
                     .collect();
