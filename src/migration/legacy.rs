@@ -646,6 +646,10 @@ impl Legacy {
                     bind::is_scratch(n) && bound.iter().enumerate().any(|(o, names)| o != ri && names.contains(n))
                 });
                 let term = bound[ri].iter().any(|n| n == "dvxdt" || n == "dedt");
+                if !active {
+                    note("not run", format!("the case does not run {}", r.modules.join(",")), json!({}));
+                    continue;
+                }
                 // for each stage it might stand for, what it writes and what it reads that are
                 // not among the routine's arguments
                 let missing: Vec<(&'static str, Vec<String>, Vec<String>)> = mods
@@ -683,11 +687,7 @@ impl Legacy {
                 } else {
                     ""
                 };
-                if !active || !(term || shared_scratch) {
-                    if !active {
-                        note("not run", format!("the case does not run {}", r.modules.join(",")), json!({}));
-                        continue;
-                    }
+                if !(term || shared_scratch) {
                     let why = if near {
                         format!(
                             "it computes none of the case's {} stages from its arguments: {}, not among them{hint}; blastsph's own {} runs in its place",
