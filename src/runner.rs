@@ -327,6 +327,17 @@ impl Loop {
         )
         .starting_at(self.sim.t, self.sim.nstep);
         let stop = stop_flag();
+        // a legacy STOP ends the process inside a step: its exit handler marks this summary
+        struct Watch;
+        impl Drop for Watch {
+            fn drop(&mut self) {
+                crate::migration::ffi::report_exit_to(None);
+            }
+        }
+        let _watch = (!self.sim.plan.legacy.is_null()).then(|| {
+            crate::migration::ffi::report_exit_to(Some(self.dir.join("summary.json")));
+            Watch
+        });
         let cp = opts.checkpoints;
         let (mut cp_step, mut cp_wall) = (self.sim.nstep, Instant::now());
         let mut diag: Option<SphError> = None;

@@ -442,6 +442,45 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
     assert!(se.contains("holds no step") && !se.contains("damaged"), "{se}");
 }
 
+/// A `STOP` later in a run leaves its summary.json saying how the run ended (it said "running",
+/// from the run's start or its last checkpoint), and `report` reads the frames written before it.
+#[test]
+fn a_stop_later_in_a_run_is_told_in_its_summary() {
+    let d = variant_built("stop_later", "eos.f", |t| {
+        t.replacen(
+            "      p = (gam - 1)*rho*u\n",
+            "      if (u .gt. 2.0d0 .and. u .lt. 2.45d0) stop 'p_gas: bad state'\n      p = (gam - 1)*rho*u\n",
+            1,
+        )
+    });
+    let (lg, run) = (d.join("build"), d.join("run"));
+    let o = blastsph(&[
+        "run",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+        "--set",
+        "time.output_interval_s=0.005",
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{se}");
+    let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{se}"));
+    let at = line.split("ended the process at step ").nth(1).unwrap_or_else(|| panic!("{line}"));
+    let step: u64 = at.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(step > 1, "{line}");
+    let sj: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(sj["status"], "unstable", "{sj}");
+    assert_eq!(sj["partial"], true, "{sj}");
+    let diag = sj["diagnostic"].as_str().unwrap();
+    assert!(diag.contains(&format!("legacy routine p_gas ended the process at step {step} ")), "{diag}");
+    // the frames before the STOP are read
+    let o = blastsph(&["report", run.to_str().unwrap()]);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{so}{se}");
+}
+
 /// A NaN sound speed from a legacy EOS shows first in its neighbours' viscosity rates; the
 /// diagnostic names the non-finite value and the legacy stages that write it (it named only the
 /// viscosity), and the hint points at `dual --legacy`.

@@ -48,6 +48,10 @@ static CALL_LOCK: Mutex<()> = Mutex::new(());
 /// (its step): read by the exit handler, [`legacy_exit`].
 static IN_CALL: Mutex<(String, String)> = Mutex::new((String::new(), String::new()));
 
+/// The run's summary.json, when a run (not a dual run or a bare call) is calling legacy code: the
+/// exit handler marks it as ended by the legacy code ([`report_exit_to`]).
+static SUMMARY: Mutex<Option<PathBuf>> = Mutex::new(None);
+
 /// The exit status of a process that a legacy `STOP` ended (as a run that cannot go on: README,
 /// "Exit statuses").
 pub const STOP_STATUS: c_int = 3;
@@ -81,11 +85,19 @@ extern "C" fn legacy_exit() {
     use std::io::Write;
     let _ = std::io::stdout().flush();
     let at = if ctx.is_empty() { String::new() } else { format!(" {ctx}") };
+    let what = format!(
+        "legacy routine {name} ended the process{at} (a STOP, a CALL EXIT, or a Fortran runtime error such as -fcheck=bounds finds: libgfortran's own line, if any, is above)"
+    );
     // (writeln, not eprintln: a closed stderr must not panic inside an extern "C" handler)
     let _ = writeln!(
         std::io::stderr(),
-        "error: legacy routine {name} ended the process{at} (a STOP, a CALL EXIT, or a Fortran runtime error such as -fcheck=bounds finds: libgfortran's own line, if any, is above): your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
+        "error: {what}: your program would have ended here, and so does blastsph (exit status {STOP_STATUS}; the output written so far is kept)"
     );
+    if let Ok(g) = SUMMARY.try_lock()
+        && let Some(p) = g.as_ref()
+    {
+        mark_summary(p, &what);
+    }
     // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); H5close
     // closes the HDF5 library's open files (no HDF5 call is in progress: the legacy call is, and
     // they are serialised on this thread); `_exit` ends the process at once without running the
@@ -97,6 +109,32 @@ extern "C" fn legacy_exit() {
         H5close();
         libc::_exit(STOP_STATUS);
     }
+}
+
+/// Rewrites the summary.json at `path` (the run's last, from its start or its last checkpoint) as
+/// the end of a run that the legacy code ended (none when the first rates ended it, before the
+/// run's first summary: `report` then reads it as killed): `"status": "unstable"` (exit status 3, as for a
+/// run that cannot go on), `"partial": true` (its steps and energies are the checkpoint's, not
+/// the last step's) and the line printed as its `"diagnostic"`. Through a temporary file; any
+/// failure leaves the file as it was (the handler must not fail).
+fn mark_summary(path: &Path, what: &str) {
+    let Ok(text) = std::fs::read_to_string(path) else { return };
+    let Ok(mut v) = serde_json::from_str::<serde_json::Value>(&text) else { return };
+    let Some(obj) = v.as_object_mut() else { return };
+    obj.insert("status".into(), "unstable".into());
+    obj.insert("partial".into(), true.into());
+    obj.insert("diagnostic".into(), what.into());
+    let Ok(out) = serde_json::to_string_pretty(&v) else { return };
+    let tmp = path.with_extension("json.tmp");
+    if std::fs::write(&tmp, out).is_ok() {
+        let _ = std::fs::rename(&tmp, path);
+    }
+}
+
+/// Names the summary.json that the exit handler marks when a legacy routine ends the process
+/// during a run (`None`: none, e.g. between runs or in a dual run, which keeps no summary).
+pub fn report_exit_to(path: Option<PathBuf>) {
+    *SUMMARY.lock().unwrap_or_else(|e| e.into_inner()) = path;
 }
 
 /// Says what the next legacy calls are (e.g. "at step 3"), for the line a `STOP` prints.
