@@ -425,6 +425,9 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
         )
     });
     let lg = d.join("build");
+    // an earlier dual run's report in the folder: it goes (the STOP leaves none of this run's)
+    std::fs::create_dir_all(d.join("dual")).unwrap();
+    std::fs::write(d.join("dual").join("dual_report.json"), "{\"steps\": 20}").unwrap();
     for (cmd, out) in [("run", d.join("run")), ("dual", d.join("dual"))] {
         let o = blastsph(&[cmd, "shock_tube", "--legacy", lg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
         let se = String::from_utf8_lossy(&o.stderr);
@@ -435,6 +438,7 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
             "{cmd}: {se}"
         );
     }
+    assert!(!d.join("dual").join("dual_report.json").exists(), "the earlier report is gone");
     // the run's particles.h5 was closed, not cut off by the exit: a valid file (the STOP came
     // before the first frame, so it holds no step)
     let o = blastsph(&["report", d.join("run").to_str().unwrap()]);
@@ -470,7 +474,8 @@ fn a_stop_later_in_a_run_is_told_in_its_summary() {
     let at = line.split("ended the process at step ").nth(1).unwrap_or_else(|| panic!("{line}"));
     let step: u64 = at.split_whitespace().next().unwrap().parse().unwrap();
     assert!(step > 1, "{line}");
-    let sj: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    let sj: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
     assert_eq!(sj["status"], "unstable", "{sj}");
     assert_eq!(sj["partial"], true, "{sj}");
     let diag = sj["diagnostic"].as_str().unwrap();
@@ -524,4 +529,89 @@ fn a_setup_routine_of_another_particle_count_is_warned_of() {
     let se = String::from_utf8_lossy(&other.stderr);
     assert_eq!(other.status.code(), Some(0), "{se}");
     assert!(se.contains("warning: legacy input made 400 particles, the case describes 380"), "{se}");
+}
+
+/// The strength routines of a thesis-style soil code (tests/legacy_strength/: a plane-strain
+/// strain and Jaumann stress rate with 4 stress components, and a Drucker–Prager return): the dual
+/// run compares them with `strength.rates` and `strength.yield` at 0 ULP (before, the stress was
+/// never allocated when its routines were legacy: the dual run panicked, and `run --legacy` ran
+/// the soil without strength, exit 0), the stress rate included on a case with mirrors (it was
+/// dropped there: its rows end at the real particles); `run --legacy` keeps the stress and ends
+/// in blastsph's own state bit for bit; a wrong sign of the rotation term is found and named.
+#[test]
+fn a_legacy_soil_strength_code_runs_and_is_compared() {
+    let d = scratch("strength");
+    let src = root().join("tests/legacy_strength");
+    for e in std::fs::read_dir(&src).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+    }
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the strength fixture builds");
+    let (lg, case) = (d.join("build"), "cases/hard/soil_spall.toml");
+    let out = d.join("dual");
+    let o =
+        blastsph(&["dual", case, "--legacy", lg.to_str().unwrap(), "--steps", "20", "--out", out.to_str().unwrap()]);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(0), "{so}{se}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for (stage, field) in [
+        ("legacy.strain_rate", "eps"),
+        ("legacy.strain_rate", "rot"),
+        ("legacy.strain_rate", "dtau"),
+        ("legacy.strain_rate", "dde"),
+        ("legacy.dp_yield", "tau"),
+    ] {
+        let r = row(&rows, stage, field);
+        assert!(r["compared"].as_u64().unwrap() > 0 && r["max_ulp"].as_u64() == Some(0), "{r}");
+    }
+    // the run: the stress is kept, and is blastsph's own, bit for bit
+    let (a, b) = (d.join("run_legacy"), d.join("run_rust"));
+    for (dir, leg) in [(&a, true), (&b, false)] {
+        let mut args = vec!["run", case, "--end-time", "1e-4", "--quiet", "--out", dir.to_str().unwrap()];
+        if leg {
+            args.extend(["--legacy", lg.to_str().unwrap()]);
+        }
+        let o = blastsph(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let read = |dir: &Path| {
+        let f = hdf5::File::open(dir.join("particles.h5")).unwrap();
+        let last = f
+            .member_names()
+            .unwrap()
+            .into_iter()
+            .filter(|s| s.starts_with("Step#"))
+            .max_by_key(|s| s[5..].parse::<u64>().unwrap())
+            .unwrap();
+        let g = f.group(&last).unwrap();
+        ["sxx", "sxy", "vy"].map(|n| g.dataset(n).unwrap_or_else(|e| panic!("{n}: {e}")).read_raw::<f64>().unwrap())
+    };
+    let (ra, rb) = (read(&a), read(&b));
+    assert!(rb[0].iter().any(|&s| s.abs() > 1.0), "the soil carries a deviatoric stress");
+    for k in 0..3 {
+        assert!(ra[k].iter().zip(&rb[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "field {k}");
+    }
+    // a defect: the rotation term of the shear rate with the wrong sign
+    let f = d.join("strain.f");
+    let t = std::fs::read_to_string(&f).unwrap();
+    let bad = t.replacen("- sxx(i)*rxy(i) + rxy(i)*syy(i)", "+ sxx(i)*rxy(i) + rxy(i)*syy(i)", 1);
+    assert_ne!(bad, t);
+    std::fs::write(&f, bad).unwrap();
+    build(&d.join("legacy.toml"), &d.join("bad")).expect("the variant builds");
+    let out = d.join("dual_bad");
+    let o = blastsph(&[
+        "dual",
+        case,
+        "--legacy",
+        d.join("bad").to_str().unwrap(),
+        "--steps",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stderr));
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let r = row(&rows, "legacy.strain_rate", "dtau");
+    assert!(r["out_of_tolerance"].as_u64().unwrap() > 0, "{r}");
+    assert!(r["first_divergence"]["at"].as_str().unwrap().contains("component 3"), "the xy component: {r}");
 }

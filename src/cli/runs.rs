@@ -98,6 +98,14 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         eprintln!("warning: {w}");
     }
     sim.enable_dual(Comparator::new(sim.cfg.dim));
+    // an earlier dual run's report goes now: a run that a legacy STOP ends writes none, and the
+    // folder must not keep one that reads as this run's
+    let path = dir.join("dual_report.json");
+    if let Err(e) = std::fs::remove_file(&path)
+        && e.kind() != std::io::ErrorKind::NotFound
+    {
+        return Err(crate::error::SphError::Io(format!("{}: cannot replace it: {e}", path.display())));
+    }
     let mut done = 0;
     let mut diag = None;
     let mut signalled = false;
@@ -136,7 +144,6 @@ pub fn dual_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         "legacy": sim.plan.legacy,
         "rows": cmp.rows(),
     });
-    let path = dir.join("dual_report.json");
     crate::rundir::write_atomic(&path, serde_json::to_string_pretty(&rep).unwrap_or_default().as_bytes())?;
     let not = if uncompared.is_empty() {
         String::new()

@@ -103,11 +103,10 @@ pub fn gather(name: &str, vec: bool, per_pair: bool, c: &mut Ctx, p: &Particles,
     let width = if vec { dim } else { 1 };
     let len = width * if per_pair { c.pbuf } else { c.nbuf };
     let strided = |src: &[f64], (k, stride): (usize, usize)| -> Vec<f64> {
+        // (the stress rate is kept for the real particles only: the mirrors' rows read 0)
         let mut v = vec![0.0; len];
-        if src.len() >= stride * nt {
-            for i in 0..nt.min(len) {
-                v[i] = src[k + stride * i];
-            }
+        for i in 0..nt.min(len).min(src.len() / stride) {
+            v[i] = src[k + stride * i];
         }
         v
     };
@@ -224,10 +223,9 @@ pub fn scatter(name: &str, b: Buf, writes: &[Field], c: &mut Ctx, p: &mut Partic
                     Field::Eps => &mut w.eps,
                     _ => &mut w.rot,
                 };
-                if dst.len() >= stride * nt {
-                    for i in 0..nt {
-                        dst[k + stride * i] = v[i];
-                    }
+                // (the stress rate is kept for the real particles only: its rows end there)
+                for i in 0..nt.min(dst.len() / stride).min(v.len()) {
+                    dst[k + stride * i] = v[i];
                 }
             }
         }

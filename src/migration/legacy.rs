@@ -304,6 +304,8 @@ pub struct LegacyStage {
     module: Module,
     /// The Rust twins it stands for (helpers first), in plan order: the dual run's Rust side.
     chain: Vec<Box<dyn Stage>>,
+    /// The outputs its twins write for the real particles only ([`Stage::real_rows`]).
+    real_rows: Vec<Field>,
     reads: Vec<Field>,
     writes: Vec<Field>,
     terms: Terms,
@@ -509,7 +511,22 @@ impl Stage for LegacyStage {
     fn writes(&self) -> &[Field] {
         &self.writes
     }
+    fn real_rows(&self) -> &[Field] {
+        &self.real_rows
+    }
+    /// The state the stages it stands for keep (the deviatoric stress of a strength routine's
+    /// `strength.rates`): allocated whoever computes it.
+    fn register(&self, p: &mut Particles) {
+        for s in &self.chain {
+            s.register(p);
+        }
+    }
+    /// The work arrays the stages it stands for fill (the strain and rotation rates, the stress
+    /// rate), sized as they size them: the routine's outputs are scattered into them.
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        for s in &self.chain {
+            s.prepare(p, w);
+        }
         if self.terms != Terms::default() {
             self.slots.size(w, p.dim, p.ntotal);
         }
@@ -808,6 +825,15 @@ impl Legacy {
                 )
             });
             let chain: Vec<Box<dyn Stage>> = helpers.into_iter().chain(covered).map(|(_, s)| s).collect();
+            // the outputs its twins write for the real particles only (the last twin to write
+            // each field says)
+            let real_rows: Vec<Field> = writes
+                .iter()
+                .copied()
+                .filter(|f| {
+                    chain.iter().rev().find(|s| s.writes().contains(f)).is_some_and(|s| s.real_rows().contains(f))
+                })
+                .collect();
             let stage = LegacyStage {
                 lg: Arc::clone(self),
                 routine: ri,
@@ -816,6 +842,7 @@ impl Legacy {
                 chain,
                 reads,
                 writes: writes.clone(),
+                real_rows,
                 terms,
                 slots: Slots::default(),
                 tol,

@@ -195,6 +195,12 @@ pub trait Stage: Send + Sync {
     fn reads(&self) -> &[Field];
     /// The fields it writes: what the dual run and the parity harness compare.
     fn writes(&self) -> &[Field];
+    /// The outputs it writes for the real particles only, leaving the mirrors' rows to a later
+    /// stage (the EOS's p and c, which `boundary.mirror_copy` copies to the mirrors): the dual
+    /// run compares those rows only (a legacy routine that also fills the mirrors is not wrong).
+    fn real_rows(&self) -> &[Field] {
+        &[]
+    }
     /// Allocates the state it keeps (once, when the simulation is set up: Spheral's
     /// `registerState`), e.g. the stress of a material with strength.
     fn register(&self, _p: &mut Particles) {}
@@ -274,6 +280,9 @@ macro_rules! as_its_normal_stage {
         }
         fn writes(&self) -> &[$crate::state::Field] {
             $crate::modules::Stage::writes(&self.normal)
+        }
+        fn real_rows(&self) -> &[$crate::state::Field] {
+            $crate::modules::Stage::real_rows(&self.normal)
         }
         fn register(&self, p: &mut $crate::state::Particles) {
             $crate::modules::Stage::register(&self.normal, p)

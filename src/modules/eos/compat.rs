@@ -31,6 +31,9 @@ impl Stage for EosCompat {
     fn writes(&self) -> &[Field] {
         self.normal.writes()
     }
+    fn real_rows(&self) -> &[Field] {
+        self.normal.real_rows()
+    }
     fn run(&self, _b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         let mt = &self.normal.mt;

@@ -66,6 +66,9 @@ impl Stage for EosStage {
         Eval { mt: &self.mt, mat: &p.mat[..n], burn, rho: &p.rho[..n], e: &p.e[..n], p: &mut p.p[..n], c: &mut p.c[..n] }
             .run(b);
     }
+    fn real_rows(&self) -> &[Field] {
+        &[Field::P, Field::C]
+    }
     fn tolerance(&self) -> Tolerance {
         if self.mt.has_jwl() {
             Tolerance { ulp: 0, why: "JWL calls exp: both sides take it from the same C library" }

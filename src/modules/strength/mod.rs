@@ -154,6 +154,9 @@ impl Stage for YieldStage {
     fn writes(&self) -> &[Field] {
         &[Field::Tau]
     }
+    fn real_rows(&self) -> &[Field] {
+        &[Field::Tau]
+    }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         Yield { mat: &p.mat[..n], mt: &self.mt, p: &p.p[..n], tau: &mut p.tau[..NSTR * n] }.run(b);
