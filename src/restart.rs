@@ -261,8 +261,10 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     if let Some(f) = gfile {
         f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
     }
-    // a report of the run as it was (report.json, its plots) no longer describes it
+    // a report of the run as it was (report.json, its plots), and its revolved points, no longer
+    // describe it
     crate::rundir::remove_report(dir)?;
+    crate::rundir::remove_revolved(dir)?;
     let case_toml_sha = sha256_hex(text.as_bytes());
     if o.end_time.is_some() {
         crate::rundir::write_atomic(&case_path, text.as_bytes())?;

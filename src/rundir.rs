@@ -32,6 +32,9 @@ pub fn is_ours(name: &str) -> bool {
             | "dual_report.json"
             | "dual_free.json"
             | "ledger.json"
+            | "revolved.h5"
+            | "revolved.h5.part"
+            | "revolved.xmf"
             | LOCK
     ) || (base.ends_with(".png") && !base.contains('/'))
 }
@@ -139,6 +142,19 @@ pub fn is_report_plot(name: &str) -> bool {
             && ["snap_material_", "snap_pressure_", "snap_velocity_"].iter().any(|p| name.starts_with(p)))
 }
 
+/// Removes what `blastsph revolve` wrote into a run directory (revolved.h5, revolved.xmf, and a
+/// revolve's unfinished `revolved.h5.part`): when a run is resumed, since they hold the frames of
+/// the run as it was.
+pub fn remove_revolved(dir: &Path) -> Result<()> {
+    for name in ["revolved.h5", "revolved.h5.part", "revolved.xmf", "revolved.xmf.tmp"] {
+        match std::fs::remove_file(dir.join(name)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(SphError::Io(format!("{name}: {e}"))),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Removes what `blastsph report` wrote into a run directory (report.json, its plots by name,
 /// animation.gif, and their `.tmp`; a PNG of another name is left): before a new report (its
 /// snapshot names follow its times, so an earlier report's would stay beside it) and when a run
@@ -214,6 +230,8 @@ pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
 pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot make the run directory {}: {e}", dir.display())))?;
     if clear {
+        // every entry is looked at before any is removed: a refusal leaves the folder whole
+        let mut gone = Vec::new();
         for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
             let e = e.map_err(|e| io(dir, e))?;
             let name = e.file_name().to_string_lossy().into_owned();
@@ -228,7 +246,10 @@ pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
                     dir.display()
                 )));
             }
-            std::fs::remove_file(e.path()).map_err(|e| io(dir, e))?;
+            gone.push(e.path());
+        }
+        for p in gone {
+            std::fs::remove_file(&p).map_err(|e| io(dir, e))?;
         }
     }
     Ok(())

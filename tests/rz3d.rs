@@ -205,8 +205,40 @@ fn revolve_writes_the_rings_as_3d_points() {
     }
     // again into the same folder: refused (the files exist)
     assert!(blastsph::revolve::revolve(&run, sectors, angle).is_err());
-    // the CLI: a plane run and a bad sector count, one line and exit 2
+    // `run --force` into the revolved run: a file blastsph did not write refuses it, and nothing
+    // is removed (it removed the run's files before it found the stranger); without the
+    // stranger the revolved files are blastsph's and go with the rest
     let bin = env!("CARGO_BIN_EXE_blastsph");
+    let names = |d: &std::path::Path| {
+        let mut v: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        v.sort();
+        v
+    };
+    std::fs::write(run.join("notes.txt"), "mine").unwrap();
+    let before = names(&run);
+    let force = |extra: &[&str]| {
+        let mut c = std::process::Command::new(bin);
+        c.arg("run").arg(case_path("verify/sedov_rz.toml")).args(["--force", "--quiet", "--out"]).arg(&run);
+        c.args(["--set", "region.hot.hi_m=[0.05, 0.05]", "--set", "region.hot.spacing_m=0.05"]);
+        c.args(["--set", "region.ambient.spacing_m=0.05", "--set", "time.end_s=0.001"]).args(extra);
+        c.output().unwrap()
+    };
+    let o = force(&[]);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("notes.txt"));
+    assert_eq!(names(&run), before, "a refused --force removed files");
+    std::fs::remove_file(run.join("notes.txt")).unwrap();
+    let o = force(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!run.join("revolved.h5").exists() && !run.join("revolved.xmf").exists());
+    blastsph::revolve::revolve(&run, sectors, angle).expect("revolve of the new run");
+    // a resume makes later frames: the revolved ones of the run as it was go, as its report does
+    let o = std::process::Command::new(bin).arg("resume").arg(&run).args(["--end-time", "0.002", "--quiet"]).output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!run.join("revolved.h5").exists() && !run.join("revolved.xmf").exists());
+    blastsph::revolve::revolve(&run, sectors, angle).expect("revolve of the resumed run");
+    // the CLI: a plane run and a bad sector count, one line and exit 2
     let o = std::process::Command::new(bin).args(["revolve", "--sectors", "0"]).arg(&run).output().unwrap();
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     let plane = d.path().join("plane");
