@@ -832,6 +832,9 @@ fn print_text(
                 ),
                 Some(why) => println!("crater at t = {t_end}: {why}"),
             }
+            if let Some(k) = &c.crack {
+                println!("note: {k}");
+            }
             if let Some(w) = crate::advice::several_charges(case) {
                 println!("note: {w}");
             }

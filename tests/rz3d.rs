@@ -234,7 +234,12 @@ fn revolve_writes_the_rings_as_3d_points() {
     assert!(!run.join("revolved.h5").exists() && !run.join("revolved.xmf").exists());
     blastsph::revolve::revolve(&run, sectors, angle).expect("revolve of the new run");
     // a resume makes later frames: the revolved ones of the run as it was go, as its report does
-    let o = std::process::Command::new(bin).arg("resume").arg(&run).args(["--end-time", "0.002", "--quiet"]).output().unwrap();
+    let o = std::process::Command::new(bin)
+        .arg("resume")
+        .arg(&run)
+        .args(["--end-time", "0.002", "--quiet"])
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!run.join("revolved.h5").exists() && !run.join("revolved.xmf").exists());
     blastsph::revolve::revolve(&run, sectors, angle).expect("revolve of the resumed run");

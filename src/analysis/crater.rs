@@ -135,6 +135,11 @@ pub struct Crater {
     pub cavity: Option<Cavity>,
     /// Why there is no apparent crater, when there is none.
     pub note: Option<String>,
+    /// 2D and RZ (and each 3D section): the deepest crack left out of the crater's depth — a
+    /// drop of one or two columns more than 2 Δs below both columns beside it (a crack or a vent
+    /// in the ground, not the bowl), read at the deeper of those two columns' drops instead.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crack: Option<String>,
     /// 3D: the crater in vertical sections through the charge's axis at 0°, 45°, 90° and 135°
     /// (a scene that is not symmetric about the axis shows it here); empty in 2D and RZ.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -892,7 +897,24 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
             };
         }
     }
-    let drop = drops(&s0, &s1, ymin0);
+    let mut drop = drops(&s0, &s1, ymin0);
+    // cracks: a run of one or two columns whose drop is more than 2 ds below both columns beside
+    // it (one, at the raster's edge) is a crack or a vent, not the bowl: read at its flanks' drop
+    let mut crack: Option<(f64, f64, f64)> = None;
+    for w in 1..=2usize {
+        for k in 0..=ncol.saturating_sub(w) {
+            let flanks = [k.checked_sub(1), (k + w < ncol).then_some(k + w)];
+            let Some(fmax) = flanks.iter().flatten().map(|&f| drop[f]).reduce(f64::max) else { continue };
+            let inner = drop[k..k + w].iter().cloned().fold(f64::INFINITY, f64::min);
+            if inner > fmax + 2.0 * ds {
+                let deep = drop[k..k + w].iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+                if crack.is_none_or(|c| deep > c.0) {
+                    crack = Some((deep, lo + (k as f64 + 0.5 * w as f64) * ds, w as f64 * ds));
+                }
+                drop[k..k + w].iter_mut().for_each(|d| *d = fmax);
+            }
+        }
+    }
     let (kmax, depth) =
         drop.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (k, d)| if *d > acc.1 { (k, *d) } else { acc });
     let run = |lim: f64| -> f64 {
@@ -905,7 +927,14 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
         }
         (b - a + 1) as f64 * ds
     };
-    let crater = depth > 0.5 * ds;
+    // a bowl spans at least two columns (a crater on the axis of an RZ section does, with its
+    // mirror image); one alone is a crack or a gap in the ground, as in 3D
+    let narrow = depth > 0.5 * ds && run(0.5 * ds) < 1.5 * ds;
+    // and is wider than it is deep (an apparent crater's diameter is several times its depth): a
+    // narrower hole is a vent or a crack through the ground (a buried charge's dome breaking),
+    // not the bowl
+    let vent = depth > 0.5 * ds && !narrow && run(0.5 * ds) < depth;
+    let crater = depth > 0.5 * ds && !narrow && !vent;
     let (diameter, half) = if crater { (run(0.5 * ds), run(0.5 * depth)) } else { (0.0, 0.0) };
     let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
@@ -924,6 +953,18 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     });
     let note = if crater {
         None
+    } else if narrow {
+        Some(format!(
+            "no apparent crater: the ground's deepest drop ({:.1} cm) is in one column {:.1} cm wide, fewer than 2: a crack or gap in the ground, not a bowl",
+            100.0 * depth,
+            100.0 * ds
+        ))
+    } else if vent {
+        Some(format!(
+            "no apparent crater: the ground's deepest drop ({:.1} cm) is a hole {:.1} cm wide, narrower than it is deep: a vent or crack through the ground, not a bowl",
+            100.0 * depth,
+            100.0 * run(0.5 * ds)
+        ))
     } else {
         Some(match &cavity {
             Some(c) => format!(
@@ -937,9 +978,24 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
             None => no_crater(ds),
         })
     };
+    let crack = crack.map(|(deep, at, wide)| {
+        format!(
+            "a crack {:.1} cm wide centred at {:.1} cm (x, or r in RZ) drops {:.1} cm, more than 2 columns below the ground beside it: left out of the depth",
+            100.0 * wide,
+            100.0 * at,
+            100.0 * deep
+        )
+    });
     Ok(Crater {
         diameter_m: diameter,
-        depth_m: if crater { depth } else { depth.max(0.0) },
+        depth_m: if crater {
+            depth
+        } else if narrow || vent {
+            0.0
+        } else {
+            depth.max(0.0)
+        },
+        crack,
         width_half_depth_m: half,
         centre_m: lo + (kmax as f64 + 0.5) * ds,
         ejecta_height_m: ejecta.max(0.0),
@@ -1013,6 +1069,46 @@ mod tests {
         assert!((c.diameter_m - 0.20).abs() < 1e-9, "diameter {}", c.diameter_m);
         let k = c.columns_m.iter().position(|x| (x - 0.125).abs() < 1e-9).unwrap();
         assert!((c.surface_m[k] - 1.046).abs() < 1e-9, "lifted particles read as ground: {}", c.surface_m[k]);
+    }
+
+    /// A one-column crack 30 spacings deep beside a bowl 10 deep (a buried charge's RZ run, in a
+    /// docs-only check: the depth read the crack) is left out of the depth and named; a crack
+    /// alone is no crater, nor is a hole narrower than it is deep (a vent through the dome).
+    #[test]
+    fn cracks_and_vents_are_not_the_crater() {
+        let ds = 0.01;
+        let soil0 = lattice(ds, 1.0, 1.0, &|_, _| false);
+        let measure = |cut: &dyn Fn(f64, f64) -> bool| {
+            let inp = CraterInput {
+                soil0: soil0.clone(),
+                soil1: lattice(ds, 1.0, 1.0, cut),
+                charge0: (Vec::new(), Vec::new()),
+            };
+            measure_xy(&inp, ds).unwrap()
+        };
+        let bowl = |x: f64, y: f64| (x - 0.5).abs() < 0.2 && y > 0.9;
+        let crack = |x: f64, y: f64| (x - 0.555).abs() < 0.005 && y > 0.6;
+        let c = measure(&|x, y| bowl(x, y) || crack(x, y));
+        assert!((c.depth_m - 0.10).abs() < 1e-9 && (c.diameter_m - 0.40).abs() < 1e-9, "{c:?}");
+        assert!(c.note.is_none());
+        let k = c.crack.as_deref().unwrap_or_else(|| panic!("{c:?}"));
+        assert!(k.contains("1.0 cm wide centred at 55.5 cm") && k.contains("drops 40.0 cm"), "{k}");
+        // the crack alone: no crater, and the crack named
+        let c = measure(&crack);
+        assert_eq!((c.depth_m, c.diameter_m), (0.0, 0.0), "{c:?}");
+        assert!(c.note.is_some() && c.crack.is_some(), "{c:?}");
+        // a gap of one column 1 spacing deep: no bowl
+        let c = measure(&|x, y| (x - 0.555).abs() < 0.005 && y > 0.99);
+        assert_eq!((c.depth_m, c.diameter_m), (0.0, 0.0), "{c:?}");
+        assert!(c.note.as_deref().is_some_and(|n| n.contains("one column")), "{c:?}");
+        // a vent 4 columns wide and 30 deep
+        let c = measure(&|x, y| (x - 0.5).abs() < 0.02 && y > 0.7);
+        assert_eq!((c.depth_m, c.diameter_m), (0.0, 0.0), "{c:?}");
+        assert!(c.note.as_deref().is_some_and(|n| n.contains("narrower than it is deep")), "{c:?}");
+        // a bowl with a 2-column dip of one spacing at its floor (within 2 spacings of the columns
+        // beside it) is the bowl, read at its deepest
+        let c = measure(&|x, y| bowl(x, y) || ((x - 0.5).abs() < 0.01 && y > 0.885));
+        assert!((c.depth_m - 0.11).abs() < 1e-9 && c.crack.is_none(), "{c:?}");
     }
 
     #[test]
