@@ -554,6 +554,14 @@ pub fn hint(case: &Case, msg: &str) -> String {
         // not a blow-up: the step limit (lowering the CFL number would only need more steps)
         out.push("raise time.max_steps (a safety limit: t over the steps taken shows whether the step has collapsed)");
     }
+    if msg.contains("crossed the axis") {
+        // no wall setting applies: the particle moved through the axis's mirrors in one step
+        out.push(if case.time.step == StepRule::Cfl {
+            "lower time.cfl and keep the artificial viscosity on: a particle moved across the axis's mirror images within one step"
+        } else {
+            "lower time.dt_s and keep the artificial viscosity on: a particle moved across the axis's mirror images within one step"
+        });
+    }
     if msg.contains("crossed wall") {
         out.push("raise boundary.d_m2s2 towards the square of the largest speed, or use kind = \"both\" walls");
     }
@@ -732,6 +740,8 @@ mod tests {
         let c = case("parity = \"thesis\"");
         assert!(hint(&c, "step 11: total energy 2 J exceeds").contains("time.viscous_step = true"));
         assert!(hint(&case(""), "particle 3 crossed wall 0").contains("boundary.d_m2s2"));
+        let axis = hint(&case(""), "step 124: particle 3 crossed the axis r = 0 (a mirror) by 6e-3 m");
+        assert!(axis.contains("lower time.cfl") && !axis.contains("d_m2s2"), "{axis}");
         assert!(hint(&case(""), "something else").contains("time.cfl"));
         let first = hint(&case(""), "step 1 (t = 4.8e-9 s): total energy 1.3e8 J exceeds the initial 8.0e6 J");
         assert!(first.contains("check`'s warnings first") && first.contains("time.cfl"), "{first}");

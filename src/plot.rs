@@ -656,10 +656,16 @@ pub fn loglog_on_data(
 pub fn animate(path: &Path, maps: &[MapSpec], delay_ms: u32) -> Result<()> {
     let Some(first) = maps.first() else { return Ok(()) };
     let size = map_size(first.bounds, 640);
-    let root = BitMapBackend::gif(path, size, delay_ms).map_err(perr)?.into_drawing_area();
-    for m in maps {
-        draw_map(&root, m)?;
-        root.present().map_err(perr)?;
+    // written under a temporary name and renamed when whole: an interrupted report leaves no
+    // truncated animation under the final name (`rundir::remove_report` clears the `.tmp`)
+    let tmp = path.with_extension("gif.tmp");
+    {
+        let root = BitMapBackend::gif(&tmp, size, delay_ms).map_err(perr)?.into_drawing_area();
+        for m in maps {
+            draw_map(&root, m)?;
+            root.present().map_err(perr)?;
+        }
     }
+    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     Ok(())
 }

@@ -400,14 +400,16 @@ impl Loop {
         pb.finish();
         if stopped {
             crate::restart::write(&mut self)?;
-            self.write_summary(Status::Stopped, None)?;
-            return Err(SphError::Stopped(format!(
+            let line = SphError::Stopped(format!(
                 "at step {} (t = {:.6e} s of {:e} s): checkpoint written; `blastsph resume {}` continues the run",
                 self.sim.nstep,
                 self.sim.t,
                 self.sim.cfg.end,
                 self.dir.display()
-            )));
+            ));
+            // (the summary's diagnostic is the line the run ended with)
+            self.write_summary(Status::Stopped, Some(&line))?;
+            return Err(line);
         }
         if self.last_written != self.sim.nstep {
             self.sim.interface_stats();

@@ -437,8 +437,13 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
     }
     // a second report at other times replaces the first's snapshots; a PNG of the user's stays
     std::fs::write(r.join("mine.png"), b"not blastsph's").unwrap();
-    let o = blastsph(&["report", r.to_str().unwrap(), "--times", "0"]);
+    let o = blastsph(&["report", r.to_str().unwrap(), "--times", "0", "--animate"]);
     ok(&o);
+    // the animation is written under a temporary name and renamed whole (an interrupted report
+    // left a truncated one under the final name): a GIF with its trailer, no .tmp beside it
+    let gif = std::fs::read(r.join("animation.gif")).unwrap();
+    assert!(gif.starts_with(b"GIF8") && gif.last() == Some(&b';'), "a whole GIF");
+    assert!(!r.join("animation.gif.tmp").exists());
     let mut snaps: Vec<String> = std::fs::read_dir(&r)
         .unwrap()
         .filter_map(|e| e.ok())

@@ -241,6 +241,8 @@ fn sigterm_then_resume(root: &Path, reference: &Path, backend: &str, threads: us
     let s = summary(&dir).unwrap();
     assert_eq!(s["status"], "stopped");
     assert_eq!(s["partial"], true);
+    // the diagnostic is the line the run ended with (it was null)
+    assert_eq!(s["diagnostic"].as_str().map(|d| err.contains(d)), Some(true), "{}", s["diagnostic"]);
     let t = s["time"].as_f64().unwrap();
     assert!((STOP_AT * END..END).contains(&t), "stopped at t = {t:e} s, past {STOP_AT} of {END:e} s");
 

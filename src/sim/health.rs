@@ -394,8 +394,14 @@ impl Sim {
         }
         if let Some((i, s, depth)) = all.crossed {
             let pos: Vec<String> = (0..dim).map(|d| format!("{:.5}", self.p.x[d + dim * i])).collect();
+            // in RZ the segment after the case's walls is the axis (a mirror of its own)
+            let what = if self.case.axisymmetric() && s >= self.case.walls.len() {
+                "the axis r = 0 (a mirror)".to_string()
+            } else {
+                format!("wall {s}")
+            };
             return Err(SphError::Unstable(format!(
-                "{at}: particle {} crossed wall {s} by {depth:.3e} m (x = [{}] m)",
+                "{at}: particle {} crossed {what} by {depth:.3e} m (x = [{}] m)",
                 self.p.id[i],
                 pos.join(", ")
             )));
