@@ -248,10 +248,20 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     );
     let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
     let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
-    println!("mass: initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}", (m1 - m0) / m0.abs().max(1e-300));
+    // per unit area of the plane in 1D, per metre of depth in 2D plane; whole in RZ and 3D (of
+    // the modelled part, with symmetry planes)
+    let (mu, eu) = match (case.dim, case.axisymmetric()) {
+        (1, _) => ("kg/m²", "J/m²"),
+        (2, false) => ("kg/m", "J/m"),
+        _ => ("kg", "J"),
+    };
+    println!(
+        "mass ({mu}): initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}",
+        (m1 - m0) / m0.abs().max(1e-300)
+    );
     let en = &summary["energy"];
     println!(
-        "energy (J): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}, floor e >= 0 {:.3e}; balance residual {:.3e} ({:.3e} relative)",
+        "energy ({eu}): initial {:.6e}, final {:.6e} (kinetic {:.4e}, internal {:.4e}, elastic {:.4e}); work: wall {:.3e}, penalty {:.3e}, gravity {:.3e}, floor e >= 0 {:.3e}; balance residual {:.3e} ({:.3e} relative)",
         en["initial"]["total"].as_f64().unwrap_or(0.0),
         en["final"]["total"].as_f64().unwrap_or(0.0),
         en["final"]["kinetic"].as_f64().unwrap_or(0.0),
@@ -280,6 +290,13 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         }
         AnalysisKind::None => json!({}),
     };
+    // a crater asked of a case it cannot be measured in (1D): the reason the run recorded
+    if case.analysis.kind == AnalysisKind::Crater
+        && case.dim < 2
+        && let Some(why) = summary["crater"]["reason"].as_str()
+    {
+        println!("crater: cannot be measured: {why}");
+    }
     let mut out = out;
     // the gauges of a case that is not a blast (a blast's report has them already)
     let blast = matches!(case.analysis.kind, AnalysisKind::Crater)

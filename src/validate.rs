@@ -55,6 +55,25 @@ impl Scene {
 
 /// Runs the scenes (all, or those named) into `out`, returns the Markdown text.
 pub fn validate(cases_dir: &Path, out: &Path, opts: &RunOptions, only: &[String]) -> Result<String> {
+    // every scene's case file is there before anything is written or run (an empty folder was
+    // found one scene in, after validation.md was written)
+    let missing: Vec<String> = SCENES
+        .iter()
+        .filter(|n| only.is_empty() || only.iter().any(|o| o == *n))
+        .map(|n| format!("{n}.toml"))
+        .filter(|f| !cases_dir.join(f).is_file())
+        .collect();
+    if !missing.is_empty() {
+        return Err(crate::error::input(format!(
+            "--cases {}: no {} (the thesis's scenes, as in cases/)",
+            cases_dir.display(),
+            if missing.len() > 3 {
+                format!("{}, … ({} of the scenes)", missing[..3].join(", "), missing.len())
+            } else {
+                missing.join(", ")
+            }
+        )));
+    }
     std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     // the folder is validate's from now on (a validation stopped half-way can be run again into
     // it): validation.md says so until the results replace it

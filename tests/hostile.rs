@@ -142,6 +142,7 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a spacing of 1e-300", s1, "region.soil.spacing_m=1e-300"),
         set("a subnormal spacing", s1, "region.soil.spacing_m=5e-324"),
         set("a spacing of 0", s1, "region.soil.spacing_m=0"),
+        set_n("a 1D wall that is not a point", "verify/reflection_1d.toml", "wall.0.to_m=[0.1]", "to_m"),
         set("a negative spacing", s1, "region.soil.spacing_m=-0.01"),
         set("a spacing of NaN", s1, "region.soil.spacing_m=nan"),
         set("a count that wraps", tube, "region.left.count=[9223372036854775807]"),
@@ -397,6 +398,8 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
     ));
     c.push(bad("validate --out a folder of other files", &["validate", "--only", "buried_c4", "--out", &p("theirs")]));
     c.push(bad("validate --out a file", &["validate", "--only", "buried_c4", "--out", &p("afile")]));
+    std::fs::create_dir(t.join("nocases")).unwrap();
+    c.push(bad("validate --cases an empty folder", &["validate", "--cases", &p("nocases"), "--out", &p("vempty")]));
     c.push(bad(
         "legacy build --out a file",
         &["legacy", "build", &root().join("tests/legacy/legacy.toml").display().to_string(), "--out", &p("afile")],

@@ -672,6 +672,12 @@ impl Case {
             } else if w.edge_m.is_some() {
                 return Err(input(format!("wall[{k}].edge_m: only 3D walls (planes) have one")));
             }
+            if d == 1 && w.from_m != w.to_m {
+                return Err(input(format!(
+                    "wall[{k}].to_m: in 1D a wall is a point, to_m must equal from_m ({:?} against {:?})",
+                    w.to_m, w.from_m
+                )));
+            }
             if d == 2 && w.from_m == w.to_m {
                 return Err(input(format!("wall[{k}]: from_m and to_m coincide")));
             }
