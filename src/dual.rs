@@ -283,7 +283,7 @@ impl Comparator {
             };
             // an output the twin writes for the real particles only: the mirrors' rows are a later
             // stage's (a legacy routine may fill them too)
-            let rows = if stage.real_rows().contains(&f) && p.ntotal > 0 && pairs.len() % p.ntotal == 0 {
+            let rows = if stage.real_rows().contains(&f) && p.ntotal > 0 && pairs.len().is_multiple_of(p.ntotal) {
                 pairs.len() / p.ntotal * p.nreal
             } else {
                 pairs.len()

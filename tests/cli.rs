@@ -498,3 +498,24 @@ fn a_closed_output_pipe_ends_the_process_quietly() {
     assert!(!err.contains("internal error"), "{err}");
     assert_eq!(o.status.signal(), Some(13), "ended by SIGPIPE: {:?} {err}", o.status);
 }
+
+/// An analysis about the wrong point is warned of by `check`: a Sedov centre 0.1 m off the
+/// deposit (a docs-only check read the shock radius 0.727 of exact, as if the code failed), a
+/// Noh analysis of a case with no inflow; the shipped verification cases are not.
+#[test]
+fn an_analysis_about_the_wrong_point_is_warned_of() {
+    let warned = |args: &[&str]| {
+        let o = blastsph(args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let so = String::from_utf8_lossy(&o.stdout).into_owned();
+        so.lines().any(|l| {
+            l.starts_with("warning:") && (l.contains("analysis.center_m is") || l.contains("no region has a radial"))
+        })
+    };
+    for c in ["sedov_2d_g14", "sedov_3d", "sedov_rz", "noh_2d", "noh_rz"] {
+        assert!(!warned(&["check", &format!("cases/verify/{c}.toml")]), "{c}");
+    }
+    assert!(warned(&["check", "cases/verify/sedov_2d_g14.toml", "--set", "analysis.center_m=[0.1, 0.0]"]));
+    assert!(warned(&["check", "cases/verify/sedov_rz.toml", "--set", "analysis.center_m=[0.0, 0.1]"]));
+    assert!(warned(&["check", "cases/shock_tube.toml", "--set", "analysis.kind=noh"]));
+}
