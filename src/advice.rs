@@ -457,34 +457,9 @@ pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
     if d < 2 || case.geometry == Geometry::Axisymmetric || case.sph.jitter >= crate::case::GAS_JITTER || n < 64 {
         return None;
     }
-    let mut es: Vec<f64> = p.e[..n].iter().copied().filter(|e| e.is_finite()).collect();
-    if es.len() < n {
+    let (hot, c, dx) = deposit(case, p, 0.75)?;
+    if hot.len() > 32 {
         return None;
-    }
-    let med = es.select_nth_unstable_by(n / 2, f64::total_cmp).1.max(f64::MIN_POSITIVE);
-    let hot: Vec<usize> = (0..n).filter(|&i| p.e[i] > 100.0 * med).collect();
-    if hot.is_empty() || hot.len() > 32 || hot.len() * 50 > n {
-        return None;
-    }
-    let dx = p.h[hot[0]] / case.sph.h_over_dx;
-    if !(dx > 0.0 && dx.is_finite()) {
-        return None;
-    }
-    let mut c = vec![0.0; d];
-    for &i in &hot {
-        for k in 0..d {
-            c[k] += p.x[d * i + k] / hot.len() as f64;
-        }
-    }
-    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
-        if let Some((o, nrm)) = wall_plane(d, w) {
-            let s: f64 = (0..d).map(|k| (c[k] - o[k]) * nrm[k]).sum();
-            if s.abs() < 0.75 * dx {
-                for k in 0..d {
-                    c[k] -= s * nrm[k];
-                }
-            }
-        }
     }
     let on = (0..n).find(|&i| (0..d).map(|k| (p.x[d * i + k] - c[k]).powi(2)).sum::<f64>().sqrt() < 0.25 * dx)?;
     let evidence = if d == 2 {
@@ -500,6 +475,44 @@ pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
         case.sph.h_over_dx,
         case.sph.jitter
     ))
+}
+
+/// A point deposit of energy: the particles whose e exceeds 100 × the median (none, or more than
+/// 2 % of the real particles: no point deposit), their spacing Δx (h / `h_over_dx`) and their
+/// centroid, moved onto every mirror wall's plane within `snap` Δx of it (the images complete the
+/// deposit there).
+fn deposit(case: &Case, p: &Particles, snap: f64) -> Option<(Vec<usize>, Vec<f64>, f64)> {
+    let (d, n) = (case.dim, p.nreal);
+    let mut es: Vec<f64> = p.e[..n].iter().copied().filter(|e| e.is_finite()).collect();
+    if n == 0 || es.len() < n {
+        return None;
+    }
+    let med = es.select_nth_unstable_by(n / 2, f64::total_cmp).1.max(f64::MIN_POSITIVE);
+    let hot: Vec<usize> = (0..n).filter(|&i| p.e[i] > 100.0 * med).collect();
+    if hot.is_empty() || hot.len() * 50 > n {
+        return None;
+    }
+    let dx = p.h[hot[0]] / case.sph.h_over_dx;
+    if !(dx > 0.0 && dx.is_finite()) {
+        return None;
+    }
+    let mut c = vec![0.0; d];
+    for &i in &hot {
+        for k in 0..d {
+            c[k] += p.x[d * i + k] / hot.len() as f64;
+        }
+    }
+    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
+        if let Some((o, nrm)) = wall_plane(d, w) {
+            let s: f64 = (0..d).map(|k| (c[k] - o[k]) * nrm[k]).sum();
+            if s.abs() < snap * dx {
+                for k in 0..d {
+                    c[k] -= s * nrm[k];
+                }
+            }
+        }
+    }
+    Some((hot, c, dx))
 }
 
 /// An analysis that measures about the wrong point: a point blast's `analysis.center_m` more
@@ -522,35 +535,7 @@ pub fn analysis_warning(case: &Case, p: &Particles) -> Option<String> {
     if n < 8 || c0.len() < d {
         return None;
     }
-    let mut es: Vec<f64> = p.e[..n].iter().copied().filter(|e| e.is_finite()).collect();
-    if es.len() < n {
-        return None;
-    }
-    let med = es.select_nth_unstable_by(n / 2, f64::total_cmp).1.max(f64::MIN_POSITIVE);
-    let hot: Vec<usize> = (0..n).filter(|&i| p.e[i] > 100.0 * med).collect();
-    if hot.is_empty() || hot.len() * 50 > n {
-        return None;
-    }
-    let dx = p.h[hot[0]] / case.sph.h_over_dx;
-    if !(dx > 0.0 && dx.is_finite()) {
-        return None;
-    }
-    let mut c = vec![0.0; d];
-    for &i in &hot {
-        for k in 0..d {
-            c[k] += p.x[d * i + k] / hot.len() as f64;
-        }
-    }
-    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
-        if let Some((o, nrm)) = wall_plane(d, w) {
-            let s: f64 = (0..d).map(|k| (c[k] - o[k]) * nrm[k]).sum();
-            if s.abs() < dx {
-                for k in 0..d {
-                    c[k] -= s * nrm[k];
-                }
-            }
-        }
-    }
+    let (_, mut c, dx) = deposit(case, p, 1.0)?;
     if case.geometry == Geometry::Axisymmetric {
         c[0] = 0.0;
     }
