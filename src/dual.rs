@@ -205,9 +205,15 @@ impl Comparator {
     fn locate(&self, f: Field, l: usize, p: &Particles, w: &Work) -> String {
         let (per, width) = f.layout(self.dim);
         // the component of a vector or tensor value (x, y, z where there are dim of them)
+        // (a stress, strain or stress rate: xx, yy, zz, xy, xz, yz, the vocabulary's sxx…; a
+        // rotation rate: xy, xz, yz, its rxy…)
         let comp = |c: usize| -> String {
             if width <= 1 {
                 String::new()
+            } else if f == Field::Rot {
+                format!(", {} component", ["xy", "xz", "yz"][c.min(2)])
+            } else if width == crate::modules::param::NSTR {
+                format!(", {} component", ["xx", "yy", "zz", "xy", "xz", "yz"][c.min(5)])
             } else if width == self.dim {
                 format!(", {} component", ["x", "y", "z"][c.min(2)])
             } else {
@@ -385,6 +391,8 @@ mod tests {
         assert_eq!(cmp.locate(Field::V, 3, &p, &w), "particle 1, y component");
         assert_eq!(cmp.locate(Field::V, 6, &p, &w), "mirror 0, x component");
         assert_eq!(cmp.locate(Field::Rho, 2, &p, &w), "particle 2");
+        assert_eq!(cmp.locate(Field::Tau, 6 + 3, &p, &w), "particle 1, xy component");
+        assert_eq!(cmp.locate(Field::Rot, 3 + 2, &p, &w), "particle 1, yz component");
     }
 
     /// A stage that writes p for the real particles with either backend, and for the mirrors

@@ -613,5 +613,5 @@ fn a_legacy_soil_strength_code_runs_and_is_compared() {
     let (_, rows) = report_rows(&out.join("dual_report.json"));
     let r = row(&rows, "legacy.strain_rate", "dtau");
     assert!(r["out_of_tolerance"].as_u64().unwrap() > 0, "{r}");
-    assert!(r["first_divergence"]["at"].as_str().unwrap().contains("component 3"), "the xy component: {r}");
+    assert!(r["first_divergence"]["at"].as_str().unwrap().contains("xy component"), "the xy component: {r}");
 }
