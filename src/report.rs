@@ -19,6 +19,16 @@ pub struct L1 {
     pub n: usize,
 }
 
+/// The units of a mass and an energy of the model (kg, J): per m² of the plane in 1D, per metre
+/// of depth in 2D plane; whole in RZ and 3D (of the modelled part, with symmetry planes).
+pub fn extensive_units(case: &Case) -> (&'static str, &'static str) {
+    match (case.dim, case.axisymmetric()) {
+        (1, _) => ("kg/m²", "J/m²"),
+        (2, false) => ("kg/m", "J/m"),
+        _ => ("kg", "J"),
+    }
+}
+
 /// Loads the case of a run directory (case.toml with the run's --set overrides) and its
 /// summary. A run killed before it wrote summary.json gets a summary that says so
 /// (`"status": "killed"`, `"partial": true`).
@@ -248,13 +258,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     );
     let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
     let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
-    // per unit area of the plane in 1D, per metre of depth in 2D plane; whole in RZ and 3D (of
-    // the modelled part, with symmetry planes)
-    let (mu, eu) = match (case.dim, case.axisymmetric()) {
-        (1, _) => ("kg/m²", "J/m²"),
-        (2, false) => ("kg/m", "J/m"),
-        _ => ("kg", "J"),
-    };
+    let (mu, eu) = extensive_units(&case);
     println!(
         "mass ({mu}): initial {m0:.12e}, final {m1:.12e}, relative change {:.3e}",
         (m1 - m0) / m0.abs().max(1e-300)

@@ -20,11 +20,7 @@ pub fn check_text(sim: &Sim) -> String {
     }
     // the mass each material has in the model (a ring's whole mass in RZ; per metre of depth in
     // 2D plane, per m² in 1D; the modelled part only, with symmetry planes)
-    let unit = match (c.dim, c.axisymmetric()) {
-        (1, _) => "kg/m2",
-        (2, false) => "kg/m",
-        _ => "kg",
-    };
+    let unit = crate::report::extensive_units(c).0;
     let parts: Vec<String> =
         c.materials.iter().zip(&by_mat).map(|(m, (k, mass))| format!("{} {k}: {mass:.4} {unit}", m.name)).collect();
     s += &format!(" ({}, in the model)\n", parts.join(", "));

@@ -125,10 +125,7 @@ fn mark_summary(path: &Path, what: &str) {
     obj.insert("partial".into(), true.into());
     obj.insert("diagnostic".into(), what.into());
     let Ok(out) = serde_json::to_string_pretty(&v) else { return };
-    let tmp = path.with_extension("json.tmp");
-    if std::fs::write(&tmp, out).is_ok() {
-        let _ = std::fs::rename(&tmp, path);
-    }
+    let _ = crate::rundir::write_atomic(path, out.as_bytes());
 }
 
 /// Names the summary.json that the exit handler marks when a legacy routine ends the process

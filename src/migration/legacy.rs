@@ -533,6 +533,8 @@ impl Stage for LegacyStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, k: &Clock) {
         if b == Backend::Rust && self.alone.is_none() {
+            // each twin sized again right before it runs: a later twin's outputs follow an
+            // earlier one's (the kernel's per-pair arrays follow the search's pair count)
             for s in &self.chain {
                 s.prepare(p, w);
                 s.run(Backend::Rust, p, w, k);
