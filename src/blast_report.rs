@@ -815,7 +815,10 @@ fn print_text(
     hist: &[(f64, std::result::Result<Crater, String>)],
     map: Option<&std::result::Result<SurfaceMap, String>>,
 ) -> (Value, Vec<Value>, Vec<Value>) {
-    let last = hist.last().map(|h| h.1.clone());
+    let mut last = hist.last().map(|h| h.1.clone());
+    if let Some(Ok(c)) = &mut last {
+        c.bounded = crate::analysis::crater::box_bound(case, c, map.and_then(|m| m.as_ref().ok()));
+    }
     let crater_json = match &last {
         Some(Ok(c)) => {
             let t_last = hist.last().map(|h| h.0).unwrap_or(0.0);
@@ -834,6 +837,9 @@ fn print_text(
             }
             if let Some(k) = &c.crack {
                 println!("note: {k}");
+            }
+            if let Some(b) = &c.bounded {
+                println!("warning: {b}");
             }
             if let Some(w) = crate::advice::several_charges(case) {
                 println!("note: {w}");

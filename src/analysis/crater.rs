@@ -140,6 +140,17 @@ pub struct Crater {
     /// in the ground, not the bowl), read at the deeper of those two columns' drops instead.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crack: Option<String>,
+    /// Why the measure is the box's rather than the crater's, when the crater reaches the edge
+    /// or the bottom of the soil the scene models ([`box_bound`]): its diameter or depth is then
+    /// a lower bound.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bounded: Option<String>,
+    /// The crater's columns reach the first column, the last column, the soil's bottom.
+    #[serde(skip)]
+    pub touches: [bool; 3],
+    /// The soil's original bottom (m): its lowest particles' centre less half a spacing.
+    #[serde(skip)]
+    pub bottom_m: f64,
     /// 3D: the crater in vertical sections through the charge's axis at 0°, 45°, 90° and 135°
     /// (a scene that is not symmetric about the axis shows it here); empty in 2D and RZ.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -802,6 +813,7 @@ pub fn measure(sim: &Sim) -> Result<Crater, String> {
             ..Default::default()
         }));
     }
+    c.bounded = box_bound(&sim.case, &c, c.surface.as_ref());
     Ok(c)
 }
 
@@ -830,6 +842,62 @@ fn measurable<'a>(n0: usize, now: impl Iterator<Item = &'a f64>, ds: f64) -> Res
         return Err(format!("the soil spacing {ds} m is not a positive number"));
     }
     Ok(())
+}
+
+/// Why the crater's measure is the box's, if it is: the crater reaches a side of the soil the
+/// scene models that is not a symmetry plane (2D plane: its first or last column, unless a
+/// mirror wall stands within a spacing of it; RZ: the outer radius; 3D: the surface map's
+/// border, the scene completed across its symmetry planes, else the revolution's outer radius),
+/// or its floor lies within a spacing of the soil's original bottom. Its diameter or depth is
+/// then a lower bound: what the soil beyond the box would have done is not modelled.
+pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>) -> Option<String> {
+    if c.note.is_some() || c.columns_m.is_empty() {
+        return None;
+    }
+    let ds = c.column_m;
+    let (first, last) = (c.columns_m[0] - 0.5 * ds, c.columns_m[c.columns_m.len() - 1] + 0.5 * ds);
+    let mut why: Vec<String> = Vec::new();
+    let map = map.filter(|m| m.crater_cells.iter().any(|&x| x));
+    if case.dim == 3 && map.is_some() {
+        let m = map.unwrap_or_else(|| unreachable!());
+        let (nx, ny) = (m.cells[0], m.cells[1]);
+        let border = (0..nx * ny)
+            .any(|k| m.crater_cells[k] && (k % nx == 0 || k % nx + 1 == nx || k / nx == 0 || k / nx + 1 == ny));
+        if border {
+            why.push("reaches a side of the soil the scene models (the surface map's border)".into());
+        }
+    } else if case.dim == 3 || case.axisymmetric() {
+        if c.touches[0] || c.touches[1] {
+            why.push(format!("reaches the soil's outer radius (r = {:.3} m)", last.max(-first)));
+        }
+    } else {
+        // a vertical mirror wall within a spacing of an edge: a symmetry plane, not the box
+        let mirror_at = |x: f64| {
+            case.walls.iter().any(|w| {
+                w.kind == crate::case::WallKind::Mirror
+                    && w.from_m.first().is_some_and(|a| Some(a) == w.to_m.first() && (a - x).abs() <= ds)
+            })
+        };
+        for (t, x) in [(c.touches[0], first), (c.touches[1], last)] {
+            if t && !mirror_at(x) {
+                why.push(format!("reaches the edge of the soil the scene models (x = {x:.3} m)"));
+            }
+        }
+    }
+    let bottom = c.touches[2].then(|| {
+        format!("floor reaches the soil's bottom ({} = {:.3} m)", if case.dim == 3 { "z" } else { "y" }, c.bottom_m)
+    });
+    let (what, so) = match (why.is_empty(), bottom) {
+        (true, None) => return None,
+        (false, None) => (why.join(" and "), "its diameter is a lower bound: widen the soil"),
+        (true, Some(b)) => (format!("'s {b}"), "its depth is a lower bound: deepen the soil"),
+        (false, Some(b)) => (
+            format!("{} and its {b}", why.join(" and ")),
+            "its diameter and depth are lower bounds: widen and deepen the soil",
+        ),
+    };
+    let sep = if what.starts_with('\'') { "" } else { " " };
+    Some(format!("the crater{sep}{what}: the box, not the crater, ends the measure; {so}"))
 }
 
 /// The note of a measure that finds no apparent crater with columns `ds` wide (m).
@@ -917,7 +985,8 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     }
     let (kmax, depth) =
         drop.iter().enumerate().fold((0, f64::NEG_INFINITY), |acc, (k, d)| if *d > acc.1 { (k, *d) } else { acc });
-    let run = |lim: f64| -> f64 {
+    // the columns about the deepest one whose drop exceeds `lim`: first and last
+    let span = |lim: f64| -> (usize, usize) {
         let (mut a, mut b) = (kmax, kmax);
         while a > 0 && drop[a - 1] > lim {
             a -= 1;
@@ -925,6 +994,10 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
         while b + 1 < ncol && drop[b + 1] > lim {
             b += 1;
         }
+        (a, b)
+    };
+    let run = |lim: f64| -> f64 {
+        let (a, b) = span(lim);
         (b - a + 1) as f64 * ds
     };
     // a bowl spans at least two columns (a crater on the axis of an RZ section does, with its
@@ -936,6 +1009,14 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     let vent = depth > 0.5 * ds && !narrow && run(0.5 * ds) < depth;
     let crater = depth > 0.5 * ds && !narrow && !vent;
     let (diameter, half) = if crater { (run(0.5 * ds), run(0.5 * depth)) } else { (0.0, 0.0) };
+    // the crater's columns reach the raster's first or last column, or its floor is within a
+    // spacing of the soil's original bottom (or empty down to it)
+    let touches = if crater {
+        let (a, b) = span(0.5 * ds);
+        [a == 0, b + 1 == ncol, (a..=b).any(|k| !s1[k].is_finite() || s1[k] < ymin0 + ds)]
+    } else {
+        [false; 3]
+    };
     let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
     let mound = drop.iter().cloned().map(|d| -d).fold(0.0, f64::max);
@@ -1008,6 +1089,9 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
             c
         }),
         note,
+        bounded: None,
+        touches,
+        bottom_m: ymin0 - 0.5 * ds,
         sections: Vec::new(),
         surface: None,
         columns_m: (0..ncol).map(|k| lo + (k as f64 + 0.5) * ds).collect(),

@@ -313,7 +313,8 @@ pub struct LegacyStage {
     tol: Tolerance,
     /// Set for a routine with no twin: why it runs alone.
     alone: Option<&'static str>,
-    replay: Mutex<Option<(u64, Vec<Snap>)>>,
+    /// The last call's outputs, with its time (bits), particle count and pair count.
+    replay: Mutex<Option<(ReplayKey, Vec<Snap>)>>,
     /// The inputs the last call changed, until the dual run takes them.
     input_writes: Mutex<Vec<InputWrite>>,
 }
@@ -370,10 +371,36 @@ fn input_change(
     iw
 }
 
+/// What a second call at the same time must find unchanged to replay the first call's outputs:
+/// the time (its bits), the particle count, the smoothing lengths (a fingerprint of their bits:
+/// `smoothing = "density"` sets them anew at every evaluation, and the mirrors and pairs follow)
+/// and, for a routine that does not make the pair list, the pair count.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct ReplayKey {
+    t: u64,
+    ntotal: usize,
+    h: u64,
+    pairs: usize,
+}
+
+impl ReplayKey {
+    fn of(k: &Clock, p: &Particles, w: &Work, search: bool) -> ReplayKey {
+        // FNV-1a over the bits of h
+        let h = p.h[..p.ntotal.min(p.h.len())]
+            .iter()
+            .fold(0xcbf2_9ce4_8422_2325u64, |a, v| (a ^ v.to_bits()).wrapping_mul(0x0000_0100_0000_01b3));
+        ReplayKey { t: k.t.to_bits(), ntotal: p.ntotal, h, pairs: if search { 0 } else { w.pairs.len() } }
+    }
+}
+
 impl LegacyStage {
     fn call(&self, p: &mut Particles, w: &mut Work, k: &Clock) {
-        let key = k.t.to_bits();
+        let key = ReplayKey::of(k, p, w, self.writes.contains(&Field::PairI));
         {
+            // a second evaluation at the same time over the same particles and pairs replays the
+            // first; one over other mirrors or pairs (the smoothing lengths changed between the
+            // two: `smoothing = "density"`) calls the routine again, since the first's outputs
+            // do not fit the state
             let rp = self.replay.lock().unwrap_or_else(|e| e.into_inner());
             if let Some((t, snaps)) = &*rp
                 && *t == key
@@ -396,9 +423,9 @@ impl LegacyStage {
             ));
         }
         let mut sh = lg.shared();
-        if sh.last_t != Some(key) {
+        if sh.last_t != Some(key.t) {
             sh.step += 1;
-            sh.last_t = Some(key);
+            sh.last_t = Some(key.t);
         }
         *sh.calls.entry(r.name.clone()).or_default() += 1;
         let itimestep = sh.step;
