@@ -262,6 +262,16 @@ pub fn print_gauge_lines(summary: &Value, blast: bool) {
         let f = |k: &str, scale: f64, unit: &str, digits: usize| -> String {
             g[k].as_f64().filter(|v| v.is_finite()).map_or("-".into(), |v| format!("{:.*} {unit}", digits, v * scale))
         };
+        if g["reached"] == json!(false) {
+            println!(
+                "gauge {} ({}): not reached by the wave (its largest reading {}, at most {:.0e} of the strongest gauge's rise above its first reading)",
+                g["name"].as_str().unwrap_or("?"),
+                g["kind"].as_str().unwrap_or("particle"),
+                f("peak_pa", ps, pu, 2),
+                crate::gauges::REACHED
+            );
+            continue;
+        }
         println!(
             "gauge {} ({}): peak {} at {}, arrival {}, impulse {}, PPV {}",
             g["name"].as_str().unwrap_or("?"),
@@ -615,7 +625,8 @@ pub fn report(
         // else the explosive's initial centroid) over the whole charge's mass
         let (centre, w) = (charge.centre.clone(), charge.mass_kg);
         if let Some(centre) = centre {
-            for gg in &sg {
+            // a gauge the wave has not reached reads the ambient state's noise: not a peak
+            for gg in sg.iter().filter(|g| g["reached"] != json!(false)) {
                 let pt: Vec<f64> =
                     gg["point_m"].as_array().map(|a| a.iter().filter_map(|v| v.as_f64()).collect()).unwrap_or_default();
                 let r = pt.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
@@ -1057,7 +1068,7 @@ pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
         return Vec::new();
     }
     let pi = std::f64::consts::PI;
-    let images = if case.dim == 3 { charge_of(case, frames).images } else { 1.0 };
+    let images = charge_of(case, frames).images;
     frames
         .iter()
         .map(|f| {
@@ -1068,7 +1079,7 @@ pub fn bubble_history(case: &Case, frames: &[Frame]) -> Vec<(f64, f64)> {
             let r = if case.dim == 3 || case.axisymmetric() {
                 (3.0 * images * a / (4.0 * pi)).cbrt()
             } else {
-                (a / pi).sqrt()
+                (images * a / pi).sqrt()
             };
             (f.time, r)
         })
@@ -1089,14 +1100,17 @@ struct Charge {
     mass_kg: f64,
     /// The dimension its blast spreads in: 2 in plane strain (a line charge), 3 in RZ and 3D.
     dim: usize,
-    /// 3D: how many copies of the modelled scene the symmetry planes through the charge's axis
-    /// make of it (4 for a quarter); 1 otherwise.
+    /// How many copies of the modelled charge its symmetry planes make ([`charge_images`]: 4
+    /// for a quarter, 2 for an RZ half space); 1 without.
     images: f64,
 }
 
 impl Charge {
     fn mass_text(&self) -> String {
         match self.dim {
+            2 if self.images > 1.0 => {
+                format!("{:.3} kg per m of depth: {:.0} × the modelled part", self.mass_kg, self.images)
+            }
             2 => format!("{:.3} kg per m of depth", self.mass_kg),
             _ if self.images > 1.0 => format!("{:.3} kg: {:.0} × the modelled part", self.mass_kg, self.images),
             _ => format!("{:.3} kg", self.mass_kg),
@@ -1109,6 +1123,40 @@ impl Charge {
             _ => "scaled distance R/(W/A)",
         }
     }
+}
+
+/// How many copies of the modelled charge its symmetry planes make (2 for a half, 4 for a
+/// quarter, 8 for an octant): the mirror walls that are axis-aligned planes (lines in 2D) with
+/// every explosive point of `pts` (m) on one side and the nearest within one explosive spacing
+/// of it — the charge abuts them, and their images complete it. In RZ the axis is not such a
+/// plane (the rings are whole already); a plane perpendicular to it (y = c) is.
+fn charge_images(case: &Case, pts: &[Vec<f64>]) -> f64 {
+    if pts.is_empty() {
+        return 1.0;
+    }
+    let ex = explosive_mask(case);
+    let sp = case
+        .regions
+        .iter()
+        .filter(|r| case.material_index(&r.material).is_some_and(|m| ex[m]))
+        .map(|r| r.spacing_m)
+        .fold(0.0, f64::max);
+    let d = case.dim;
+    let mut planes: Vec<(usize, f64)> = Vec::new();
+    for w in case.walls.iter().filter(|w| w.kind == crate::case::WallKind::Mirror && w.edge_m.is_none()) {
+        let Some(k) = (0..d).find(|&k| w.from_m.get(k).is_some_and(|a| Some(a) == w.to_m.get(k))) else { continue };
+        if k == 0 && case.axisymmetric() {
+            continue;
+        }
+        let c = w.from_m[k];
+        let (lo, hi) = pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[k] - c), b.max(p[k] - c)));
+        let one_side = lo >= 0.0 || hi <= 0.0;
+        let near = lo.abs().min(hi.abs());
+        if one_side && near <= sp.max(0.0) && !planes.iter().any(|&(q, e)| q == k && e == c) {
+            planes.push((k, c));
+        }
+    }
+    2f64.powi(planes.len() as i32)
 }
 
 /// The charge of a run from its first frame.
@@ -1138,13 +1186,8 @@ fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
             c
         })
     });
-    let images = match (d, &centre) {
-        (3, Some(c)) => {
-            let ds = soil_spacing(case).unwrap_or_else(|| f0.h.iter().cloned().fold(f64::INFINITY, f64::min));
-            2f64.powi(crate::analysis::crater::mirror_planes(case, (c[0], c[1]), ds).len() as i32)
-        }
-        _ => 1.0,
-    };
+    let pts: Vec<Vec<f64>> = k.iter().map(|&i| coords(i)).collect();
+    let images = charge_images(case, &pts);
     let mass: f64 = k.iter().map(|&i| f0.mass[i]).sum::<f64>() * images;
     Charge { centre, mass_kg: mass, dim: if d == 3 || case.axisymmetric() { 3 } else { d }, images }
 }

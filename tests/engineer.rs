@@ -454,3 +454,86 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
     assert_eq!(snaps.len(), 1, "{snaps:?}");
     assert!(r.join("mine.png").exists() && r.join("peaks.png").exists());
 }
+
+/// An underwater charge in RZ over a symmetry plane (a mirror wall on y = 0 through its centre,
+/// the set-up docs/cases.md gives for a point blast): the report scales by the whole charge, both
+/// halves (it used to take the modelled half: distances 2^⅓ too far, the products' radius 2^⅓
+/// too small), and a gauge the wave has not reached is not a peak (it used to read its noise
+/// over the ambient pressure as a peak, arriving at t = 0).
+#[test]
+fn a_half_space_charge_is_scaled_whole_and_an_unreached_gauge_is_no_peak() {
+    let d = tempfile::tempdir().unwrap();
+    let case = d.path().join("uw_half.toml");
+    std::fs::write(
+        &case,
+        r#"name = "uw_half"
+dim = 2
+geometry = "axisymmetric"
+[time]
+end_s = 8.0e-6
+output_interval_s = 4.0e-6
+[[material]]
+name = "tnt"
+preset = "tnt"
+[[material]]
+name = "water"
+preset = "water"
+[[region]]
+name = "charge"
+material = "tnt"
+shape = "sphere"
+center_m = [0.0, 0.0]
+radius_m = 0.012
+lo_m = [0.0, 0.0]
+hi_m = [0.012, 0.012]
+spacing_m = 0.002
+[[region]]
+name = "water"
+material = "water"
+shape = "box"
+lo_m = [0.0, 0.0]
+hi_m = [0.12, 0.12]
+spacing_m = 0.004
+subtract = ["charge"]
+[[wall]]
+from_m = [0.0, 0.0]
+to_m = [0.12, 0.0]
+kind = "mirror"
+[detonation]
+mode = "programmed"
+point_m = [0.0, 0.0]
+[[gauge]]
+name = "near"
+point_m = [0.03, 0.002]
+kind = "point"
+[[gauge]]
+name = "far"
+point_m = [0.11, 0.002]
+kind = "point"
+"#,
+    )
+    .unwrap();
+    let dir = d.path().join("run");
+    ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
+    let s = summary(&dir);
+    let g = s["gauges"].as_array().unwrap();
+    let (near, far) = (&g[0], &g[1]);
+    assert_eq!(near["reached"], true, "{near}");
+    assert!(near["arrival_s"].as_f64().is_some_and(|t| t > 0.0), "{near}");
+    assert_eq!(far["reached"], false, "the wave travels < 5 cm in 8 µs: {far}");
+    assert!(far["arrival_s"].is_null(), "{far}");
+    let o = blastsph(&["report", dir.to_str().unwrap()]);
+    ok(&o);
+    assert!(text(&o.stdout).contains("gauge far (point): not reached by the wave"), "{}", text(&o.stdout));
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    // the whole sphere: 4/3 π R³ ρ, the products' radius R at t = 0 (the lattice's few per cent)
+    let (r0, rho) = (0.012f64, 1630.0);
+    let w = 4.0 / 3.0 * std::f64::consts::PI * r0.powi(3) * rho;
+    let b0 = r["bubble"][0]["equivalent_radius_m"].as_f64().unwrap();
+    assert!((b0 / r0 - 1.0).abs() < 0.08, "the products' radius at t = 0: {b0} m for a {r0} m charge");
+    let peaks = r["peaks_scaled"].as_array().unwrap();
+    assert_eq!(peaks.len(), 1, "only the reached gauge: {peaks:?}");
+    let z = peaks[0]["scaled_distance"].as_f64().unwrap();
+    let z_whole = 0.03f64.hypot(0.002) / w.cbrt();
+    assert!((z / z_whole - 1.0).abs() < 0.05, "scaled distance {z} against {z_whole} for the whole {w:.4} kg");
+}
