@@ -1149,7 +1149,8 @@ fn charge_images(case: &Case, pts: &[Vec<f64>]) -> f64 {
             continue;
         }
         let c = w.from_m[k];
-        let (lo, hi) = pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[k] - c), b.max(p[k] - c)));
+        let (lo, hi) =
+            pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[k] - c), b.max(p[k] - c)));
         let one_side = lo >= 0.0 || hi <= 0.0;
         let near = lo.abs().min(hi.abs());
         if one_side && near <= sp.max(0.0) && !planes.iter().any(|&(q, e)| q == k && e == c) {

@@ -525,7 +525,8 @@ kind = "point"
     let o = blastsph(&["report", dir.to_str().unwrap()]);
     ok(&o);
     assert!(text(&o.stdout).contains("gauge far (point): not reached by the wave"), "{}", text(&o.stdout));
-    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     // the whole sphere: 4/3 π R³ ρ, the products' radius R at t = 0 (the lattice's few per cent)
     let (r0, rho) = (0.012f64, 1630.0);
     let w = 4.0 / 3.0 * std::f64::consts::PI * r0.powi(3) * rho;

@@ -1159,6 +1159,56 @@ mod tests {
     /// docs-only check: the depth read the crack) is left out of the depth and named; a crack
     /// alone is no crater, nor is a hole narrower than it is deep (a vent through the dome).
     #[test]
+    fn a_crater_the_box_ends_is_named() {
+        let ds = 0.05;
+        let soil0 = lattice(ds, 1.0, 0.5, &|_, _| false);
+        let measure = |cut: &dyn Fn(f64, f64) -> bool| {
+            let inp = CraterInput {
+                soil0: soil0.clone(),
+                soil1: lattice(ds, 1.0, 0.5, cut),
+                charge0: (Vec::new(), Vec::new()),
+            };
+            measure_xy(&inp, ds).unwrap()
+        };
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt6.toml")).unwrap();
+        let plane = crate::case::parse(&text, "test", &[], None).unwrap();
+        // a bowl inside the box
+        let c = measure(&|x, y| (x - 0.5).abs() < 0.2 && y > 0.35);
+        assert!(c.note.is_none() && box_bound(&plane, &c, None).is_none(), "{c:?}");
+        // a bowl across the whole box: its width is the box's
+        let c = measure(&|_, y| y > 0.35);
+        let b = box_bound(&plane, &c, None).unwrap_or_else(|| panic!("{c:?}"));
+        assert!(
+            b.contains("x = 0.000 m") && b.contains("x = 1.000 m") && b.contains("diameter is a lower bound"),
+            "{b}"
+        );
+        // a bowl down to the soil's bottom row
+        let c = measure(&|x, y| (x - 0.5).abs() < 0.3 && y > 0.05);
+        let b = box_bound(&plane, &c, None).unwrap_or_else(|| panic!("{c:?}"));
+        assert!(
+            b.starts_with("the crater's floor reaches the soil's bottom (y = 0.000 m)")
+                && b.contains("depth is a lower bound"),
+            "{b}"
+        );
+        // a half model: the edge at x = 0 is a mirror wall (a symmetry plane), not the box
+        let half = crate::case::parse(
+            &text.replacen(
+                "[[wall]]\nfrom_m = [0.0, 1.0]\nto_m = [0.0, 0.0]",
+                "[[wall]]\nfrom_m = [0.0, 1.0]\nto_m = [0.0, 0.0]\nkind = \"mirror\"",
+                1,
+            ),
+            "test",
+            &[],
+            None,
+        )
+        .unwrap();
+        let c = measure(&|x, y| x < 0.4 && y > 0.35);
+        assert!(c.touches[0] && box_bound(&half, &c, None).is_none(), "{c:?}");
+        assert!(box_bound(&plane, &c, None).is_some());
+    }
+
+    #[test]
     fn cracks_and_vents_are_not_the_crater() {
         let ds = 0.01;
         let soil0 = lattice(ds, 1.0, 1.0, &|_, _| false);
