@@ -277,6 +277,18 @@ impl Loop {
         let mut gauges = Gauges::new(&sim, Some(&dir.join("gauges.csv")))?;
         let e0 = energy(&sim);
         let m0 = sim.total_mass();
+        // a legacy STOP in the rates at t = 0 ends the process before the summary below: the
+        // exit handler then writes this much of one
+        if !sim.plan.legacy.is_null() {
+            crate::migration::ffi::report_exit_with(
+                dir.join("summary.json"),
+                serde_json::json!({
+                    "case": sim.case.name(), "backend": sim.plan.label(), "legacy": sim.plan.legacy_modules(),
+                    "dim": sim.cfg.dim, "particles": sim.p.nreal, "end_time": sim.cfg.end,
+                    "case_toml_sha256": sha256_hex(as_run.as_bytes()),
+                }),
+            );
+        }
         sim.rates();
         sim.interface_stats();
         let peaks = Peaks::new(&sim);
@@ -336,6 +348,7 @@ impl Loop {
         }
         let _watch = (!self.sim.plan.legacy.is_null()).then(|| {
             crate::migration::ffi::report_exit_to(Some(self.dir.join("summary.json")));
+            crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
             Watch
         });
         let cp = opts.checkpoints;
@@ -352,6 +365,9 @@ impl Loop {
             }
             match self.sim.step() {
                 Ok(dt) => {
+                    if _watch.is_some() {
+                        crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
+                    }
                     self.gauges.sample(&self.sim)?;
                     self.peaks.update(&self.sim);
                     if self.sim.t >= self.next_out * (1.0 - 1e-9) {

@@ -444,6 +444,15 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
     let o = blastsph(&["report", d.join("run").to_str().unwrap()]);
     let se = String::from_utf8_lossy(&o.stderr);
     assert!(se.contains("holds no step") && !se.contains("damaged"), "{se}");
+    // and a summary.json says how it ended (there was none: the STOP came before the first)
+    let sj: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("run").join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        (&sj["status"], &sj["partial"], &sj["steps"], &sj["dim"]),
+        (&"unstable".into(), &true.into(), &0.into(), &1.into()),
+        "{sj}"
+    );
+    assert!(sj["diagnostic"].as_str().is_some_and(|d| d.contains("p_gas ended the process at step 1")), "{sj}");
 }
 
 /// A `STOP` later in a run leaves its summary.json saying how the run ended (it said "running",
@@ -480,6 +489,10 @@ fn a_stop_later_in_a_run_is_told_in_its_summary() {
     assert_eq!(sj["partial"], true, "{sj}");
     let diag = sj["diagnostic"].as_str().unwrap();
     assert!(diag.contains(&format!("legacy routine p_gas ended the process at step {step} ")), "{diag}");
+    // the steps completed before it (the legacy code counts from 1: its step k is blastsph's
+    // k − 1 completed steps), not the start's 0
+    assert_eq!(sj["steps"].as_u64(), Some(step - 1), "{sj}");
+    assert!(sj["time"].as_f64().is_some_and(|t| t > 0.0), "{sj}");
     // the frames before the STOP are read
     let o = blastsph(&["report", run.to_str().unwrap()]);
     let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));

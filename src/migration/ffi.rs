@@ -52,6 +52,14 @@ static IN_CALL: Mutex<(String, String)> = Mutex::new((String::new(), String::new
 /// exit handler marks it as ended by the legacy code ([`report_exit_to`]).
 static SUMMARY: Mutex<Option<PathBuf>> = Mutex::new(None);
 
+/// What the exit handler writes when the run has no summary.json yet (the legacy code ended it
+/// in the rates at t = 0, before the run's first summary): the case, its dimension and particles.
+static SKELETON: Mutex<Option<serde_json::Value>> = Mutex::new(None);
+
+/// The run's last completed step and its time, for the summary the exit handler marks (that
+/// summary is from the start or the last checkpoint).
+static PROGRESS: Mutex<(u64, f64)> = Mutex::new((0, 0.0));
+
 /// The exit status of a process that a legacy `STOP` ended (as a run that cannot go on: README,
 /// "Exit statuses").
 pub const STOP_STATUS: c_int = 3;
@@ -111,19 +119,24 @@ extern "C" fn legacy_exit() {
     }
 }
 
-/// Rewrites the summary.json at `path` (the run's last, from its start or its last checkpoint) as
-/// the end of a run that the legacy code ended (none when the first rates ended it, before the
-/// run's first summary: `report` then reads it as killed): `"status": "unstable"` (exit status 3, as for a
-/// run that cannot go on), `"partial": true` (its steps and energies are the checkpoint's, not
-/// the last step's) and the line printed as its `"diagnostic"`. Through a temporary file; any
+/// Rewrites the summary.json at `path` (the run's last, from its start or its last checkpoint;
+/// the [`SKELETON`] when the first rates ended the run before its first summary) as the end of a
+/// run that the legacy code ended: `"status": "unstable"` (exit status 3, as for a run that
+/// cannot go on), `"partial": true` (its energies are the checkpoint's, not the last step's), the
+/// last completed step and its time ([`PROGRESS`]) and the line printed as its `"diagnostic"`. Through a temporary file; any
 /// failure leaves the file as it was (the handler must not fail).
 fn mark_summary(path: &Path, what: &str) {
-    let Ok(text) = std::fs::read_to_string(path) else { return };
-    let Ok(mut v) = serde_json::from_str::<serde_json::Value>(&text) else { return };
+    let read = std::fs::read_to_string(path).ok().and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    let skeleton = || SKELETON.try_lock().ok().and_then(|g| g.clone());
+    let Some(mut v) = read.or_else(skeleton) else { return };
     let Some(obj) = v.as_object_mut() else { return };
     obj.insert("status".into(), "unstable".into());
     obj.insert("partial".into(), true.into());
     obj.insert("diagnostic".into(), what.into());
+    if let Ok(g) = PROGRESS.try_lock() {
+        obj.insert("steps".into(), g.0.into());
+        obj.insert("time".into(), g.1.into());
+    }
     let Ok(out) = serde_json::to_string_pretty(&v) else { return };
     let _ = crate::rundir::write_atomic(path, out.as_bytes());
 }
@@ -132,6 +145,19 @@ fn mark_summary(path: &Path, what: &str) {
 /// during a run (`None`: none, e.g. between runs or in a dual run, which keeps no summary).
 pub fn report_exit_to(path: Option<PathBuf>) {
     *SUMMARY.lock().unwrap_or_else(|e| e.into_inner()) = path;
+}
+
+/// As [`report_exit_to`], before the run has a summary.json: the exit handler writes `skeleton`
+/// (marked) when it finds none.
+pub fn report_exit_with(path: PathBuf, skeleton: serde_json::Value) {
+    *SKELETON.lock().unwrap_or_else(|e| e.into_inner()) = Some(skeleton);
+    *PROGRESS.lock().unwrap_or_else(|e| e.into_inner()) = (0, 0.0);
+    report_exit_to(Some(path));
+}
+
+/// The run's last completed step and time, for the summary the exit handler marks.
+pub fn report_progress(step: u64, t: f64) {
+    *PROGRESS.lock().unwrap_or_else(|e| e.into_inner()) = (step, t);
 }
 
 /// Says what the next legacy calls are (e.g. "at step 3"), for the line a `STOP` prints.
