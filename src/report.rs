@@ -338,7 +338,7 @@ pub fn energy_warning(summary: &serde_json::Value) -> Option<String> {
     let r = summary["energy"]["balance_residual_relative"].as_f64()?;
     (r.abs() > ENERGY_WARN).then(|| {
         format!(
-            "the energy balance residual is {:+.1} % of the initial energy (summary.json energy.balance_residual_relative): a run this far from conserving energy is not to be trusted; lower time.cfl (or time.dt_s for a fixed step)",
+            "the energy balance residual is {:+.1} % of the initial energy and the external forces' work (summary.json energy.balance_residual_relative): a run this far from conserving energy is not to be trusted; lower time.cfl (or time.dt_s for a fixed step)",
             100.0 * r
         )
     })

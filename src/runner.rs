@@ -491,7 +491,10 @@ impl Loop {
                 "work_gravity": sim.book.work_gravity,
                 "work_floor": sim.book.work_floor,
                 "balance_residual": residual,
-                "balance_residual_relative": residual / e0.total.abs().max(1e-300),
+                // over the energy the run has had to work with: the initial energy and the
+                // external forces' work, each in magnitude (a body at rest at e = 0 under
+                // gravity starts from 0 J)
+                "balance_residual_relative": residual / (e0.total.abs() + bk.work_wall.abs() + bk.work_penalty.abs() + bk.work_gravity.abs() + bk.work_floor.abs()).max(1e-300),
             },
             "stability": sim.stab,
             "module_seconds": sim.seconds(),

@@ -163,3 +163,32 @@ fn long_surface_full() {
     let gap = s["stability"]["min_interface_gap_dx"].as_f64().expect("gap");
     assert!(gap > 0.3, "materials came within {gap} dx");
 }
+
+/// A body at rest at e = 0 under gravity starts from 0 J: the energy check took any kinetic
+/// energy as energy created ("exceeds the initial 0 J … by more than the initial energy") and
+/// stopped it at step 1. It falls, and where the block's particles end is x0 − ½ g t² (every
+/// particle feels gravity alone: the gas at e = 0 carries no pressure).
+#[test]
+fn a_body_at_rest_at_zero_energy_falls_under_gravity() {
+    let d = tempfile::tempdir().unwrap();
+    let cf = d.path().join("fall.toml");
+    std::fs::write(
+        &cf,
+        "name = \"fall\"\ndim = 2\n[time]\nend_s = 0.1\noutput_interval_s = 0.05\n[physics]\ngravity_ms2 = [0.0, -9.81]\n\
+         [[material]]\nname = \"dust\"\neos = { kind = \"ideal_gas\", gamma = 1.4 }\n\
+         [[region]]\nname = \"blob\"\nmaterial = \"dust\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [0.1, 0.1]\n\
+         spacing_m = 0.01\nrho_kgm3 = 1.0\ne_jkg = 0.0\n",
+    )
+    .unwrap();
+    let opts = RunOptions { out: Some(d.path().join("run")), quiet: true, ..Default::default() };
+    let r = runner::run(&cf, &opts).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.summary["status"], "ok");
+    let sim = &r.sim;
+    let t = sim.t;
+    for i in 0..sim.p.nreal {
+        let drop = sim.x_init[2 * i + 1] - sim.p.x[2 * i + 1];
+        assert!((drop - 0.5 * 9.81 * t * t).abs() < 1e-9, "particle {i} fell {drop} m in {t} s");
+    }
+    let rel = r.summary["energy"]["balance_residual_relative"].as_f64().unwrap();
+    assert!(rel.abs() < 0.05, "residual over the initial energy and gravity's work: {rel}");
+}
