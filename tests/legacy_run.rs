@@ -713,3 +713,20 @@ fn a_legacy_eos_with_mirrors_and_smoothing_from_density_runs() {
     let r = row(&rows, "legacy.p_gas", "p");
     assert!(r["compared"].as_u64().unwrap() > 0 && r["max_ulp"].as_u64() == Some(0), "{r}");
 }
+
+/// A manifest's `[itype]` key that names no material of the case and no EOS kind is a misspelt
+/// name: the material it meant takes its kind's code instead, silently (the legacy density then
+/// differs for no reason the dual run gives). It is warned of, with the codes the routines get.
+#[test]
+fn a_misspelt_itype_key_is_warned_of() {
+    let d = variant("itype_typo", |m| m.replacen("[[routine]]", "[itype]\ngass = 3\n\n[[routine]]", 1));
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the variant builds");
+    let o = blastsph(&["check", "shock_tube", "--legacy", d.join("build").to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{se}");
+    let w = se.lines().find(|l| l.contains("[itype] `gass`")).unwrap_or_else(|| panic!("{se}"));
+    assert!(
+        w.starts_with("warning:") && w.contains("names no material of this case") && w.contains("(ideal_gas) = "),
+        "{w}"
+    );
+}

@@ -155,6 +155,26 @@ impl Legacy {
                 None => itype.push(0),
             }
         }
+        // a manifest code that names no material of the case and no EOS kind: a typo reads as
+        // "this material has no code of its own" (its kind's, or the book's, is taken instead)
+        if needs_itype {
+            const KINDS: [&str; 4] = ["ideal_gas", "jwl", "water", "soil"];
+            for key in info.itype.keys() {
+                if !KINDS.contains(&key.as_str()) && !case.materials.iter().any(|m| &m.name == key) {
+                    let names: Vec<String> = case
+                        .materials
+                        .iter()
+                        .zip(&itype)
+                        .map(|(m, c)| format!("{} ({}) = {c}", m.name, m.eos.kind()))
+                        .collect();
+                    eprintln!(
+                        "warning: --legacy {shown}: the manifest's [itype] `{key}` names no material of this case and no EOS kind ({}): a misspelt name? the codes the routines get: {}",
+                        KINDS.join(", "),
+                        names.join(", ")
+                    );
+                }
+            }
+        }
         let abs = std::path::absolute(dir).map_err(|e| SphError::Io(format!("{shown}: {e}")))?;
         let cwd = abs.join("work");
         let run_dirs = info.run_dirs.iter().map(|d| cwd.join(d));
