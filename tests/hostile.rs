@@ -141,6 +141,11 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set_n("a lattice of 1e14 particles", s1, "region.soil.hi_m=[1e5,1e5]", "particles"),
         set("a spacing of 1e-300", s1, "region.soil.spacing_m=1e-300"),
         set("a subnormal spacing", s1, "region.soil.spacing_m=5e-324"),
+        // subnormal numbers anywhere (a JWL R1 of 1e-320 passed "above 0": the twins then
+        // disagreed, NaN against −1.8e308)
+        set_n("a subnormal JWL R1", s1, "material.tnt.eos.r1=1e-320", "material.tnt.eos.r1 = 1e-320: a subnormal"),
+        set_n("a subnormal CFL", s1, "time.cfl=1e-320", "subnormal"),
+        set_n("a subnormal detonation speed", s1, "material.tnt.eos.d_ms=-1e-320", "subnormal"),
         set("a spacing of 0", s1, "region.soil.spacing_m=0"),
         set_n("a 1D wall that is not a point", "verify/reflection_1d.toml", "wall.0.to_m=[0.1]", "to_m"),
         set("a negative spacing", s1, "region.soil.spacing_m=-0.01"),

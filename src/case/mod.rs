@@ -88,6 +88,12 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
         // whose defaults depend on the rest of the case are filled in
         let mut case: Case = toml::from_str(&edited).map_err(|e| toml_error(origin, &edited, &e))?;
         let mut value: toml::Table = edited.parse().map_err(|e| toml_error(origin, &edited, &e))?;
+        if let Some((key, v)) = subnormal(&value, "") {
+            return Err(input(format!(
+                "{origin}: {key} = {v:e}: a subnormal number (below the smallest normal double, {:e}): no quantity of a case is meaningful there, and the twins need not agree on it",
+                f64::MIN_POSITIVE
+            )));
+        }
         if resolve_defaults(&mut value)? {
             let full = toml::to_string(&value).map_err(|e| input(e.to_string()))?;
             case =
@@ -104,6 +110,26 @@ pub fn parse(text: &str, origin: &str, sets: &[String], stem: Option<&str>) -> R
         Err(e) if sets.is_empty() => Err(e),
         Err(e) => Err(blame(&e, sets, &attempt)),
     }
+}
+
+/// The first float of `t` (its key's dotted path, after `prefix`) that is subnormal: not zero and
+/// below the smallest normal double in magnitude.
+fn subnormal(t: &toml::Table, prefix: &str) -> Option<(String, f64)> {
+    fn walk(v: &toml::Value, key: &str) -> Option<(String, f64)> {
+        match v {
+            toml::Value::Float(x) if *x != 0.0 && x.is_finite() && x.abs() < f64::MIN_POSITIVE => {
+                Some((key.to_string(), *x))
+            }
+            toml::Value::Table(t) => subnormal(t, key),
+            // an element of an array of tables by its name (material.tnt), else its index
+            toml::Value::Array(a) => a.iter().enumerate().find_map(|(k, e)| {
+                let at = e.get("name").and_then(|n| n.as_str()).map_or(k.to_string(), |n| n.to_string());
+                walk(e, &format!("{key}.{at}"))
+            }),
+            _ => None,
+        }
+    }
+    t.iter().find_map(|(k, v)| walk(v, &if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") }))
 }
 
 /// The error of a case with overrides, attributed: to the file when the file alone gives the same
