@@ -598,7 +598,14 @@ pub fn hint(case: &Case, msg: &str) -> String {
             out.push("use time.step = \"cfl\" or a smaller time.dt_s");
         }
     }
-    if msg.contains("smoothing length") {
+    if msg.contains("smoothing length collapsed") {
+        // h shrinks a hundredfold only where particles pile up or pass through each other
+        if case.viscosity.alpha == 0.0 && case.viscosity.beta == 0.0 {
+            out.push("turn the artificial viscosity back on (leave viscosity.alpha and beta at their defaults): without it particles pass through each other at a shock");
+        } else {
+            out.push("lower time.cfl (or time.dt_s for a fixed step): particles passed through each other");
+        }
+    } else if msg.contains("smoothing length") {
         out.push("cap h with sph.h_max_ratio, or use sph.smoothing = \"density\"");
     }
     if msg.contains("the end is out of reach") {
