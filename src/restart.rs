@@ -65,6 +65,7 @@ pub(crate) fn write(lp: &mut Loop) -> Result<()> {
     b.put("run.last_written", Item::U64(vec![lp.last_written]));
     b.put_f64("run.resumes.t", &lp.resumes.iter().map(|r| r.1).collect::<Vec<_>>());
     b.put("run.resumes.step", Item::U64(lp.resumes.iter().map(|r| r.0).collect()));
+    b.put_text("run.resumes.changed", &json!(lp.resume_changes).to_string());
     let plan = &lp.sim.plan;
     let backends: serde_json::Map<String, Value> =
         plan.modules.iter().map(|(m, p)| (m.name().to_string(), json!(p.backend.name()))).collect();
@@ -80,9 +81,21 @@ pub(crate) fn write(lp: &mut Loop) -> Result<()> {
         "step": lp.sim.nstep,
         "time": lp.sim.t,
         "gauges_csv_bytes": gauges_bytes,
+        "gauges": gauge_defs(&lp.sim.case),
     });
     b.put_text("run.meta", &meta.to_string());
     crate::rundir::write_atomic_with(&lp.dir.join(FILE), |w| b.encode_to(w))
+}
+
+/// The gauges as a checkpoint records them (name, kind, point): a resume that would carry a
+/// gauge's record over to another point or name is refused.
+fn gauge_defs(case: &crate::case::Case) -> Value {
+    json!(
+        case.gauges
+            .iter()
+            .map(|g| json!({"name": g.name, "kind": format!("{:?}", g.kind).to_lowercase(), "point_m": g.point_m}))
+            .collect::<Vec<_>>()
+    )
 }
 
 /// What `blastsph resume` is given.
@@ -207,6 +220,25 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
             }
         }
     }
+    // a gauge's record belongs to its point and name: --allow-changed does not move or rename it
+    // (its record so far would be carried on under the new definition)
+    if let Some(was) = meta["gauges"].as_array() {
+        let now = gauge_defs(&case);
+        let now = now.as_array().map_or(&[][..], |v| v.as_slice());
+        if was.len() == now.len()
+            && let Some((a, b)) = was.iter().zip(now).find(|(a, b)| a != b)
+        {
+            return Err(input(format!(
+                "resume {shown}: gauge `{}` ({} at {}) is now `{}` ({} at {}): a gauge's record so far would be carried on under another name, kind or point; resume with the gauges as they were (a new gauge needs a new run)",
+                a["name"].as_str().unwrap_or("?"),
+                a["kind"].as_str().unwrap_or("?"),
+                a["point_m"],
+                b["name"].as_str().unwrap_or("?"),
+                b["kind"].as_str().unwrap_or("?"),
+                b["point_m"]
+            )));
+        }
+    }
     let mut sim = Sim::new(case, &ov).map_err(|e| match e {
         SphError::Input(m) => input(format!("resume {shown}: {m}")),
         e => e,
@@ -240,7 +272,15 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     };
     let mut resumes: Vec<(u64, f64)> =
         blob.u64("run.resumes.step")?.into_iter().zip(blob.f64("run.resumes.t")?).collect();
+    // (a checkpoint from before this record: nothing recorded as changed)
+    let mut resume_changes: Vec<String> = blob
+        .text("run.resumes.changed")
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .unwrap_or_else(|| vec![String::new(); resumes.len()]);
+    resume_changes.resize(resumes.len(), String::new());
     resumes.push((sim.nstep, sim.t));
+    resume_changes.push(changed.join(" and "));
     let last_written = blob.count("run.last_written")?;
     let gauges = Gauges::resume(&sim, Some(&gpath), &blob)?;
     // a detonation's history: its outputs up to the checkpoint (read before the file is cut)
@@ -291,6 +331,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         case_toml_sha,
         sets,
         resumes,
+        resume_changes,
         start: Instant::now(),
         det_frames,
     };

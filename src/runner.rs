@@ -261,6 +261,8 @@ pub(crate) struct Loop {
     pub sets: Vec<String>,
     /// (step, time) of each resume.
     pub resumes: Vec<(u64, f64)>,
+    /// What each resume continued with changed (`resume --allow-changed`; empty: nothing).
+    pub resume_changes: Vec<String>,
     pub start: Instant,
     /// A detonation's outputs so far (time, x, p, material: [`analysis::verify::slim`]), for
     /// the history in summary.json; empty for the other analyses.
@@ -310,6 +312,7 @@ impl Loop {
             case_toml_sha: sha256_hex(as_run.as_bytes()),
             sets: opts.sets.clone(),
             resumes: Vec::new(),
+            resume_changes: Vec::new(),
             start: Instant::now(),
             det_frames: Vec::new(),
         };
@@ -507,7 +510,10 @@ impl Loop {
             "status": status.name(),
             "partial": matches!(status, Status::Running | Status::Stopped),
             "diagnostic": diag.map(|d| d.to_string()),
-            "resumed": self.resumes.iter().map(|(s, t)| json!({ "step": s, "time": t })).collect::<Vec<_>>(),
+            "resumed": self.resumes.iter().enumerate().map(|(k, (s, t))| {
+                let changed = self.resume_changes.get(k).filter(|c| !c.is_empty());
+                json!({ "step": s, "time": t, "changed": changed })
+            }).collect::<Vec<_>>(),
         });
         // particles with negative specific internal energy, per material
         {

@@ -390,10 +390,23 @@ fn a_changed_case_is_refused_unless_allowed_and_run_continues_its_own_restart() 
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("the case") && err.contains("--allow-changed"), "{err}");
     assert_eq!(std::fs::read(dir.join("particles.h5")).unwrap(), before, "a refused resume writes nothing");
-    // allowed: it continues with the edited case
+    // a gauge moved: refused even when changes are allowed (its record so far would be carried
+    // on under the new point), and nothing written
+    let edited = std::fs::read_to_string(&cp).unwrap();
+    let moved = edited.replacen("point_m = [0.5,0.75]", "point_m = [0.45,0.75]", 1);
+    assert_ne!(moved, edited, "gauge D's point in case.toml");
+    std::fs::write(&cp, &moved).unwrap();
+    let r = resume(&dir, 1, &["--end-time", "5e-5", "--allow-changed"]);
+    assert_eq!(r.status.code(), Some(2), "{}", shown(&r));
+    let err = text(&r.stderr);
+    assert!(err.contains("gauge `D`") && err.contains("another name, kind or point"), "{err}");
+    assert_eq!(std::fs::read(dir.join("particles.h5")).unwrap(), before, "a refused resume writes nothing");
+    std::fs::write(&cp, &edited).unwrap();
+    // allowed: it continues with the edited case, and the summary says what changed
     let r = resume(&dir, 1, &["--end-time", "5e-5", "--allow-changed"]);
     assert_eq!(r.status.code(), Some(0), "{}", shown(&r));
     let s = summary(&dir).unwrap();
+    assert!(s["resumed"][0]["changed"].as_str().is_some_and(|c| c.starts_with("the case")), "{}", s["resumed"]);
     assert_eq!(s["status"], "ok");
     assert_eq!(s["end_time"].as_f64(), Some(5e-5));
     assert!(s["time"].as_f64().unwrap() >= 5e-5 * (1.0 - 1e-9));
