@@ -141,6 +141,14 @@ fn mark_summary(path: &Path, what: &str) {
     let _ = crate::rundir::write_atomic(path, out.as_bytes());
 }
 
+/// Flushes every Fortran unit (a legacy routine's WRITEs to standard output, which libgfortran
+/// buffers when it is a file or a pipe), so that they come out in order with blastsph's own lines.
+pub fn flush_fortran() {
+    // SAFETY: FLUSH with no unit (NULL) takes no pointer of ours and flushes every open unit; it
+    // is called between legacy calls, on the thread that makes them.
+    unsafe { _gfortran_flush_i4(std::ptr::null()) }
+}
+
 /// Names the summary.json that the exit handler marks when a legacy routine ends the process
 /// during a run (`None`: none, e.g. between runs or in a dual run, which keeps no summary).
 pub fn report_exit_to(path: Option<PathBuf>) {

@@ -307,7 +307,14 @@ impl Legacy {
             };
         }
         let _cwd = Cwd::enter(&self.cwd);
-        routine.call(&mut args)
+        // blastsph's lines so far before the routine's, and the routine's before what follows
+        {
+            use std::io::Write;
+            let _ = std::io::stdout().flush();
+        }
+        let r = routine.call(&mut args);
+        super::ffi::flush_fortran();
+        r
     }
 }
 
