@@ -337,14 +337,27 @@ impl Comparator {
         );
         for st in self.stats.values() {
             let other = st.counterpart.as_deref().unwrap_or("fortran");
+            // a pair list's entries are particle numbers (−1: no pair there), not reals
+            let pair = st.field.starts_with("pair_");
+            let num = |v: f64| {
+                if !pair {
+                    format!("{v:e}")
+                } else if v < 0.0 {
+                    "no pair".to_string()
+                } else {
+                    format!("particle {}", v as i64)
+                }
+            };
             let mut fd = match &st.first_divergence {
-                Some(d) => format!("step {}, {}: {other} {:e}, rust {:e}", d.step, d.at, d.fortran, d.rust),
+                // pairs missing from the other list: a count, said in `at`
+                Some(d) if pair && d.fortran.is_nan() => format!("step {}, {}", d.step, d.at),
+                Some(d) => format!("step {}, {}: {other} {}, rust {}", d.step, d.at, num(d.fortran), num(d.rust)),
                 None if st.not_compared && other == "none" => "compat: no Fortran twin, compare with --legacy".into(),
                 None if st.not_compared => "no Rust twin here: not compared".into(),
                 None => "-".into(),
             };
             if let Some(o) = &st.pair_order {
-                fd += &format!("  [pairs as sets: {}]", o.text());
+                fd += &format!("  [pairs as sets: {}]", o.text(other));
             }
             s += &format!(
                 "{:<24} {:<7} {:>10} {:>10.3e} {:>10.3e} {:>6} {:>4} {:>6}  {}\n",

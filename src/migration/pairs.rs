@@ -32,10 +32,10 @@ impl OrderStat {
         self.only_counterpart += o.only_counterpart;
         self.only_rust += o.only_rust;
     }
-    /// One line for the report.
-    pub fn text(&self) -> String {
+    /// One line for the report; `other` names the other side ("legacy", "fortran").
+    pub fn text(&self, other: &str) -> String {
         format!(
-            "{} steps in another order: {} pairs moved, {} reversed, {} only on the other side, {} only in Rust",
+            "{} steps in another order or with other pairs: {} pairs at other places, {} reversed, {} only in the {other} list, {} only in the Rust list",
             self.steps, self.moved, self.reversed, self.only_counterpart, self.only_rust
         )
     }
