@@ -175,6 +175,11 @@ pub fn remove_report(dir: &Path) -> Result<()> {
 /// Looks at `dir` without writing: refuses a path that is a link, a file, or lies under a file.
 pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
     let shown = dir.display();
+    // a new folder's name with a control character (a newline from a shell's $(...)) is a
+    // mistake, and breaks every line that names it
+    if let Some(c) = dir.to_string_lossy().chars().find(|c| c.is_control()) {
+        return Err(input(format!("{flag} {:?}: the path holds the control character {c:?}", dir.to_string_lossy())));
+    }
     match std::fs::symlink_metadata(dir) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             // the nearest ancestor that exists must be a folder

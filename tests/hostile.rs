@@ -320,6 +320,12 @@ fn bad_command_lines_and_run_directories_are_refused_with_one_line() {
         bad("threads not a number", &["run", &s1, "--threads", "abc"]),
         bad("a module in Rust and in Fortran", &["check", &s1, "--rust", "eos", "--fortran", "eos,force"]),
         bad("0 threads", &["run", &s1, "--threads", "0"]),
+        {
+            // a newline in the output folder's name (a shell's $(...) gone wrong)
+            let mut b = bad("a newline in --out", &["run", &tube, "--out", &p("a\nb")]);
+            b.needle = Some("control character".into());
+            b
+        },
         bad("a million threads", &["run", &s1, "--threads", "1000000"]),
         bad("threads beyond u64", &["run", &s1, "--threads", "99999999999999999999999"]),
         bad("--end-time inf", &["run", &tube, "--end-time", "inf"]),
