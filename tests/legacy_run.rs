@@ -587,18 +587,7 @@ fn a_legacy_soil_strength_code_runs_and_is_compared() {
         let o = blastsph(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
-    let read = |dir: &Path| {
-        let f = hdf5::File::open(dir.join("particles.h5")).unwrap();
-        let last = f
-            .member_names()
-            .unwrap()
-            .into_iter()
-            .filter(|s| s.starts_with("Step#"))
-            .max_by_key(|s| s[5..].parse::<u64>().unwrap())
-            .unwrap();
-        let g = f.group(&last).unwrap();
-        ["sxx", "sxy", "vy"].map(|n| g.dataset(n).unwrap_or_else(|e| panic!("{n}: {e}")).read_raw::<f64>().unwrap())
-    };
+    let read = |dir: &Path| last_frame(dir, &["sxx", "sxy", "vy"]);
     let (ra, rb) = (read(&a), read(&b));
     assert!(rb[0].iter().any(|&s| s.abs() > 1.0), "the soil carries a deviatoric stress");
     for k in 0..3 {
@@ -684,18 +673,7 @@ fn a_legacy_eos_with_mirrors_and_smoothing_from_density_runs() {
         let o = blastsph(&args);
         assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     }
-    let read = |dir: &Path| {
-        let f = hdf5::File::open(dir.join("particles.h5")).unwrap();
-        let last = f
-            .member_names()
-            .unwrap()
-            .into_iter()
-            .filter(|s| s.starts_with("Step#"))
-            .max_by_key(|s| s[5..].parse::<u64>().unwrap())
-            .unwrap();
-        let g = f.group(&last).unwrap();
-        ["x", "rho", "p", "h"].map(|n| g.dataset(n).unwrap_or_else(|e| panic!("{n}: {e}")).read_raw::<f64>().unwrap())
-    };
+    let read = |dir: &Path| last_frame(dir, &["x", "rho", "p", "h"]);
     let (ra, rb) = (read(&a), read(&b));
     for k in 0..4 {
         assert!(!ra[k].is_empty() && ra[k].iter().zip(&rb[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "field {k}");

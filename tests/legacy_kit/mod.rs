@@ -298,3 +298,17 @@ pub fn assert_run_ends_as_after(
     }
     f.clone()
 }
+
+/// The datasets `names` of the last frame of `dir`/particles.h5.
+pub fn last_frame(dir: &Path, names: &[&str]) -> Vec<Vec<f64>> {
+    let f = hdf5::File::open(dir.join("particles.h5")).unwrap();
+    let last = f
+        .member_names()
+        .unwrap()
+        .into_iter()
+        .filter(|s| s.starts_with("Step#"))
+        .max_by_key(|s| s[5..].parse::<u64>().unwrap())
+        .unwrap();
+    let g = f.group(&last).unwrap();
+    names.iter().map(|n| g.dataset(n).unwrap_or_else(|e| panic!("{n}: {e}")).read_raw::<f64>().unwrap()).collect()
+}
