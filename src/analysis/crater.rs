@@ -857,9 +857,8 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     let ds = c.column_m;
     let (first, last) = (c.columns_m[0] - 0.5 * ds, c.columns_m[c.columns_m.len() - 1] + 0.5 * ds);
     let mut why: Vec<String> = Vec::new();
-    let map = map.filter(|m| m.crater_cells.iter().any(|&x| x));
-    if case.dim == 3 && map.is_some() {
-        let m = map.unwrap_or_else(|| unreachable!());
+    let map = map.filter(|m| case.dim == 3 && m.crater_cells.iter().any(|&x| x));
+    if let Some(m) = map {
         let (nx, ny) = (m.cells[0], m.cells[1]);
         let border = (0..nx * ny)
             .any(|k| m.crater_cells[k] && (k % nx == 0 || k % nx + 1 == nx || k / nx == 0 || k / nx + 1 == ny));

@@ -340,7 +340,7 @@ pub struct LegacyStage {
     tol: Tolerance,
     /// Set for a routine with no twin: why it runs alone.
     alone: Option<&'static str>,
-    /// The last call's outputs, with its time (bits), particle count and pair count.
+    /// The last call's outputs, with what it was called on ([`ReplayKey`]).
     replay: Mutex<Option<(ReplayKey, Vec<Snap>)>>,
     /// The inputs the last call changed, until the dual run takes them.
     input_writes: Mutex<Vec<InputWrite>>,
