@@ -1141,14 +1141,11 @@ fn charge_images(case: &Case, pts: &[Vec<f64>]) -> f64 {
         .filter(|r| case.material_index(&r.material).is_some_and(|m| ex[m]))
         .map(|r| r.spacing_m)
         .fold(0.0, f64::max);
-    let d = case.dim;
     let mut planes: Vec<(usize, f64)> = Vec::new();
-    for w in case.walls.iter().filter(|w| w.kind == crate::case::WallKind::Mirror && w.edge_m.is_none()) {
-        let Some(k) = (0..d).find(|&k| w.from_m.get(k).is_some_and(|a| Some(a) == w.to_m.get(k))) else { continue };
+    for (k, c) in case.axis_mirrors() {
         if k == 0 && case.axisymmetric() {
             continue;
         }
-        let c = w.from_m[k];
         let (lo, hi) =
             pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[k] - c), b.max(p[k] - c)));
         let one_side = lo >= 0.0 || hi <= 0.0;

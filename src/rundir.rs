@@ -147,10 +147,7 @@ pub fn is_report_plot(name: &str) -> bool {
 /// the run as it was.
 pub fn remove_revolved(dir: &Path) -> Result<()> {
     for name in ["revolved.h5", "revolved.h5.part", "revolved.xmf", "revolved.xmf.tmp"] {
-        match std::fs::remove_file(dir.join(name)) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(SphError::Io(format!("{name}: {e}"))),
-            _ => {}
-        }
+        crate::output::remove_stale(&dir.join(name))?;
     }
     Ok(())
 }

@@ -516,13 +516,9 @@ pub fn mirror_planes(case: &crate::case::Case, ax: (f64, f64), ds: f64) -> Vec<(
     if case.dim != 3 {
         return Vec::new();
     }
-    case.walls
-        .iter()
-        .filter(|w| w.kind == crate::case::WallKind::Mirror && w.edge_m.is_none())
-        .filter_map(|w| {
-            (0..2).find(|&k| w.from_m.get(k).is_some_and(|a| Some(a) == w.to_m.get(k))).map(|k| (k, w.from_m[k]))
-        })
-        .filter(|&(k, c)| (c - if k == 0 { ax.0 } else { ax.1 }).abs() <= ds)
+    case.axis_mirrors()
+        .into_iter()
+        .filter(|&(k, c)| k < 2 && (c - if k == 0 { ax.0 } else { ax.1 }).abs() <= ds)
         .collect()
 }
 
@@ -871,12 +867,8 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
         }
     } else {
         // a vertical mirror wall within a spacing of an edge: a symmetry plane, not the box
-        let mirror_at = |x: f64| {
-            case.walls.iter().any(|w| {
-                w.kind == crate::case::WallKind::Mirror
-                    && w.from_m.first().is_some_and(|a| Some(a) == w.to_m.first() && (a - x).abs() <= ds)
-            })
-        };
+        let planes = case.axis_mirrors();
+        let mirror_at = |x: f64| planes.iter().any(|&(k, c)| k == 0 && (c - x).abs() <= ds);
         for (t, x) in [(c.touches[0], first), (c.touches[1], last)] {
             if t && !mirror_at(x) {
                 why.push(format!("reaches the edge of the soil the scene models (x = {x:.3} m)"));

@@ -283,4 +283,19 @@ impl Case {
     pub fn axisymmetric(&self) -> bool {
         self.geometry == Geometry::Axisymmetric
     }
+
+    /// The `mirror` walls that are axis-aligned planes (lines x = c or y = c in 2D; a 3D wall
+    /// without `edge_m` whose corners share a coordinate), as (axis: 0 for x, 1 for y, 2 for z;
+    /// c in m): the symmetry planes a half, quarter or octant model is completed across.
+    pub fn axis_mirrors(&self) -> Vec<(usize, f64)> {
+        self.walls
+            .iter()
+            .filter(|w| w.kind == WallKind::Mirror && w.edge_m.is_none())
+            .filter_map(|w| {
+                (0..self.dim)
+                    .find(|&k| w.from_m.get(k).is_some_and(|a| Some(a) == w.to_m.get(k)))
+                    .map(|k| (k, w.from_m[k]))
+            })
+            .collect()
+    }
 }

@@ -544,6 +544,9 @@ impl EosCfg {
             }
         }
     }
+    /// Every name [`EosCfg::kind`] gives.
+    pub const KINDS: [&'static str; 4] = ["ideal_gas", "jwl", "water", "soil"];
+
     pub fn kind(&self) -> &'static str {
         match self {
             EosCfg::IdealGas { .. } => "ideal_gas",

@@ -158,9 +158,9 @@ impl Legacy {
         // a manifest code that names no material of the case and no EOS kind: a typo reads as
         // "this material has no code of its own" (its kind's, or the book's, is taken instead)
         if needs_itype {
-            const KINDS: [&str; 4] = ["ideal_gas", "jwl", "water", "soil"];
+            use crate::case::EosCfg;
             for key in info.itype.keys() {
-                if !KINDS.contains(&key.as_str()) && !case.materials.iter().any(|m| &m.name == key) {
+                if !EosCfg::KINDS.contains(&key.as_str()) && !case.materials.iter().any(|m| &m.name == key) {
                     let names: Vec<String> = case
                         .materials
                         .iter()
@@ -169,7 +169,7 @@ impl Legacy {
                         .collect();
                     eprintln!(
                         "warning: --legacy {shown}: the manifest's [itype] `{key}` names no material of this case and no EOS kind ({}): a misspelt name? the codes the routines get: {}",
-                        KINDS.join(", "),
+                        EosCfg::KINDS.join(", "),
                         names.join(", ")
                     );
                 }

@@ -392,16 +392,18 @@ impl Sim {
         let bk = &self.book;
         let works = [bk.work_wall, bk.work_penalty, bk.work_gravity, bk.work_floor];
         let budget = self.e_initial + works.iter().sum::<f64>();
-        let g = &self.cfg.grav;
-        if g[..dim].iter().any(|&x| x != 0.0) {
-            let (v, m) = (&self.p.v, &self.p.mass);
-            self.gravity_step_j = self.dt_prev
+        let scale = self.e_initial.abs() + works.iter().map(|w| w.abs()).sum::<f64>();
+        // the last step's gravity work in magnitude at the step's end, Σ m |g·v| Δt: taken only
+        // where the residual is above the rest of the scale (one pass over the particles)
+        let gravity_step = || {
+            let (g, v, m) = (&self.cfg.grav, &self.p.v, &self.p.mass);
+            self.dt_prev
                 * (0..self.p.nreal)
                     .map(|i| m[i] * (0..dim).map(|d| g[d] * v[d + dim * i]).sum::<f64>().abs())
-                    .sum::<f64>();
-        }
-        let scale = self.e_initial.abs() + works.iter().map(|w| w.abs()).sum::<f64>() + 2.0 * self.gravity_step_j;
-        if all.energy - budget > scale.max(f64::MIN_POSITIVE) {
+                    .sum::<f64>()
+        };
+        let residual = all.energy - budget;
+        if residual > scale.max(f64::MIN_POSITIVE) && residual > scale + 2.0 * gravity_step() {
             let (ke, i) = all.ke_max;
             return Err(SphError::Unstable(format!(
                 "{at}: total energy {:e} J exceeds the initial {:e} J plus the work of external forces by more than the initial energy and that work together; fastest particle {} (material {}), |v| = {:e} m/s",

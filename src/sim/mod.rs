@@ -79,10 +79,6 @@ pub struct Sim {
     pub x_init: Vec<f64>,
     /// Kinetic + internal energy at t = 0 (J; per metre of depth in 2D).
     pub e_initial: f64,
-    /// The last step's gravity work in magnitude at the step's end, Σ m |g·v| Δt (J): the energy
-    /// check's allowance for the work the book takes with the velocities at the step's start
-    /// (not kept by a checkpoint: each step's check sets it).
-    pub gravity_step_j: f64,
     /// Current index of the real particle of each id (particles move in memory when reordered).
     pub index_of_id: Vec<u32>,
     /// Set in a dual run.
@@ -171,7 +167,6 @@ impl Sim {
             h_init,
             x_init,
             e_initial: 0.0,
-            gravity_step_j: 0.0,
             index_of_id: (0..n as u32).collect(),
             region: init.region,
             cmp: None,
