@@ -153,13 +153,18 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
 /// that lists the overrides and the flags that do not change the results (backends).
 pub fn case_as_run(text: &str, origin: &str, opts: &RunOptions) -> Result<String> {
     let mut sets = opts.sets.clone();
+    let mut body = case::apply_sets(text, &opts.sets)?;
+    // the flags that stand for a key, each marked with its own name
     if let Some(t) = opts.ov.end_time {
-        sets.push(format!("time.end_s={t:?}"));
+        let s = format!("time.end_s={t:?}");
+        body = case::apply_sets_by(&body, std::slice::from_ref(&s), "--end-time")?;
+        sets.push(s);
     }
     if let Some(n) = &opts.ov.nnps {
-        sets.push(format!("sph.nnps=\"{n}\""));
+        let s = format!("sph.nnps=\"{n}\"");
+        body = case::apply_sets_by(&body, std::slice::from_ref(&s), "--nnps")?;
+        sets.push(s);
     }
-    let body = case::apply_sets(text, &sets)?;
     let mut head = format!(
         "# The case as run by blastsph {} from {origin}.\n# Rerun it as it is: blastsph run case.toml\n",
         env!("CARGO_PKG_VERSION")
@@ -167,7 +172,7 @@ pub fn case_as_run(text: &str, origin: &str, opts: &RunOptions) -> Result<String
     if sets.is_empty() {
         head += "# No command-line override: the text below is the case file's.\n";
     } else {
-        head += "# The case file with these command-line overrides applied (each value marked `# set by --set`):\n";
+        head += "# The case file with these command-line overrides applied (each value marked `# set by` its flag):\n";
         for s in &opts.sets {
             head += &format!("#   --set {s}\n");
         }

@@ -410,6 +410,11 @@ fn a_changed_case_is_refused_unless_allowed_and_run_continues_its_own_restart() 
     assert_eq!(s["status"], "ok");
     assert_eq!(s["end_time"].as_f64(), Some(5e-5));
     assert!(s["time"].as_f64().unwrap() >= 5e-5 * (1.0 - 1e-9));
+    // case.toml says the new end came from the resume (the run's own --end-time kept its mark)
+    let ct = std::fs::read_to_string(&cp).unwrap();
+    assert!(ct.starts_with("# Resumed with --end-time 5e-5 from the checkpoint"), "{ct}");
+    assert!(ct.contains("end_s = 5e-5  # set by resume --end-time (was 3e-5)"), "{ct}");
+    assert!(ct.contains("#   --end-time 3e-5  (as time.end_s)"), "{ct}");
 
     // run into its own stopped run: continues it, and is then the uninterrupted run
     let refd = d.path().join("ref");

@@ -23,7 +23,7 @@ pub mod size;
 mod types;
 pub mod validate;
 
-pub use sets::apply_sets;
+pub use sets::{apply_sets, apply_sets_by};
 pub use types::*;
 
 use crate::error::{Result, SphError, input};

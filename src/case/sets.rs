@@ -8,17 +8,23 @@ use crate::error::{Result, input};
 /// `# set by --set (was …)`. Arrays of tables are indexed by number or by their `name`:
 /// `material.loose_sand.pmin_pa=0`.
 pub fn apply_sets(text: &str, sets: &[String]) -> Result<String> {
+    apply_sets_by(text, sets, "--set")
+}
+
+/// [`apply_sets`] with the mark naming the flag that made the change (`# set by --end-time (was
+/// …)`, `# set by resume --end-time (was …)`); errors still name the override as `--set`.
+pub fn apply_sets_by(text: &str, sets: &[String], by: &str) -> Result<String> {
     if sets.is_empty() {
         return Ok(text.to_string());
     }
     let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| input(format!("{e}")))?;
     for s in sets {
-        apply_set(&mut doc, s)?;
+        apply_set(&mut doc, s, by)?;
     }
     Ok(doc.to_string())
 }
 
-fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
+fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str, by: &str) -> Result<()> {
     use toml_edit::Item;
     let (key, val) = s.split_once('=').ok_or_else(|| input(format!("--set {}: expected key=value", shown(s))))?;
     let key = key.trim();
@@ -79,7 +85,7 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
             let suffix = old.decor().suffix().and_then(|p| p.as_str()).unwrap_or("").to_string();
             parsed.decor_mut().set_suffix(suffix);
         } else {
-            parsed.decor_mut().set_suffix(format!("  # set by --set (was {})", shown(was.to_string().trim())));
+            parsed.decor_mut().set_suffix(format!("  # set by {by} (was {})", shown(was.to_string().trim())));
         }
     } else if !cur.is_none() && !matches!(parsed, toml_edit::Value::InlineTable(_)) {
         return Err(input(format!("--set {ks}: replaces a table with a value")));
@@ -101,7 +107,7 @@ fn apply_set(doc: &mut toml_edit::DocumentMut, s: &str) -> Result<()> {
             }
             let mut v = v.clone();
             v.decor_mut().clear();
-            apply_set(doc, &format!("{key}.{k}={v}"))?;
+            apply_set(doc, &format!("{key}.{k}={v}"), by)?;
         }
         return Ok(());
     }
