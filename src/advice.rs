@@ -3,8 +3,8 @@
 //! likely fix of a run that stopped.
 
 use crate::case::{
-    AnalysisKind, BurnMode, Case, ContinuityForm, DensityKind, EnergyForm, EosCfg, Geometry, KernelKind, StepRule,
-    WallKind,
+    AnalysisKind, BurnMode, Case, ContinuityForm, DensityKind, EnergyForm, EosCfg, GaugeKind, Geometry, KernelKind,
+    StepRule, WallKind,
 };
 use crate::state::Particles;
 
@@ -128,7 +128,36 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(seam_warnings(case))
         .chain(close_particle_warning(case, p, region))
         .chain(several_charges(case))
+        .chain(gauge_in_charge_warnings(case, p))
         .collect()
+}
+
+/// Gauges placed in an explosive: the real particle nearest the gauge's point is of a JWL
+/// material. A particle gauge then follows a products particle; a point gauge reads the
+/// products until they pass. One line each (a gauge in the ground beside the charge, whose
+/// nearest particle is the ground's, is not named).
+pub fn gauge_in_charge_warnings(case: &Case, p: &Particles) -> Vec<String> {
+    let d = case.dim;
+    let n = p.nreal.min(p.mat.len());
+    let mut w = Vec::new();
+    for g in case.gauges.iter().filter(|g| g.point_m.len() == d) {
+        let dist2 = |i: usize| (0..d).map(|a| (p.x[d * i + a] - g.point_m[a]).powi(2)).sum::<f64>();
+        let Some(i) = (0..n).min_by(|&a, &b| dist2(a).total_cmp(&dist2(b))) else { continue };
+        let Some(m) = usize::try_from(p.mat[i]).ok().and_then(|m| case.materials.get(m)) else { continue };
+        if !matches!(m.eos, EosCfg::Jwl { .. }) {
+            continue;
+        }
+        let what = match g.kind {
+            GaugeKind::Particle => "it follows a particle of the detonation products",
+            GaugeKind::Point => "it reads the detonation products, not the ground or water, until they pass",
+        };
+        let at = g.point_m.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(", ");
+        w.push(format!(
+            "gauge `{}` at ({at}) m is inside the explosive `{}` (the nearest particle is of it): {what}; place it in the medium whose shock it is to record",
+            g.name, m.name
+        ));
+    }
+    w
 }
 
 /// Explosive regions whose boxes lie more than two spacings apart: several charges. The crater

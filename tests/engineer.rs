@@ -538,3 +538,29 @@ kind = "point"
     let z_whole = 0.03f64.hypot(0.002) / w.cbrt();
     assert!((z / z_whole - 1.0).abs() < 0.05, "scaled distance {z} against {z_whole} for the whole {w:.4} kg");
 }
+
+/// A gauge placed in the explosive is named by `check` (a particle gauge would follow a products
+/// particle, a point gauge read the products); the shipped gauges, in the ground, are not.
+#[test]
+fn a_gauge_inside_the_charge_is_named() {
+    let case = "cases/surface_loose_tnt1kg_rz.toml";
+    let o = blastsph(&["check", case]);
+    ok(&o);
+    assert!(!text(&o.stderr).contains("inside the explosive"), "{}", text(&o.stderr));
+    let o = blastsph(&[
+        "check",
+        case,
+        "--set",
+        "gauge.A.point_m=[0.01,0.95]",
+        "--set",
+        "gauge.C.kind=\"point\"",
+        "--set",
+        "gauge.C.point_m=[0.02,0.93]",
+    ]);
+    ok(&o);
+    let err = text(&o.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("inside the explosive `tnt`")).collect();
+    assert_eq!(lines.len(), 2, "{err}");
+    assert!(lines[0].contains("gauge `A`") && lines[0].contains("follows a particle of the detonation products"), "{err}");
+    assert!(lines[1].contains("gauge `C`") && lines[1].contains("reads the detonation products"), "{err}");
+}
