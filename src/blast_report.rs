@@ -455,6 +455,9 @@ pub fn report(
     // 3D: how many particles each frame has, to say what share of them its section draws
     let totals: Vec<usize> = frames.iter().map(|f| f.x.len()).collect();
     let sections;
+    // (the whole scene's last frame: a particle's peak velocity is looked up there, in 3D too,
+    // where the section's last frame lacks the particles that have left its slab)
+    let whole_last = &frames[frames.len() - 1];
     let frames: &[Frame] = if case.dim == 3 {
         sections = section_frames(case, frames);
         &sections
@@ -749,7 +752,7 @@ pub fn report(
         snaps.extend([pm, pp, pv]);
     }
     // peak particle velocity, at each particle's initial position
-    let fl = &frames[n - 1];
+    let fl = whole_last;
     if !fl.ppv.is_empty() {
         let by_id: HashMap<i64, f64> = fl.id.iter().zip(&fl.ppv).map(|(i, v)| (*i, *v)).collect();
         let ppv0: Vec<f64> = f0.id.iter().map(|i| by_id.get(i).copied().unwrap_or(0.0)).collect();
@@ -1100,7 +1103,8 @@ struct Charge {
     mass_kg: f64,
     /// The dimension its blast spreads in: 2 in plane strain (a line charge), 3 in RZ and 3D.
     dim: usize,
-    /// How many copies of the modelled charge its symmetry planes make ([`charge_images`]: 4
+    /// How many copies of the modelled charge its symmetry planes make (2 for each plane of
+    /// [`crate::analysis::crater::charge_planes`]: 4
     /// for a quarter, 2 for an RZ half space); 1 without.
     images: f64,
 }
@@ -1125,38 +1129,6 @@ impl Charge {
     }
 }
 
-/// How many copies of the modelled charge its symmetry planes make (2 for a half, 4 for a
-/// quarter, 8 for an octant): the mirror walls that are axis-aligned planes (lines in 2D) with
-/// every explosive point of `pts` (m) on one side and the nearest within one explosive spacing
-/// of it — the charge abuts them, and their images complete it. In RZ the axis is not such a
-/// plane (the rings are whole already); a plane perpendicular to it (y = c) is.
-fn charge_images(case: &Case, pts: &[Vec<f64>]) -> f64 {
-    if pts.is_empty() {
-        return 1.0;
-    }
-    let ex = explosive_mask(case);
-    let sp = case
-        .regions
-        .iter()
-        .filter(|r| case.material_index(&r.material).is_some_and(|m| ex[m]))
-        .map(|r| r.spacing_m)
-        .fold(0.0, f64::max);
-    let mut planes: Vec<(usize, f64)> = Vec::new();
-    for (k, c) in case.axis_mirrors() {
-        if k == 0 && case.axisymmetric() {
-            continue;
-        }
-        let (lo, hi) =
-            pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[k] - c), b.max(p[k] - c)));
-        let one_side = lo >= 0.0 || hi <= 0.0;
-        let near = lo.abs().min(hi.abs());
-        if one_side && near <= sp.max(0.0) && !planes.iter().any(|&(q, e)| q == k && e == c) {
-            planes.push((k, c));
-        }
-    }
-    2f64.powi(planes.len() as i32)
-}
-
 /// The charge of a run from its first frame.
 fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
     let ex = explosive_mask(case);
@@ -1170,22 +1142,23 @@ fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
             _ => vec![f0.x[i]],
         }
     };
+    let pts: Vec<Vec<f64>> = k.iter().map(|&i| coords(i)).collect();
+    // the symmetry planes the charge abuts: 2 copies of the modelled charge for each (a half,
+    // a quarter, an octant), and the whole charge's centroid on each
+    let planes = crate::analysis::crater::charge_planes(case, &pts);
     let centre = case.detonation.as_ref().and_then(|dt| dt.point_m.clone()).or_else(|| {
         (!k.is_empty()).then(|| {
-            let mut c = vec![0.0; d];
-            for &i in &k {
-                for (a, b) in c.iter_mut().zip(coords(i)) {
-                    *a += b / k.len() as f64;
-                }
-            }
+            let mut c = crate::analysis::crater::centroid(&pts, d);
             if case.axisymmetric() {
                 c[0] = 0.0; // a charge of rings is centred on the axis
+            }
+            for &(a, at) in &planes {
+                c[a] = at;
             }
             c
         })
     });
-    let pts: Vec<Vec<f64>> = k.iter().map(|&i| coords(i)).collect();
-    let images = charge_images(case, &pts);
+    let images = 2f64.powi(planes.len() as i32);
     let mass: f64 = k.iter().map(|&i| f0.mass[i]).sum::<f64>() * images;
     Charge { centre, mass_kg: mass, dim: if d == 3 || case.axisymmetric() { 3 } else { d }, images }
 }

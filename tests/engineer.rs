@@ -565,3 +565,71 @@ fn a_gauge_inside_the_charge_is_named() {
     assert!(lines[0].contains("gauge `A`") && lines[0].contains("follows a particle of the detonation products"), "{err}");
     assert!(lines[1].contains("gauge `C`") && lines[1].contains("reads the detonation products"), "{err}");
 }
+
+/// A 3D half model without a detonation point: the charge's axis is the whole charge's, on the
+/// symmetry plane (it was the modelled half's centroid, half a charge off it), so the gauges'
+/// distances, the sections and the crater are measured about it.
+#[test]
+fn a_half_model_charge_is_centred_on_its_symmetry_plane() {
+    let d = tempfile::tempdir().unwrap();
+    let case = d.path().join("half3d.toml");
+    std::fs::write(
+        &case,
+        r#"name = "half3d"
+dim = 3
+[time]
+end_s = 1.0e-4
+output_interval_s = 5.0e-5
+[[material]]
+name = "tnt"
+preset = "tnt"
+[[material]]
+name = "sand"
+preset = "dense_sand"
+[[region]]
+name = "charge"
+material = "tnt"
+shape = "box"
+lo_m = [-0.05, 0.0, 0.2]
+hi_m = [0.05, 0.05, 0.3]
+spacing_m = 0.025
+[[region]]
+name = "soil"
+material = "sand"
+shape = "box"
+lo_m = [-0.3, 0.0, 0.0]
+hi_m = [0.3, 0.3, 0.3]
+spacing_m = 0.025
+subtract = ["charge"]
+[[wall]]
+from_m = [-0.3, 0.0, 0.0]
+to_m = [0.3, 0.0, 0.6]
+kind = "mirror"
+[[wall]]
+from_m = [-0.3, 0.0, 0.0]
+to_m = [0.3, 0.3, 0.0]
+[detonation]
+mode = "instant"
+[[gauge]]
+name = "y_side"
+point_m = [0.0, 0.175, 0.25]
+[analysis]
+kind = "crater"
+"#,
+    )
+    .unwrap();
+    let dir = d.path().join("run");
+    ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
+    let s = summary(&dir);
+    let ax = &s["crater"]["surface"]["axis_m"];
+    assert!(ax[1].as_f64().is_some_and(|y| y.abs() < 1e-12), "the axis on the plane y = 0: {ax}");
+    let o = blastsph(&["report", dir.to_str().unwrap()]);
+    ok(&o);
+    let out = text(&o.stdout);
+    assert!(out.contains("the modelled part, 1/2 of the scene"), "{out}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    // the gauge's particle starts 17.5 cm from the axis (12.5 cm from the half's centroid)
+    let g = &r["peaks_scaled"][0];
+    assert!(g["gauge"].as_str().is_some_and(|l| l.starts_with("y_side (18 cm")), "{g}");
+}

@@ -491,7 +491,9 @@ impl CraterInput {
 }
 
 /// The vertical axis (x, y) a 3D crater is measured about (z up): the detonation point's, else
-/// the centroid of the explosive's initial positions `charge_xy`.
+/// the centroid of the explosive's initial positions `charge_xy`, put on every symmetry plane
+/// the charge abuts ([`charge_planes`]: the whole charge's centroid lies there, not the modelled
+/// half's).
 pub fn axis_3d(case: &crate::case::Case, charge_xy: &[(f64, f64)]) -> Result<(f64, f64), String> {
     if let Some(p) = case.detonation.as_ref().and_then(|d| d.point_m.as_ref()) {
         return Ok((p[0], p[1]));
@@ -499,8 +501,56 @@ pub fn axis_3d(case: &crate::case::Case, charge_xy: &[(f64, f64)]) -> Result<(f6
     if charge_xy.is_empty() {
         return Err("a 3D crater is measured about the charge's vertical axis: the case has no explosive and no detonation point".into());
     }
-    let n = charge_xy.len() as f64;
-    Ok((charge_xy.iter().map(|p| p.0).sum::<f64>() / n, charge_xy.iter().map(|p| p.1).sum::<f64>() / n))
+    let pts: Vec<[f64; 2]> = charge_xy.iter().map(|p| [p.0, p.1]).collect();
+    let mut c = centroid(&pts, 2);
+    for (k, at) in charge_planes(case, &pts) {
+        c[k] = at;
+    }
+    Ok((c[0], c[1]))
+}
+
+/// The mean of the first `d` coordinates of `pts`.
+pub fn centroid<P: AsRef<[f64]>>(pts: &[P], d: usize) -> Vec<f64> {
+    let mut c = vec![0.0; d];
+    for p in pts {
+        for (a, b) in c.iter_mut().zip(p.as_ref()) {
+            *a += b / pts.len() as f64;
+        }
+    }
+    c
+}
+
+/// The symmetry planes a charge abuts, as (axis k, coordinate c; m): the mirror walls that are
+/// axis-aligned planes (lines in 2D) with every explosive point of `pts` (m; points with fewer
+/// coordinates than k + 1 leave the plane k out) on one side and the nearest within one
+/// explosive spacing of it: their images complete the charge. In RZ the axis is not such a plane
+/// (the rings are whole already); a plane perpendicular to it (y = c) is.
+pub fn charge_planes<P: AsRef<[f64]>>(case: &crate::case::Case, pts: &[P]) -> Vec<(usize, f64)> {
+    let ex = explosive_mask(case);
+    let sp = case
+        .regions
+        .iter()
+        .filter(|r| case.material_index(&r.material).is_some_and(|m| ex[m]))
+        .map(|r| r.spacing_m)
+        .fold(0.0, f64::max);
+    let mut planes: Vec<(usize, f64)> = Vec::new();
+    if pts.is_empty() {
+        return planes;
+    }
+    for (k, c) in case.axis_mirrors() {
+        if (k == 0 && case.axisymmetric()) || pts.iter().any(|p| p.as_ref().len() <= k) {
+            continue;
+        }
+        let (lo, hi) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.as_ref()[k] - c), b.max(p.as_ref()[k] - c)));
+        let one_side = lo >= 0.0 || hi <= 0.0;
+        let near = lo.abs().min(hi.abs());
+        if one_side && near <= sp.max(0.0) && !planes.iter().any(|&(q, e)| q == k && e == c) {
+            planes.push((k, c));
+        }
+    }
+    planes
 }
 
 /// A 3D point as (r, z) about the vertical axis `ax` (the half plane a 3D crater is measured on).
