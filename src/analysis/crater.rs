@@ -218,7 +218,11 @@ impl Raster {
         let (mut lo, mut n) = ([0.0; 3], [1usize; 3]);
         for a in 0..d {
             lo[a] = lims[a].0 - 2.0 * ds;
-            n[a] = (((lims[a].1 - lims[a].0) / ds).ceil() as usize + 4).max(1);
+            // (cells to the limits' span, an exact multiple of ds within rounding not rounded up
+            // to one more: that column, outside the soil and inside the margin, was a void)
+            let m = (lims[a].1 - lims[a].0) / ds;
+            let cells = if (m - m.round()).abs() <= 1e-9 * m.abs().max(1.0) { m.round() } else { m.ceil() };
+            n[a] = (cells as usize + 4).max(1);
         }
         let stride = [1, n[0], n[0] * n[1]];
         let total = n[0] * n[1] * n[2];
@@ -301,19 +305,41 @@ impl Raster {
         if any_void { Gap::Enclosed } else { Gap::Solid }
     }
 
-    /// The largest enclosed void (a face-connected component of empty, not open cells): its
-    /// number of cells and its bounding box (m, lower and upper bound along each axis).
-    fn largest_void(&self) -> Option<(usize, [(f64, f64); 3])> {
+    /// The cell holding the point `p` (m, one coordinate per axis), if the raster covers it.
+    fn cell_of(&self, p: &[f64]) -> Option<usize> {
+        let stride = [1, self.n[0], self.n[0] * self.n[1]];
+        let mut k = 0;
+        for a in 0..self.d {
+            let u = ((p[a] - self.lo[a]) / self.ds).floor();
+            if !(u >= 0.0 && u < self.n[a] as f64) {
+                return None;
+            }
+            k += u as usize * stride[a];
+        }
+        Some(k)
+    }
+
+    /// The largest enclosed void (a face-connected component of empty, not open cells) that
+    /// holds one of the cells `holding` (any void when it is empty): its number of cells and its
+    /// bounding box (m, lower and upper bound along each axis).
+    fn largest_void(&self, holding: &[usize]) -> Option<(usize, [(f64, f64); 3])> {
         let stride = [1, self.n[0], self.n[0] * self.n[1]];
         let total = self.solid.len();
         let void = |k: usize| !self.solid[k] && !self.open[k];
         let mut seen = vec![false; total];
+        let mut mark = vec![holding.is_empty(); total];
+        for &k in holding {
+            mark[k] = true;
+        }
         let mut best: Option<(usize, [(f64, f64); 3])> = None;
         for k0 in 0..total {
             if seen[k0] || !void(k0) {
                 continue;
             }
             let cells = flood(&self.n[..self.d], vec![k0], void, &mut seen);
+            if !cells.iter().any(|&k| mark[k]) {
+                continue;
+            }
             let count = cells.len();
             let (mut ilo, mut ihi) = ([usize::MAX; 3], [0usize; 3]);
             for k in cells {
@@ -1061,7 +1087,15 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     let smax = s0.iter().cloned().filter(|v| v.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     let ejecta = y1s.iter().cloned().fold(f64::NEG_INFINITY, f64::max) - smax;
     let mound = drop.iter().cloned().map(|d| -d).fold(0.0, f64::max);
-    let cavity = r1.largest_void().filter(|(cells, _)| *cells >= 4).map(|(cells, [(xa, xb), (ya, yb), _])| {
+    // the cavity is the charge's: the void that holds a cell of the explosive's initial
+    // positions (a gap the blast opened elsewhere, at the box's floor or a far corner, is not)
+    let holding: Vec<usize> =
+        inp.charge0.0.iter().zip(&inp.charge0.1).filter_map(|(&x, &y)| r1.cell_of(&[x, y])).collect();
+    let cavity = (inp.charge0.0.is_empty() || !holding.is_empty())
+        .then(|| r1.largest_void(&holding))
+        .flatten()
+        .filter(|(cells, _)| *cells >= 4)
+        .map(|(cells, [(xa, xb), (ya, yb), _])| {
         let bb = [xa, xb, ya, yb];
         let xc = 0.5 * (bb[0] + bb[1]);
         let k = (((xc - lo) / ds).floor().max(0.0) as usize).min(ncol - 1);
@@ -1592,6 +1626,54 @@ mod tests {
         let cav = c.cavity.expect("the cavity");
         assert!(cav.width_m >= 0.08 && cav.height_m >= 0.03, "{cav:?}");
         assert!(c.mound_height_m > 0.015, "{}", c.mound_height_m);
+    }
+
+    /// The charge's cavity is the void that holds its initial positions: a larger void the blast
+    /// opened elsewhere (a gap at the box's floor) is not it.
+    #[test]
+    fn the_cavity_is_the_void_that_holds_the_charge() {
+        let ds = 0.01;
+        let hole = |x: f64, y: f64| (x - 0.35).abs() < 0.03 && (y - 0.45).abs() < 0.02;
+        let soil0 = lattice(ds, 0.7, 0.62, &hole);
+        // later: the charge's hole a little larger, and a wider gap low in the box, far off
+        let gaps = |x: f64, y: f64| {
+            ((x - 0.35).abs() < 0.04 && (y - 0.45).abs() < 0.03) || ((x - 0.6).abs() < 0.06 && (y - 0.1).abs() < 0.04)
+        };
+        let soil1 = lattice(ds, 0.7, 0.62, &gaps);
+        let mut charge0 = (Vec::new(), Vec::new());
+        for x in [0.335, 0.345, 0.355, 0.365] {
+            for y in [0.435, 0.445, 0.455, 0.465] {
+                charge0.0.push(x);
+                charge0.1.push(y);
+            }
+        }
+        let c = measure_xy(&CraterInput { soil0: soil0.clone(), soil1: soil1.clone(), charge0 }, ds).unwrap();
+        let cav = c.cavity.expect("the charge's cavity");
+        assert!((cav.centre_m[0] - 0.35).abs() < 0.011 && (cav.centre_m[1] - 0.45).abs() < 0.011, "{cav:?}");
+        // a charge elsewhere (in no void): no cavity at all
+        let away = (vec![0.1], vec![0.3]);
+        let c = measure_xy(&CraterInput { soil0, soil1, charge0: away }, ds).unwrap();
+        assert!(c.cavity.is_none(), "{:?}", c.cavity);
+    }
+
+    /// Soil whose width is an exact multiple of the spacing (0.552 m of 11.5 mm columns, whose
+    /// quotient rounds to 48.00000000000001) has no void beside its last column when that column
+    /// moves in a little under a particle thrown over the side (the raster had one column more,
+    /// outside the soil, inside its margin: a void under that particle).
+    #[test]
+    fn a_box_of_whole_columns_has_no_void_beside_it() {
+        let ds = 0.0115;
+        let soil0 = lattice(ds, 0.552, 0.552, &|_, _| false);
+        // the outer column drawn in by a third of a spacing (the soil at a box's free side)
+        let mut soil1 = soil0.clone();
+        for x in soil1.0.iter_mut().filter(|x| **x > 0.552 - ds) {
+            *x -= 0.3 * ds;
+        }
+        // and a particle of the rim thrown out over the side, at the ground's level
+        soil1.0.push(0.552 + 0.5 * ds);
+        soil1.1.push(0.552 - 0.5 * ds);
+        let c = measure_xy(&CraterInput { soil0, soil1, charge0: Default::default() }, ds).unwrap();
+        assert!(c.cavity.is_none(), "{:?}", c.cavity);
     }
 
     #[test]
