@@ -1034,14 +1034,16 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     }
     let mut drop = drops(&s0, &s1, ymin0);
     // cracks: a run of one or two columns whose drop is more than 2 ds below both columns beside
-    // it (one, at the raster's edge) is a crack or a vent, not the bowl: read at its flanks' drop
+    // it (one, at the raster's edge) and below the original ground is a crack or a vent, not the
+    // bowl: read at its flanks' drop (a notch in a raised rim, above the ground, is no crack: it
+    // cannot be the depth)
     let mut crack: Option<(f64, f64, f64)> = None;
     for w in 1..=2usize {
         for k in 0..=ncol.saturating_sub(w) {
             let flanks = [k.checked_sub(1), (k + w < ncol).then_some(k + w)];
             let Some(fmax) = flanks.iter().flatten().map(|&f| drop[f]).reduce(f64::max) else { continue };
             let inner = drop[k..k + w].iter().cloned().fold(f64::INFINITY, f64::min);
-            if inner > fmax + 2.0 * ds {
+            if inner > fmax + 2.0 * ds && inner > 0.5 * ds {
                 let deep = drop[k..k + w].iter().cloned().fold(f64::NEG_INFINITY, f64::max);
                 if crack.is_none_or(|c| deep > c.0) {
                     crack = Some((deep, lo + (k as f64 + 0.5 * w as f64) * ds, w as f64 * ds));
@@ -1136,9 +1138,9 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     };
     let crack = crack.map(|(deep, at, wide)| {
         format!(
-            "a crack {:.1} cm wide centred at {:.1} cm (x, or r in RZ) drops {:.1} cm, more than 2 columns below the ground beside it: left out of the depth",
+            "a crack {:.1} cm wide centred at {:.1} cm on the section (its distance from the axis in RZ and in a 3D section) drops {:.1} cm below the original ground, more than 2 spacings below the ground beside it: left out of the depth",
             100.0 * wide,
-            100.0 * at,
+            100.0 * if at.abs() < 0.5 * ds { 0.0 } else { at },
             100.0 * deep
         )
     });
@@ -1318,6 +1320,20 @@ mod tests {
         // beside it) is the bowl, read at its deepest
         let c = measure(&|x, y| bowl(x, y) || ((x - 0.5).abs() < 0.01 && y > 0.885));
         assert!((c.depth_m - 0.11).abs() < 1e-9 && c.crack.is_none(), "{c:?}");
+        // a rim raised 5 cm beside the bowl with a notch one column wide raised only 1 cm: above
+        // the original ground, no crack (it was named, "drops -1.0 cm")
+        let (mut x1, mut y1) = lattice(ds, 1.0, 1.0, &bowl);
+        for i in 70..90 {
+            let x = (i as f64 + 0.5) * ds;
+            let rows = if i == 80 { 1 } else { 5 };
+            for j in 0..rows {
+                x1.push(x);
+                y1.push(1.0 + (j as f64 + 0.5) * ds);
+            }
+        }
+        let inp = CraterInput { soil0: soil0.clone(), soil1: (x1, y1), charge0: (Vec::new(), Vec::new()) };
+        let c = measure_xy(&inp, ds).unwrap();
+        assert!((c.depth_m - 0.10).abs() < 1e-9 && c.crack.is_none(), "{c:?}");
     }
 
     #[test]
