@@ -310,11 +310,21 @@ impl Gauges {
     /// The measures of gauge `k` (see [`GaugeStats`]).
     pub fn stats(&self, k: usize) -> GaugeStats {
         let d = self.dim;
-        let series: Vec<(f64, f64, f64)> = self.record[k]
-            .iter()
-            .filter_map(|(t, r)| r.as_ref().map(|q| (*t, q[0], q[1..1 + d].iter().map(|v| v * v).sum::<f64>().sqrt())))
-            .collect();
-        GaugeStats::of(&series)
+        let mut series: Vec<(f64, f64, f64)> = Vec::new();
+        // (a reading after steps in a void: the impulse is not carried across the gap)
+        let mut after_gap: Vec<bool> = Vec::new();
+        let mut gap = false;
+        for (t, r) in &self.record[k] {
+            match r {
+                Some(q) => {
+                    series.push((*t, q[0], q[1..1 + d].iter().map(|v| v * v).sum::<f64>().sqrt()));
+                    after_gap.push(gap);
+                    gap = false;
+                }
+                None => gap = true,
+            }
+        }
+        GaugeStats::of(&series, &after_gap)
     }
 
     /// summary.json `gauges`: what each gauge is and its measures. A gauge whose pressure rose
@@ -373,7 +383,7 @@ pub struct GaugeStats {
     #[serde(skip)]
     pub rise_pa: f64,
     /// Positive impulse ∫ max(p − p_first, 0) dt over the record (Pa·s; per the trapezoid rule
-    /// over the steps).
+    /// over the steps, not across steps without a reading).
     pub impulse_pa_s: Option<f64>,
     /// Peak particle velocity max |v| (m/s) and its time (s).
     pub ppv_ms: Option<f64>,
@@ -383,8 +393,10 @@ pub struct GaugeStats {
 }
 
 impl GaugeStats {
-    /// From (time s, pressure Pa, speed m/s) samples in time order.
-    pub fn of(series: &[(f64, f64, f64)]) -> GaugeStats {
+    /// From (time s, pressure Pa, speed m/s) samples in time order; `after_gap[i]` (or none:
+    /// empty) when steps without a reading (a point gauge in a void) came before sample i: the
+    /// impulse's trapezoid does not bridge them.
+    pub fn of(series: &[(f64, f64, f64)], after_gap: &[bool]) -> GaugeStats {
         let Some(&(_, p0, _)) = series.first() else { return GaugeStats::default() };
         let mut peak = (f64::NEG_INFINITY, 0.0);
         let mut ppv = (f64::NEG_INFINITY, 0.0);
@@ -399,7 +411,10 @@ impl GaugeStats {
         let rise = peak.0 - p0;
         let arrival = if rise > 0.0 { series.iter().find(|s| s.1 - p0 >= 0.5 * rise).map(|s| s.0) } else { None };
         let mut imp = 0.0;
-        for w in series.windows(2) {
+        for (i, w) in series.windows(2).enumerate() {
+            if after_gap.get(i + 1).copied().unwrap_or(false) {
+                continue;
+            }
             let (a, b) = ((w[0].1 - p0).max(0.0), (w[1].1 - p0).max(0.0));
             imp += 0.5 * (a + b) * (w[1].0 - w[0].0);
         }
@@ -413,5 +428,22 @@ impl GaugeStats {
             ppv_time_s: Some(ppv.1),
             samples: series.len(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::GaugeStats;
+
+    /// The impulse's trapezoid does not bridge steps without a reading (a point gauge in a void):
+    /// 0 before a gap, 10 Pa after it, 1 s apart, added 5 Pa·s of no data before.
+    #[test]
+    fn the_impulse_does_not_bridge_a_gap() {
+        let s = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (2.0, 10.0, 0.0), (3.0, 10.0, 0.0)];
+        let whole = GaugeStats::of(&s, &[]);
+        assert_eq!(whole.impulse_pa_s, Some(15.0));
+        let gap = GaugeStats::of(&s, &[false, false, true, false]);
+        assert_eq!(gap.impulse_pa_s, Some(10.0));
+        assert_eq!(gap.peak_pa, Some(10.0));
     }
 }
