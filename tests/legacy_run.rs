@@ -133,6 +133,29 @@ fn the_ledger_attributes_each_difference_to_its_item() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
+    // --compat none: the routines against blastsph's own twins, no item rows (it ran the
+    // liu-book profile in its place)
+    let none = scratch("ledger_none");
+    let so = blastsph_ok(
+        &[
+            "legacy",
+            "ledger",
+            "shock_tube",
+            "--legacy",
+            shared().to_str().unwrap(),
+            "--compat",
+            "none",
+            "--out",
+            none.to_str().unwrap(),
+        ],
+        0,
+    );
+    let (r, rows) = report_rows(&none.join("ledger.json"));
+    assert_eq!(r["profile"], "none", "{so}");
+    let runs: Vec<&str> = rows.iter().map(|x| x["run"].as_str().unwrap()).collect();
+    assert_eq!(runs, ["legacy", "profile"], "{so}");
+    // the book's routines under blastsph's own semantics: its sound speed moves the end state
+    assert!(rows[0]["max_abs_rho"].as_f64().unwrap() > 1e-3, "{so}");
 }
 
 #[test]

@@ -201,6 +201,9 @@ impl Flags {
     }
     /// A short label for plan lines and reports ("liu-book", "liu-book,-sound_speed", ...).
     pub fn label(self) -> String {
+        if self.is_empty() {
+            return "none".into();
+        }
         let book = Flags::profile("liu-book").unwrap_or_default();
         if self == book {
             return "liu-book".into();

@@ -188,10 +188,12 @@ fn row_or_failed(run: &str, what: String, flags: Flags, end: Result<End>, base: 
 }
 
 /// Runs the ledger of `case` against the legacy build `legacy`, with the case's compat profile
-/// (`liu-book` when the case sets none); writes `out/ledger.json` and returns the table.
+/// (`liu-book` when the case says nothing of compat: no `[compat]` key and no `--compat`; a case
+/// that names the profile `none`, or turns every item off, gets the ledger against blastsph's own
+/// twins); writes `out/ledger.json` and returns the table.
 pub fn ledger(case: &Case, legacy: &Path, out: &Path) -> Result<(Vec<Row>, String)> {
     let mut profile = case.compat.flags()?;
-    if profile.is_empty() {
+    if case.compat.profile.is_none() && case.compat.items.is_empty() {
         profile = Flags::profile("liu-book").unwrap_or_default();
     }
     let ov = |setup_only: bool| Overrides {
@@ -219,9 +221,12 @@ pub fn ledger(case: &Case, legacy: &Path, out: &Path) -> Result<(Vec<Row>, Strin
         let what = super::compat::ITEMS.iter().find(|t| t.0 == item).map_or("", |t| t.3);
         rows.push(row_or_failed(&format!("-{}", item.name()), what.to_string(), f, e, &base, case)?);
     }
-    let none = run_to_end(with_flags(case, Flags::default()), &ov(true));
-    let what = "blastsph's own twins (no compat item)".to_string();
-    rows.push(row_or_failed("none", what, Flags::default(), none, &base, case)?);
+    // (against an empty profile, the row `profile` is blastsph's own twins already)
+    if !profile.is_empty() {
+        let none = run_to_end(with_flags(case, Flags::default()), &ov(true));
+        let what = "blastsph's own twins (no compat item)".to_string();
+        rows.push(row_or_failed("none", what, Flags::default(), none, &base, case)?);
+    }
     let text = table(&rows, case.analysis.kind == AnalysisKind::Riemann);
     let rep = serde_json::json!({
         "case": case.name(),
