@@ -731,3 +731,36 @@ fn a_misspelt_itype_key_is_warned_of() {
         "{w}"
     );
 }
+
+/// A routine mapped under another module than the one its arguments compute (the book's p_gas
+/// given as `density`) is named NOT RUN with the module it fits, by `check` and in the dual's
+/// verdict (it said "the case uses another formulation", and the verdict did not count it).
+#[test]
+fn a_routine_under_the_wrong_module_is_named_with_the_module_it_fits() {
+    let d = variant("wrong_module", |m| {
+        m.replacen("name = \"p_gas\"\nmodule = \"eos\"", "name = \"p_gas\"\nmodule = \"density\"", 1)
+    });
+    assert!(std::fs::read_to_string(d.join("legacy.toml")).unwrap().contains("module = \"density\""));
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the variant builds");
+    let lg = d.join("build");
+    let o = blastsph(&["check", "shock_tube", "--legacy", lg.to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{se}");
+    let w = se.lines().find(|l| l.starts_with("warning: legacy p_gas is not run")).unwrap_or_else(|| panic!("{se}"));
+    assert!(w.contains("fit eos.eval of another module") && w.contains("module = \"eos\"?"), "{w}");
+    let out = scratch("wrong_module_dual");
+    let o = blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--steps",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    let so = String::from_utf8_lossy(&o.stdout);
+    assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -80,7 +80,7 @@ pub fn check_text(sim: &Sim) -> String {
     if let Some(l) = crate::analysis::verify::sedov_check_line(c) {
         s += &format!("{l}\n");
     }
-    for w in crate::advice::all(c, &sim.p, &sim.region) {
+    for w in crate::advice::all(c, &sim.p, &sim.region).into_iter().chain(sim.plan.legacy_warnings()) {
         s += &format!("warning: {w}\n");
     }
     s + &sim.plan.text()

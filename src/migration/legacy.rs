@@ -760,6 +760,36 @@ impl Legacy {
                 } else {
                     ""
                 };
+                // the stages of the case's other modules that its arguments would compute
+                // whole (a routine mapped under the wrong `module`: an EOS given as density)
+                let fits: Vec<String> = if near {
+                    Vec::new()
+                } else {
+                    Module::ALL
+                        .iter()
+                        .filter(|m| !mods.contains(m) && modules.get(m).is_some_and(|p| p.active))
+                        .flat_map(|&m| fresh(m, ctx))
+                        .filter(|(_, s)| {
+                            !s.writes().is_empty()
+                                && s.writes().iter().all(|f| argf.contains(f))
+                                && s.reads().iter().all(|f| argf.contains(f) || IMPLIED.contains(f))
+                        })
+                        .map(|(_, s)| s.name().to_string())
+                        .collect()
+                };
+                if !(term || shared_scratch) && !fits.is_empty() {
+                    let other: Vec<&str> = fits.iter().filter_map(|f| f.split('.').next()).collect();
+                    let why = format!(
+                        "it computes none of the {} stages from its arguments ({}, not among them), but its arguments fit {} of another module: is its manifest's module = \"{}\"? blastsph's own {} runs in its place",
+                        r.modules.join(","),
+                        lacks.join("; "),
+                        fits.join(", "),
+                        other.first().copied().unwrap_or(""),
+                        other.join(",")
+                    );
+                    note("not run", why, json!({ "replaced": false }));
+                    continue;
+                }
                 if !(term || shared_scratch) {
                     let why = if near {
                         format!(
