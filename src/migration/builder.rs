@@ -530,6 +530,16 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                         rel(f, &m.dir)
                     )));
                 }
+                // an ENTRY statement of another subroutine (gfortran prints no prototype for it)
+                let entry = m.sources.iter().find(|f| std::fs::read_to_string(f).is_ok_and(|t| has_entry(&t, &r.name)));
+                if let Some(f) = entry {
+                    return Err(input(format!(
+                        "{}: routine {}: an ENTRY point (in {}), not a SUBROUTINE: entries cannot be mapped; map the SUBROUTINE that holds it, or a SUBROUTINE of your own in a new file that calls the entry",
+                        m.path.display(),
+                        r.name,
+                        rel(f, &m.dir)
+                    )));
+                }
                 return Err(input(format!(
                     "{}: routine {}: not found in the sources ({} files compiled)",
                     m.path.display(),
@@ -809,8 +819,36 @@ fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), lo
     Ok(Sizes { dim: v[0] as usize, maxn: v[1] as usize, max_interaction: v[2] as usize })
 }
 
+/// Whether Fortran source `text` has an `ENTRY name` statement (any case, either form; a
+/// comment line of fixed form is skipped).
+fn has_entry(text: &str, name: &str) -> bool {
+    let name = name.to_ascii_lowercase();
+    text.lines().any(|l| {
+        let fixed_comment = l.starts_with(['c', 'C', '*', '!']);
+        let code = l.split('!').next().unwrap_or("").trim().to_ascii_lowercase();
+        let code = code.trim_start_matches(|c: char| c.is_ascii_digit()).trim_start();
+        !fixed_comment
+            && code.strip_prefix("entry").is_some_and(|rest| {
+                let rest = rest.trim_start();
+                rest.strip_prefix(name.as_str()).is_some_and(|after| {
+                    after.trim_start().is_empty() || after.trim_start().starts_with('(')
+                })
+            })
+    })
+}
+
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn an_entry_statement_is_found_in_either_form() {
+        let fixed = "      SUBROUTINE EQSTAT(N,RHO,U,P,C)\nC     ENTRY EOSOLD(N)\n      ENTRY EOSALL (N,RHO)\n      END\n";
+        assert!(super::has_entry(fixed, "eosall"));
+        assert!(!super::has_entry(fixed, "eosold"), "a comment line");
+        assert!(!super::has_entry(fixed, "eos"), "another name's prefix");
+        assert!(super::has_entry("subroutine a(x)\n  entry b ! the other way in\nend\n", "B"));
+        assert!(!super::has_entry("subroutine entryb(x)\nend\n", "b"));
+    }
     use super::*;
 
     #[test]
