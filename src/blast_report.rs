@@ -837,9 +837,11 @@ fn print_text(
         Some(Ok(c)) => {
             let t_last = hist.last().map(|h| h.0).unwrap_or(0.0);
             let t_end = TimeUnit::for_end(t_last).text(t_last);
+            // (3D: the crater of revolution about the charge's axis, all azimuths together)
+            let how = if case.dim == 3 { " (revolved about the charge's axis)" } else { "" };
             match &c.note {
                 None => println!(
-                    "crater at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {:.1} cm wide, the soil's spacing)",
+                    "crater{how} at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {:.1} cm wide, the soil's spacing)",
                     t_end,
                     cm1(c.diameter_m),
                     cm1(c.depth_m),
@@ -847,7 +849,7 @@ fn print_text(
                     height_text(c.ejecta_height_m),
                     100.0 * c.column_m
                 ),
-                Some(why) => println!("crater at t = {t_end}: {why}"),
+                Some(why) => println!("crater{how} at t = {t_end}: {why}"),
             }
             if let Some(k) = &c.crack {
                 println!("note: {k}");
@@ -917,6 +919,27 @@ fn print_text(
         },
         Some(Err(why)) => println!("crater as a surface: cannot be measured: {why}"),
         None => {}
+    }
+    // 3D: a crater that is not axisymmetric about the charge's axis (a wall beside it, a slope,
+    // two charges): the revolved headline reads its narrowest, shallowest direction
+    if let (Some(Ok(c)), Some(Ok(m))) = (&last, map)
+        && c.note.is_none()
+        && m.note.is_none()
+    {
+        let widths: Vec<f64> = sections.iter().filter_map(|x| x["diameter_m"].as_f64()).filter(|w| *w > 0.0).collect();
+        let (wmin, wmax) = widths.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &w| (a.min(w), b.max(w)));
+        let wide = m.equivalent_diameter_m > 1.1 * c.diameter_m || m.depth_m > 1.1 * c.depth_m;
+        if wide || (!widths.is_empty() && wmax > 1.1 * wmin) {
+            println!(
+                "note: the crater is not axisymmetric about the charge's axis: the revolved crater ({} cm wide, {} cm deep) reads its narrowest, shallowest direction; measure it by the surface ({} cm equivalent diameter, {} cm deep) and the sections ({}–{} cm wide)",
+                cm1(c.diameter_m),
+                cm1(c.depth_m),
+                cm1(m.equivalent_diameter_m),
+                cm1(m.depth_m),
+                cm1(if wmin.is_finite() { wmin } else { 0.0 }),
+                cm1(wmax)
+            );
+        }
     }
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2

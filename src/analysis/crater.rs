@@ -930,12 +930,50 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     let (first, last) = (c.columns_m[0] - 0.5 * ds, c.columns_m[c.columns_m.len() - 1] + 0.5 * ds);
     let mut why: Vec<String> = Vec::new();
     let map = map.filter(|m| case.dim == 3 && m.crater_cells.iter().any(|&x| x));
-    if let Some(m) = map {
+    // sides the crater reaches where a wall of the case stands: named (a retaining wall the
+    // scene is about, or the box's own side)
+    let mut walled = 0;
+    if let Some(m) = map
+        && m.x_m.len() == m.cells[0]
+        && m.y_m.len() == m.cells[1]
+    {
         let (nx, ny) = (m.cells[0], m.cells[1]);
-        let border = (0..nx * ny)
-            .any(|k| m.crater_cells[k] && (k % nx == 0 || k % nx + 1 == nx || k / nx == 0 || k / nx + 1 == ny));
-        if border {
-            why.push("reaches a side of the soil the scene models (the surface map's border)".into());
+        let h = 0.5 * m.cell_m;
+        let sides: [(usize, f64, &dyn Fn(usize) -> bool); 4] = [
+            (0, m.x_m[0] - h, &|k| k % nx == 0),
+            (0, m.x_m[nx - 1] + h, &|k| k % nx + 1 == nx),
+            (1, m.y_m[0] - h, &|k| k / nx == 0),
+            (1, m.y_m[ny - 1] + h, &|k| k / nx + 1 == ny),
+        ];
+        let mirrors = case.axis_mirrors();
+        // a wall (not a mirror) that is the plane axis = at, or its image in a symmetry plane
+        let wall_at = |axis: usize, at: f64| {
+            case.walls.iter().filter(|w| w.kind != crate::case::WallKind::Mirror && w.edge_m.is_none()).any(|w| {
+                let (a, b) = (w.from_m.get(axis), w.to_m.get(axis));
+                a.is_some() && a == b && {
+                    let c = w.from_m[axis];
+                    (c - at).abs() <= m.cell_m
+                        || mirrors.iter().any(|&(k, p)| k == axis && (2.0 * p - c - at).abs() <= m.cell_m)
+                }
+            })
+        };
+        let mut named: Vec<String> = Vec::new();
+        for (axis, at, on) in sides {
+            if (0..nx * ny).any(|k| m.crater_cells[k] && on(k)) {
+                let wall = wall_at(axis, at);
+                walled += usize::from(wall);
+                named.push(format!(
+                    "{} = {at:.3} m{}",
+                    ["x", "y"][axis],
+                    if wall { ", where a wall of the case stands" } else { "" }
+                ));
+            }
+        }
+        if !named.is_empty() {
+            why.push(format!("reaches a side of the soil the scene models (the surface map's border: {})", named.join(", ")));
+        }
+        if walled < named.len() {
+            walled = 0;
         }
     } else if case.dim == 3 || case.axisymmetric() {
         if c.touches[0] || c.touches[1] {
@@ -956,6 +994,10 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     });
     let (what, so) = match (why.is_empty(), bottom) {
         (true, None) => return None,
+        (false, None) if walled > 0 => (
+            why.join(" and "),
+            "its diameter is a lower bound: widen the soil, unless that wall is the scene's own (a retaining wall), which then holds the crater there",
+        ),
         (false, None) => (why.join(" and "), "its diameter is a lower bound: widen the soil"),
         (true, Some(b)) => (format!("'s {b}"), "its depth is a lower bound: deepen the soil"),
         (false, Some(b)) => (
@@ -1283,6 +1325,41 @@ mod tests {
         let c = measure(&|x, y| x < 0.4 && y > 0.35);
         assert!(c.touches[0] && box_bound(&half, &c, None).is_none(), "{c:?}");
         assert!(box_bound(&plane, &c, None).is_some());
+    }
+
+    /// A 3D crater that reaches the surface map's border names the sides, and says where a
+    /// wall of the case stands there (the shipped quarter's far walls; their images across the
+    /// symmetry planes at the map's other border).
+    #[test]
+    fn a_3d_crater_at_the_map_border_names_the_side_and_its_wall() {
+        let text =
+            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt1kg_3d.toml")).unwrap();
+        let case = crate::case::parse(&text, "test", &[], None).unwrap();
+        let (n, cell) = (12usize, 0.092);
+        let centres: Vec<f64> = (0..n).map(|i| -0.552 + (i as f64 + 0.5) * cell).collect();
+        let mut cells = vec![false; n * n];
+        cells[5 * n + n - 1] = true; // the row through the axis, the last column (x = 0.552 m)
+        cells[5 * n + 5] = true;
+        let map = SurfaceMap {
+            cell_m: cell,
+            cells: [n, n],
+            x_m: centres.clone(),
+            y_m: centres,
+            crater_cells: cells.clone(),
+            ..Default::default()
+        };
+        let c = Crater { columns_m: vec![0.0, 0.092], column_m: 0.092, ..Default::default() };
+        let b = box_bound(&case, &c, Some(&map)).unwrap_or_else(|| panic!("a crater at the border"));
+        assert!(b.contains("x = 0.552 m, where a wall of the case stands") && b.contains("widen the soil"), "{b}");
+        // the first column (x = -0.552 m): the wall's image in the symmetry plane x = 0
+        let mut first = vec![false; n * n];
+        first[5 * n] = true;
+        let b = box_bound(&case, &c, Some(&SurfaceMap { crater_cells: first, ..map.clone() })).unwrap();
+        assert!(b.contains("x = -0.552 m, where a wall of the case stands"), "{b}");
+        // inside the map: no bound
+        let mut inner = vec![false; n * n];
+        inner[5 * n + 5] = true;
+        assert!(box_bound(&case, &c, Some(&SurfaceMap { crater_cells: inner, ..map })).is_none());
     }
 
     #[test]
