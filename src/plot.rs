@@ -2,6 +2,7 @@
 
 use crate::error::{Result, SphError};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 fn perr<E: std::fmt::Display>(e: E) -> SphError {
@@ -579,7 +580,7 @@ pub fn loglog_on_data(
 ) -> Result<()> {
     let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
-    // in order of distance, so the line joins neighbours (gauges need not be listed outward)
+    // in order of distance (the ticks)
     let mut good: Vec<&(f64, f64, String)> =
         points.iter().filter(|p| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0).collect();
     good.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -631,16 +632,18 @@ pub fn loglog_on_data(
             .label(name)
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], RGBColor(120, 120, 120).stroke_width(2)));
     }
-    ch.draw_series(LineSeries::new(good.iter().map(|p| (p.0, p.1)), BLUE.stroke_width(2)))
-        .map_err(perr)?
-        .label("SPH gauges")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLUE.stroke_width(2)));
+    // markers only: gauges in different directions from the charge (under it, beside it, in the
+    // air) are no one attenuation curve, and a line through them would read as one; a label in
+    // the right third of the axis is written to the left of its point (it ran off the frame)
+    let split = xl * (xh / xl).powf(2.0 / 3.0);
     ch.draw_series(good.iter().map(|p| {
-        EmptyElement::at((p.0, p.1))
-            + Circle::new((0, 0), 5, BLUE.filled())
-            + Text::new(p.2.clone(), (8, -16), ("sans-serif", 13).into_font())
+        let (anchor, dx) = if p.0 > split { (HPos::Right, -8) } else { (HPos::Left, 8) };
+        let font = TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(anchor, VPos::Bottom));
+        EmptyElement::at((p.0, p.1)) + Circle::new((0, 0), 5, BLUE.filled()) + Text::new(p.2.clone(), (dx, -6), font)
     }))
-    .map_err(perr)?;
+    .map_err(perr)?
+    .label("SPH gauges")
+    .legend(|(x, y)| Circle::new((x + 8, y), 5, BLUE.filled()));
     ch.configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))

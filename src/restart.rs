@@ -198,7 +198,9 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
             // the text must parse first: its error names the file and line, as `check`'s does
             crate::case::parse(&text, &case_path.display().to_string(), &[], None)?;
             let body = crate::case::apply_sets_by(&text, &[format!("time.end_s={t:?}")], "resume --end-time")?;
-            format!("# Resumed with --end-time {t:?} from the checkpoint at t = {t_cp:e} s (time.end_s, marked below).\n{body}")
+            format!(
+                "# Resumed with --end-time {t:?} from the checkpoint at t = {t_cp:e} s (time.end_s, marked below).\n{body}"
+            )
         }
         None => {
             if summary_status.as_deref() == Some("ok") {

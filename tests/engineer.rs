@@ -562,7 +562,10 @@ fn a_gauge_inside_the_charge_is_named() {
     let err = text(&o.stdout);
     let lines: Vec<&str> = err.lines().filter(|l| l.contains("inside the explosive `tnt`")).collect();
     assert_eq!(lines.len(), 2, "{err}");
-    assert!(lines[0].contains("gauge `A`") && lines[0].contains("follows a particle of the detonation products"), "{err}");
+    assert!(
+        lines[0].contains("gauge `A`") && lines[0].contains("follows a particle of the detonation products"),
+        "{err}"
+    );
     assert!(lines[1].contains("gauge `C`") && lines[1].contains("reads the detonation products"), "{err}");
 }
 

@@ -970,7 +970,10 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
             }
         }
         if !named.is_empty() {
-            why.push(format!("reaches a side of the soil the scene models (the surface map's border: {})", named.join(", ")));
+            why.push(format!(
+                "reaches a side of the soil the scene models (the surface map's border: {})",
+                named.join(", ")
+            ));
         }
         if walled < named.len() {
             walled = 0;
@@ -1140,17 +1143,17 @@ pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
         .flatten()
         .filter(|(cells, _)| *cells >= 4)
         .map(|(cells, [(xa, xb), (ya, yb), _])| {
-        let bb = [xa, xb, ya, yb];
-        let xc = 0.5 * (bb[0] + bb[1]);
-        let k = (((xc - lo) / ds).floor().max(0.0) as usize).min(ncol - 1);
-        Cavity {
-            width_m: bb[1] - bb[0],
-            height_m: bb[3] - bb[2],
-            area_m2: cells as f64 * ds * ds,
-            centre_m: [xc, 0.5 * (bb[2] + bb[3])],
-            top_depth_m: if s0[k].is_finite() { s0[k] - bb[3] } else { f64::NAN },
-        }
-    });
+            let bb = [xa, xb, ya, yb];
+            let xc = 0.5 * (bb[0] + bb[1]);
+            let k = (((xc - lo) / ds).floor().max(0.0) as usize).min(ncol - 1);
+            Cavity {
+                width_m: bb[1] - bb[0],
+                height_m: bb[3] - bb[2],
+                area_m2: cells as f64 * ds * ds,
+                centre_m: [xc, 0.5 * (bb[2] + bb[3])],
+                top_depth_m: if s0[k].is_finite() { s0[k] - bb[3] } else { f64::NAN },
+            }
+        });
     let note = if crater {
         None
     } else if narrow {
@@ -1332,8 +1335,8 @@ mod tests {
     /// symmetry planes at the map's other border).
     #[test]
     fn a_3d_crater_at_the_map_border_names_the_side_and_its_wall() {
-        let text =
-            std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt1kg_3d.toml")).unwrap();
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt1kg_3d.toml"))
+            .unwrap();
         let case = crate::case::parse(&text, "test", &[], None).unwrap();
         let (n, cell) = (12usize, 0.092);
         let centres: Vec<f64> = (0..n).map(|i| -0.552 + (i as f64 + 0.5) * cell).collect();

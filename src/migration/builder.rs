@@ -830,9 +830,8 @@ fn has_entry(text: &str, name: &str) -> bool {
         !fixed_comment
             && code.strip_prefix("entry").is_some_and(|rest| {
                 let rest = rest.trim_start();
-                rest.strip_prefix(name.as_str()).is_some_and(|after| {
-                    after.trim_start().is_empty() || after.trim_start().starts_with('(')
-                })
+                rest.strip_prefix(name.as_str())
+                    .is_some_and(|after| after.trim_start().is_empty() || after.trim_start().starts_with('('))
             })
     })
 }
@@ -842,7 +841,8 @@ mod tests {
 
     #[test]
     fn an_entry_statement_is_found_in_either_form() {
-        let fixed = "      SUBROUTINE EQSTAT(N,RHO,U,P,C)\nC     ENTRY EOSOLD(N)\n      ENTRY EOSALL (N,RHO)\n      END\n";
+        let fixed =
+            "      SUBROUTINE EQSTAT(N,RHO,U,P,C)\nC     ENTRY EOSOLD(N)\n      ENTRY EOSALL (N,RHO)\n      END\n";
         assert!(super::has_entry(fixed, "eosall"));
         assert!(!super::has_entry(fixed, "eosold"), "a comment line");
         assert!(!super::has_entry(fixed, "eos"), "another name's prefix");
