@@ -939,12 +939,12 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     {
         let (nx, ny) = (m.cells[0], m.cells[1]);
         let h = 0.5 * m.cell_m;
-        let sides: [(usize, f64, &dyn Fn(usize) -> bool); 4] = [
-            (0, m.x_m[0] - h, &|k| k % nx == 0),
-            (0, m.x_m[nx - 1] + h, &|k| k % nx + 1 == nx),
-            (1, m.y_m[0] - h, &|k| k / nx == 0),
-            (1, m.y_m[ny - 1] + h, &|k| k / nx + 1 == ny),
-        ];
+        // (axis, coordinate, the side: 0 low, 1 high)
+        let sides = [(0, m.x_m[0] - h, 0), (0, m.x_m[nx - 1] + h, 1), (1, m.y_m[0] - h, 0), (1, m.y_m[ny - 1] + h, 1)];
+        let on_side = |k: usize, axis: usize, side: usize| {
+            let (i, n) = if axis == 0 { (k % nx, nx) } else { (k / nx, ny) };
+            if side == 0 { i == 0 } else { i + 1 == n }
+        };
         let mirrors = case.axis_mirrors();
         // a wall (not a mirror) that is the plane axis = at, or its image in a symmetry plane
         let wall_at = |axis: usize, at: f64| {
@@ -958,8 +958,8 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
             })
         };
         let mut named: Vec<String> = Vec::new();
-        for (axis, at, on) in sides {
-            if (0..nx * ny).any(|k| m.crater_cells[k] && on(k)) {
+        for (axis, at, side) in sides {
+            if (0..nx * ny).any(|k| m.crater_cells[k] && on_side(k, axis, side)) {
                 let wall = wall_at(axis, at);
                 walled += usize::from(wall);
                 named.push(format!(

@@ -777,7 +777,7 @@ impl Legacy {
                         .map(|(_, s)| s.name().to_string())
                         .collect()
                 };
-                if !(term || shared_scratch) && !fits.is_empty() {
+                if !(term || shared_scratch || fits.is_empty()) {
                     let other: Vec<&str> = fits.iter().filter_map(|f| f.split('.').next()).collect();
                     let why = format!(
                         "it computes none of the {} stages from its arguments ({}, not among them), but its arguments fit {} of another module: is its manifest's module = \"{}\"? blastsph's own {} runs in its place",
