@@ -463,9 +463,8 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
 #[test]
 fn a_half_space_charge_is_scaled_whole_and_an_unreached_gauge_is_no_peak() {
     let d = tempfile::tempdir().unwrap();
-    let case = d.path().join("uw_half.toml");
-    std::fs::write(
-        &case,
+    let dir = run_inline(
+        d.path(),
         r#"name = "uw_half"
 dim = 2
 geometry = "axisymmetric"
@@ -511,10 +510,7 @@ name = "far"
 point_m = [0.11, 0.002]
 kind = "point"
 "#,
-    )
-    .unwrap();
-    let dir = d.path().join("run");
-    ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
+    );
     let s = summary(&dir);
     let g = s["gauges"].as_array().unwrap();
     let (near, far) = (&g[0], &g[1]);
@@ -575,9 +571,8 @@ fn a_gauge_inside_the_charge_is_named() {
 #[test]
 fn a_half_model_charge_is_centred_on_its_symmetry_plane() {
     let d = tempfile::tempdir().unwrap();
-    let case = d.path().join("half3d.toml");
-    std::fs::write(
-        &case,
+    let dir = run_inline(
+        d.path(),
         r#"name = "half3d"
 dim = 3
 [time]
@@ -619,10 +614,7 @@ point_m = [0.0, 0.175, 0.25]
 [analysis]
 kind = "crater"
 "#,
-    )
-    .unwrap();
-    let dir = d.path().join("run");
-    ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
+    );
     let s = summary(&dir);
     let ax = &s["crater"]["surface"]["axis_m"];
     assert!(ax[1].as_f64().is_some_and(|y| y.abs() < 1e-12), "the axis on the plane y = 0: {ax}");
@@ -635,4 +627,13 @@ kind = "crater"
     // the gauge's particle starts 17.5 cm from the axis (12.5 cm from the half's centroid)
     let g = &r["peaks_scaled"][0];
     assert!(g["gauge"].as_str().is_some_and(|l| l.starts_with("y_side (18 cm")), "{g}");
+}
+
+/// Writes the case `text` into `d` and runs it (quiet) into `d/run`, which it returns.
+fn run_inline(d: &std::path::Path, text: &str) -> std::path::PathBuf {
+    let case = d.join("case.toml");
+    std::fs::write(&case, text).unwrap();
+    let dir = d.join("run");
+    ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
+    dir
 }
