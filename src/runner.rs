@@ -474,8 +474,7 @@ impl Loop {
             .map(|(m, p)| (m.name().to_string(), json!(p.why)))
             .collect();
         let bk = &sim.book;
-        let work = bk.work_wall + bk.work_penalty + bk.work_gravity + bk.work_floor;
-        let residual = e1.total - e0.total - work;
+        let residual = e1.total - e0.total - bk.work();
         let mut summary = json!({
             "case": sim.case.name(),
             "backend": sim.plan.label(),
@@ -502,7 +501,7 @@ impl Loop {
                 // over the energy the run has had to work with: the initial energy and the
                 // external forces' work, each in magnitude (a body at rest at e = 0 under
                 // gravity starts from 0 J)
-                "balance_residual_relative": residual / (e0.total.abs() + bk.work_wall.abs() + bk.work_penalty.abs() + bk.work_gravity.abs() + bk.work_floor.abs()).max(1e-300),
+                "balance_residual_relative": residual / bk.scale(e0.total).max(1e-300),
             },
             "stability": sim.stab,
             "module_seconds": sim.seconds(),

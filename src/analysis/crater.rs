@@ -136,8 +136,9 @@ pub struct Crater {
     /// Why there is no apparent crater, when there is none.
     pub note: Option<String>,
     /// 2D and RZ (and each 3D section): the deepest crack left out of the crater's depth — a
-    /// drop of one or two columns more than 2 Δs below both columns beside it (a crack or a vent
-    /// in the ground, not the bowl), read at the deeper of those two columns' drops instead.
+    /// drop of one or two columns more than 2 Δs below both columns beside it and more than Δs/2
+    /// below the original ground (a crack or a vent in the ground, not the bowl), read at the
+    /// deeper of those two columns' drops instead.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crack: Option<String>,
     /// Why the measure is the box's rather than the crater's, when the crater reaches the edge
@@ -183,10 +184,14 @@ pub fn explosive_mask(case: &crate::case::Case) -> Vec<bool> {
 
 /// Δs: the coarsest initial spacing of the regions of soil materials.
 pub fn soil_spacing(case: &crate::case::Case) -> Option<f64> {
-    let soil = soil_mask(case);
+    coarsest_spacing(case, &soil_mask(case))
+}
+
+/// The coarsest initial spacing of the regions whose material `mask` marks (m).
+fn coarsest_spacing(case: &crate::case::Case, mask: &[bool]) -> Option<f64> {
     case.regions
         .iter()
-        .filter(|r| case.material_index(&r.material).is_some_and(|m| soil[m]))
+        .filter(|r| case.material_index(&r.material).is_some_and(|m| mask[m]))
         .map(|r| r.spacing_m)
         .fold(None, |a: Option<f64>, s| Some(a.map_or(s, |a| a.max(s))))
 }
@@ -552,13 +557,7 @@ pub fn centroid<P: AsRef<[f64]>>(pts: &[P], d: usize) -> Vec<f64> {
 /// explosive spacing of it: their images complete the charge. In RZ the axis is not such a plane
 /// (the rings are whole already); a plane perpendicular to it (y = c) is.
 pub fn charge_planes<P: AsRef<[f64]>>(case: &crate::case::Case, pts: &[P]) -> Vec<(usize, f64)> {
-    let ex = explosive_mask(case);
-    let sp = case
-        .regions
-        .iter()
-        .filter(|r| case.material_index(&r.material).is_some_and(|m| ex[m]))
-        .map(|r| r.spacing_m)
-        .fold(0.0, f64::max);
+    let sp = coarsest_spacing(case, &explosive_mask(case)).unwrap_or(0.0);
     let mut planes: Vec<(usize, f64)> = Vec::new();
     if pts.is_empty() {
         return planes;
@@ -931,8 +930,8 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     let mut why: Vec<String> = Vec::new();
     let map = map.filter(|m| case.dim == 3 && m.crater_cells.iter().any(|&x| x));
     // sides the crater reaches where a wall of the case stands: named (a retaining wall the
-    // scene is about, or the box's own side)
-    let mut walled = 0;
+    // scene is about, or the box's own side); every side reached is such a one
+    let mut walled = false;
     if let Some(m) = map
         && m.x_m.len() == m.cells[0]
         && m.y_m.len() == m.cells[1]
@@ -958,10 +957,11 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
             })
         };
         let mut named: Vec<String> = Vec::new();
+        let mut walls = 0;
         for (axis, at, side) in sides {
             if (0..nx * ny).any(|k| m.crater_cells[k] && on_side(k, axis, side)) {
                 let wall = wall_at(axis, at);
-                walled += usize::from(wall);
+                walls += usize::from(wall);
                 named.push(format!(
                     "{} = {at:.3} m{}",
                     ["x", "y"][axis],
@@ -975,9 +975,7 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
                 named.join(", ")
             ));
         }
-        if walled < named.len() {
-            walled = 0;
-        }
+        walled = !named.is_empty() && walls == named.len();
     } else if case.dim == 3 || case.axisymmetric() {
         if c.touches[0] || c.touches[1] {
             why.push(format!("reaches the soil's outer radius (r = {:.3} m)", last.max(-first)));
@@ -997,7 +995,7 @@ pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>)
     });
     let (what, so) = match (why.is_empty(), bottom) {
         (true, None) => return None,
-        (false, None) if walled > 0 => (
+        (false, None) if walled => (
             why.join(" and "),
             "its diameter is a lower bound: widen the soil, unless that wall is the scene's own (a retaining wall), which then holds the crater there",
         ),
@@ -1277,21 +1275,23 @@ mod tests {
         assert!((c.surface_m[k] - 1.046).abs() < 1e-9, "lifted particles read as ground: {}", c.surface_m[k]);
     }
 
-    /// A one-column crack 30 spacings deep beside a bowl 10 deep (a buried charge's RZ run, in a
-    /// docs-only check: the depth read the crack) is left out of the depth and named; a crack
-    /// alone is no crater, nor is a hole narrower than it is deep (a vent through the dome).
+    /// The crater of a flat lattice of soil `w` × `hgt` m (spacing `ds`) whose particles `cut`
+    /// removes later, without an explosive.
+    fn measure_cut(ds: f64, w: f64, hgt: f64, cut: &dyn Fn(f64, f64) -> bool) -> Crater {
+        let inp = CraterInput {
+            soil0: lattice(ds, w, hgt, &|_, _| false),
+            soil1: lattice(ds, w, hgt, cut),
+            charge0: (Vec::new(), Vec::new()),
+        };
+        measure_xy(&inp, ds).unwrap()
+    }
+
+    /// A 2D crater that reaches the soil's first or last column (not a mirror wall there), or
+    /// whose floor reaches the soil's bottom, is named as the box's measure, a lower bound.
     #[test]
     fn a_crater_the_box_ends_is_named() {
         let ds = 0.05;
-        let soil0 = lattice(ds, 1.0, 0.5, &|_, _| false);
-        let measure = |cut: &dyn Fn(f64, f64) -> bool| {
-            let inp = CraterInput {
-                soil0: soil0.clone(),
-                soil1: lattice(ds, 1.0, 0.5, cut),
-                charge0: (Vec::new(), Vec::new()),
-            };
-            measure_xy(&inp, ds).unwrap()
-        };
+        let measure = |cut: &dyn Fn(f64, f64) -> bool| measure_cut(ds, 1.0, 0.5, cut);
         let text =
             std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt6.toml")).unwrap();
         let plane = crate::case::parse(&text, "test", &[], None).unwrap();
@@ -1348,7 +1348,7 @@ mod tests {
             cells: [n, n],
             x_m: centres.clone(),
             y_m: centres,
-            crater_cells: cells.clone(),
+            crater_cells: cells,
             ..Default::default()
         };
         let c = Crater { columns_m: vec![0.0, 0.092], column_m: 0.092, ..Default::default() };
@@ -1365,18 +1365,15 @@ mod tests {
         assert!(box_bound(&case, &c, Some(&SurfaceMap { crater_cells: inner, ..map })).is_none());
     }
 
+    /// A one-column crack 30 spacings deep beside a bowl 10 deep (a buried charge's RZ run, in a
+    /// docs-only check: the depth read the crack) is left out of the depth and named; a crack
+    /// alone is no crater, nor is a hole narrower than it is deep (a vent through the dome), nor
+    /// a notch in a raised rim.
     #[test]
     fn cracks_and_vents_are_not_the_crater() {
         let ds = 0.01;
         let soil0 = lattice(ds, 1.0, 1.0, &|_, _| false);
-        let measure = |cut: &dyn Fn(f64, f64) -> bool| {
-            let inp = CraterInput {
-                soil0: soil0.clone(),
-                soil1: lattice(ds, 1.0, 1.0, cut),
-                charge0: (Vec::new(), Vec::new()),
-            };
-            measure_xy(&inp, ds).unwrap()
-        };
+        let measure = |cut: &dyn Fn(f64, f64) -> bool| measure_cut(ds, 1.0, 1.0, cut);
         let bowl = |x: f64, y: f64| (x - 0.5).abs() < 0.2 && y > 0.9;
         let crack = |x: f64, y: f64| (x - 0.555).abs() < 0.005 && y > 0.6;
         let c = measure(&|x, y| bowl(x, y) || crack(x, y));

@@ -390,9 +390,8 @@ impl Sim {
         // booked half a step behind, so twice the last step's gravity work in magnitude is
         // allowed on top); healthy runs stay under 1 %
         let bk = &self.book;
-        let works = [bk.work_wall, bk.work_penalty, bk.work_gravity, bk.work_floor];
-        let budget = self.e_initial + works.iter().sum::<f64>();
-        let scale = self.e_initial.abs() + works.iter().map(|w| w.abs()).sum::<f64>();
+        let budget = self.e_initial + bk.work();
+        let scale = bk.scale(self.e_initial);
         // the last step's gravity work in magnitude at the step's end, Σ m |g·v| Δt: taken only
         // where the residual is above the rest of the scale (one pass over the particles)
         let gravity_step = || {

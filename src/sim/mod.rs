@@ -41,6 +41,20 @@ pub struct Book {
     pub work_floor: f64,
 }
 
+impl Book {
+    /// The external forces' work and the floor's energy together (J): what the total energy
+    /// changes by, E − E0.
+    pub fn work(&self) -> f64 {
+        self.work_wall + self.work_penalty + self.work_gravity + self.work_floor
+    }
+
+    /// The energy a run has had to work with (J): |E0| plus each work in magnitude (a body at
+    /// rest at e = 0 under gravity starts from 0 J); the scale of the energy balance's residual.
+    pub fn scale(&self, e0: f64) -> f64 {
+        e0.abs() + self.work_wall.abs() + self.work_penalty.abs() + self.work_gravity.abs() + self.work_floor.abs()
+    }
+}
+
 /// Health of the run, reported in summary.json.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct Stability {
