@@ -52,6 +52,8 @@ pub fn panels(path: &Path, panels: &[Panel], cols: usize, size: (u32, u32)) -> R
         ch.configure_mesh()
             .x_desc(&pn.xlabel)
             .y_desc(&pn.ylabel)
+            .x_label_formatter(&axis_label)
+            .y_label_formatter(&axis_label)
             .label_style(("sans-serif", 12))
             .draw()
             .map_err(perr)?;
@@ -101,7 +103,7 @@ pub fn lines(
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, (y0..y1.max(y0 * 10.0)).log_scale())
             .map_err(perr)?;
-        ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).draw().map_err(perr)?;
+        ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).x_label_formatter(&axis_label).draw().map_err(perr)?;
         for (k, (name, pts)) in series.iter().enumerate() {
             let c = colours[k % colours.len()];
             ch.draw_series(LineSeries::new(pts.iter().copied().filter(|p| p.1 > 0.0), c.stroke_width(2)))
@@ -119,7 +121,13 @@ pub fn lines(
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(perr)?;
-        ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).draw().map_err(perr)?;
+        ch.configure_mesh()
+            .x_desc(xlabel)
+            .y_desc(ylabel)
+            .x_label_formatter(&axis_label)
+            .y_label_formatter(&axis_label)
+            .draw()
+            .map_err(perr)?;
         for (k, (name, pts)) in series.iter().enumerate() {
             let c = colours[k % colours.len()];
             ch.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))
@@ -163,7 +171,14 @@ pub fn snapshot(
         .y_label_area_size(50)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(perr)?;
-    ch.configure_mesh().x_desc("x (m)").y_desc("y (m)").disable_mesh().draw().map_err(perr)?;
+    ch.configure_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .x_label_formatter(&axis_label)
+        .y_label_formatter(&axis_label)
+        .disable_mesh()
+        .draw()
+        .map_err(perr)?;
     ch.draw_series((0..x.len()).map(|i| Circle::new((x[i], y[i]), 2, colour(i).filled()))).map_err(perr)?;
     root.present().map_err(perr)?;
     Ok(())
@@ -329,6 +344,21 @@ impl Scale {
     }
 }
 
+/// A tick of a linear axis: its shortest decimal (200, 0.05, −0.3; plotters' own printed
+/// "200.0", and "-0.0" for a key point a rounding below zero), in powers of ten outside
+/// 10⁻³…10⁷.
+fn axis_label(v: &f64) -> String {
+    let a = v.abs();
+    if a < 1e-12 {
+        "0".into()
+    } else if (1e-3..1e7).contains(&a) {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
 fn tick_label(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
@@ -421,6 +451,8 @@ where
     ch.configure_mesh()
         .x_desc(m.axes[0])
         .y_desc(m.axes[1])
+        .x_label_formatter(&axis_label)
+        .y_label_formatter(&axis_label)
         .disable_mesh()
         .label_style(("sans-serif", 13))
         .draw()
@@ -538,7 +570,14 @@ pub fn lines_with_refs(
         .y_label_area_size(76)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(perr)?;
-    ch.configure_mesh().x_desc(xlabel).y_desc(ylabel).label_style(("sans-serif", 14)).draw().map_err(perr)?;
+    ch.configure_mesh()
+        .x_desc(xlabel)
+        .y_desc(ylabel)
+        .x_label_formatter(&axis_label)
+        .y_label_formatter(&axis_label)
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(perr)?;
     for (k, (name, pts)) in series.iter().enumerate() {
         let c = colours[k % colours.len()];
         ch.draw_series(LineSeries::new(
@@ -671,4 +710,18 @@ pub fn animate(path: &Path, maps: &[MapSpec], delay_ms: u32) -> Result<()> {
     }
     std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// Linear ticks print their shortest decimal, and a key point a rounding below zero prints 0.
+    #[test]
+    fn axis_labels_are_short_and_never_minus_zero() {
+        let l = |v: f64| super::axis_label(&v);
+        assert_eq!(
+            [l(-1.1e-17), l(200.0), l(0.30000000000000004), l(-0.3), l(0.05)],
+            ["0", "200", "0.3", "-0.3", "0.05"]
+        );
+        assert_eq!(l(2.5e-5), "2.50e-5");
+    }
 }
