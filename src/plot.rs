@@ -344,31 +344,30 @@ impl Scale {
     }
 }
 
+/// `v` with at most `decimals` decimals, trailing zeros dropped, where its magnitude lies in
+/// `plain`; in powers of ten with `exp` decimals outside it; "0" below `zero` in magnitude.
+fn short_number(v: f64, zero: f64, plain: std::ops::Range<f64>, decimals: usize, exp: usize) -> String {
+    let a = v.abs();
+    if a <= zero {
+        "0".into()
+    } else if plain.contains(&a) {
+        let s = format!("{v:.decimals$}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{v:.exp$e}")
+    }
+}
+
 /// A tick of a linear axis: its shortest decimal (200, 0.05, −0.3; plotters' own printed
 /// "200.0", and "-0.0" for a key point a rounding below zero), in powers of ten outside
 /// 10⁻³…10⁷.
 fn axis_label(v: &f64) -> String {
-    let a = v.abs();
-    if a < 1e-12 {
-        "0".into()
-    } else if (1e-3..1e7).contains(&a) {
-        let s = format!("{v:.6}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        format!("{v:.2e}")
-    }
+    short_number(*v, 1e-12, 1e-3..1e7, 6, 2)
 }
 
+/// A tick on the data of a log axis: three decimals at most, a power of ten outside 10⁻²…10⁴.
 fn tick_label(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-2..1e4).contains(&a) {
-        let s = format!("{v:.3}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        format!("{v:.0e}")
-    }
+    short_number(v, 0.0, 1e-2..1e4, 3, 0)
 }
 
 /// What a particle map colours by.
