@@ -641,6 +641,45 @@ fn a_legacy_soil_strength_code_runs_and_is_compared() {
     assert!(r["first_divergence"]["at"].as_str().unwrap().contains("xy component"), "the xy component: {r}");
 }
 
+/// A code whose constants live in a COMMON block that its own initialiser fills (here the
+/// strength fixture's G, α_φ and k, moved from PARAMETERs into `common /soil/` and set by a
+/// `soil_init` with no arguments): mapped as `module = "init"`, the routine is called once before
+/// the first step, and the dual run agrees at 0 ULP with no other change to the sources; without
+/// the mapping the block stays zero and the dual run finds the strength rates wrong.
+#[test]
+fn a_legacy_initialiser_fills_its_common_blocks_before_the_first_step() {
+    let d = scratch("init_common");
+    let src = root().join("tests/legacy_strength");
+    for e in std::fs::read_dir(&src).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+    }
+    let inc = "c     soil.inc -- the soil's constants, set by soil_init\n      double precision gmod, alphi, coh\n      common /soil/ gmod, alphi, coh\n";
+    std::fs::write(d.join("soil.inc"), inc).unwrap();
+    let init = "      subroutine soil_init\n      implicit none\n      include 'soil.inc'\n      gmod = 63.58d6\n      alphi = 0.25d0\n      coh = 200.d0\n      return\n      end\n";
+    std::fs::write(d.join("soilini.f"), init).unwrap();
+    let m = std::fs::read_to_string(d.join("legacy.toml")).unwrap();
+    let with_init = format!("{m}\n[[routine]]\nname = \"soil_init\"\nmodule = \"init\"\nargs = []\n");
+    let case = "cases/hard/soil_spall.toml";
+    for (name, manifest, code) in [("with", with_init.as_str(), 0), ("without", m.as_str(), 4)] {
+        std::fs::write(d.join("legacy.toml"), manifest).unwrap();
+        let lg = d.join(format!("build_{name}"));
+        build(&d.join("legacy.toml"), &lg).expect("the variant builds");
+        let out = d.join(format!("dual_{name}"));
+        let args = ["dual", case, "--legacy", lg.to_str().unwrap(), "--steps", "5", "--out", out.to_str().unwrap()];
+        let so = blastsph_ok(&args, code);
+        let (_, rows) = report_rows(&out.join("dual_report.json"));
+        let r = row(&rows, "legacy.strain_rate", "dtau");
+        if code == 0 {
+            assert!(r["compared"].as_u64().unwrap() > 0 && r["max_ulp"].as_u64() == Some(0), "{r}");
+            let plan = blastsph_ok(&["check", case, "--legacy", lg.to_str().unwrap()], 0);
+            assert!(plan.lines().any(|l| l.contains("soil_init") && l.contains("init")), "{plan}");
+        } else {
+            assert!(r["out_of_tolerance"].as_u64().unwrap() > 0, "G = 0 without the initialiser: {r}\n{so}");
+        }
+    }
+}
+
 /// A legacy EOS in 3D with mirror walls and smoothing lengths from the density: the run
 /// evaluates the rates twice at t = 0 (for the output, then the first step), and the smoothing
 /// lengths, so the mirrors, change between the two. The second evaluation used to replay the

@@ -347,6 +347,12 @@ fn a_routine_missing_from_the_sources_is_refused() {
 }
 
 #[test]
+fn an_init_routine_mapped_with_another_module_is_refused() {
+    let d = variant("init_with_eos", |t| t.replacen("module = \"eos\"", "module = \"init,eos\"", 1));
+    refused(&d, &["init,eos", "an init routine stands alone"]);
+}
+
+#[test]
 fn a_dim_that_disagrees_with_param_inc_is_refused() {
     let d = variant("bad_dim", |t| t.replace("dim = 1", "dim = 2"));
     refused(&d, &["dim = 2", "param.inc", "dim = 1"]);

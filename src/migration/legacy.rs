@@ -183,7 +183,56 @@ impl Legacy {
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();
         let flags = case.compat.flags()?;
-        Ok(Arc::new(Legacy { lib, dir: abs, cwd, itype, setup_only, dt, flags, shared: Mutex::new(Shared::default()) }))
+        let l = Arc::new(Legacy {
+            lib,
+            dir: abs,
+            cwd,
+            itype,
+            setup_only,
+            dt,
+            flags,
+            shared: Mutex::new(Shared::default()),
+        });
+        l.init(case.dim)?;
+        Ok(l)
+    }
+
+    /// Calls the manifest's init routines (module `init`: the code's own initialiser, which fills
+    /// its COMMON blocks), once each, in the manifest's order, before the set-up routine and the
+    /// first step. Their arguments are given as at the set-up (no particles yet); what they
+    /// return is not read.
+    fn init(&self, dim: usize) -> Result<()> {
+        let info = self.lib.info();
+        for r in info.routines.iter().filter(|r| r.modules.iter().any(|m| m == "init")) {
+            let mut bufs = self.start_bufs(r, dim);
+            self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+            *self.shared().calls.entry(r.name.clone()).or_default() += 1;
+        }
+        Ok(())
+    }
+
+    /// The buffers of routine `r`'s arguments before the first step: no particles, arrays of the
+    /// build's `maxn` (zeros), the case's fixed step if it has one.
+    fn start_bufs(&self, r: &super::builder::RoutineInfo, dim: usize) -> Vec<Buf> {
+        let maxn = self.lib.info().maxn;
+        let empty = Particles { dim, ..Default::default() };
+        let work = Work::default();
+        let mut sh = self.shared();
+        let mut ctx = Ctx {
+            dim,
+            itimestep: 0,
+            dt: self.dt.unwrap_or(0.0),
+            time: 0.0,
+            slots: Slots::default(),
+            itype: &self.itype,
+            nbuf: maxn,
+            pbuf: 0,
+            scratch: &mut sh.scratch,
+        };
+        r.bindings
+            .iter()
+            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &empty, &work))
+            .collect()
     }
 
     pub fn dir(&self) -> &Path {
@@ -219,25 +268,7 @@ impl Legacy {
         let Some(r) = self.setup_routine() else { return Ok(base) };
         let info = self.lib.info();
         let (dim, maxn) = (case.dim, info.maxn);
-        let empty = Particles { dim, ..Default::default() };
-        let work = Work::default();
-        let mut sh = self.shared();
-        let mut ctx = Ctx {
-            dim,
-            itimestep: 0,
-            dt: self.dt.unwrap_or(0.0),
-            time: 0.0,
-            slots: Slots::default(),
-            itype: &self.itype,
-            nbuf: maxn,
-            pbuf: 0,
-            scratch: &mut sh.scratch,
-        };
-        let mut bufs: Vec<Buf> = r
-            .bindings
-            .iter()
-            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &empty, &work))
-            .collect();
+        let mut bufs = self.start_bufs(r, dim);
         self.call_raw(&r.name, &r.bindings, &mut bufs)?;
         let get = |n: &str| r.bindings.iter().position(|b| b.name == n).map(|k| &bufs[k]);
         let n = match get("ntotal") {
@@ -657,6 +688,14 @@ impl Legacy {
             };
             if r.modules.iter().any(|m| m == "setup") {
                 note("setup", "makes the initial particles (called once, before the first step)".into(), json!({}));
+                continue;
+            }
+            if r.modules.iter().any(|m| m == "init") {
+                note(
+                    "init",
+                    "fills its COMMON blocks (called once, before the set-up and the first step)".into(),
+                    json!({}),
+                );
                 continue;
             }
             if r.modules.iter().any(|m| m == "output") {

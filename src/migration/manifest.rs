@@ -14,7 +14,8 @@
 //!
 //! [[routine]]
 //! name = "art_visc"              # the subroutine, as written in the sources
-//! module = "viscosity"           # blastsph module(s) it stands for: "eos,force"
+//! module = "viscosity"           # blastsph module(s) it stands for: "eos,force"; "init" for a
+//!                                # routine that fills COMMON blocks, called once before the rest
 //! args = ["ntotal", "hsml", ...] # one vocabulary name per dummy argument, in order
 //! # call = "each_particle"       # or "each_pair"; whole arrays by default
 //! ```
@@ -339,6 +340,15 @@ pub fn load(path: &Path) -> Result<Manifest> {
             if !modules.iter().any(|x: &String| x == m) {
                 modules.push(m.to_string());
             }
+        }
+        if modules.len() > 1 && modules.iter().any(|m| m == "init") {
+            return Err(err(
+                &format!("{key}.module"),
+                format!(
+                    "\"{}\": an init routine stands alone (it is called once, before the set-up and the first step)",
+                    r.module
+                ),
+            ));
         }
         let mut args: Vec<Arg> = Vec::new();
         for a in &r.args {

@@ -289,9 +289,10 @@ pub fn all_names() -> Vec<&'static str> {
 
 /// The blastsph module names a manifest may give (`module = "eos,force"`): the solver's modules
 /// (the registry, `crate::modules::Module::ALL`), plus `setup` (a routine that makes the initial
-/// particles, like the book's `input`) and `output`.
+/// particles, like the book's `input`), `output`, and `init` (a routine that fills the code's
+/// COMMON blocks, called once before everything else).
 pub fn modules() -> Vec<&'static str> {
-    crate::modules::Module::ALL.iter().map(|m| m.name()).chain(["setup", "output"]).collect()
+    crate::modules::Module::ALL.iter().map(|m| m.name()).chain(["setup", "output", "init"]).collect()
 }
 
 #[cfg(test)]
