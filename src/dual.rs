@@ -80,6 +80,9 @@ pub struct Stat {
     pub first_divergence: Option<Divergence>,
     /// First difference of any size (even within tolerance).
     pub first_difference: Option<Divergence>,
+    /// Where the difference in ULP is largest (the first such value over the steps): a defect
+    /// whose values already differed in the last bits shows here, not at the first divergence.
+    pub largest_difference: Option<Divergence>,
     /// What the Rust side was compared with when it is not blastsph's Fortran twin: "legacy"
     /// (the user's routine, `dual --legacy`) or "none" (a compat variant, not compared).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -304,6 +307,10 @@ impl Comparator {
                 let rel = abs / a.abs().max(b.abs()).max(f64::MIN_POSITIVE);
                 st.max_abs = sticky_max(st.max_abs, abs);
                 st.max_rel = sticky_max(st.max_rel, rel);
+                if st.largest_difference.is_none() || u > st.max_ulp {
+                    st.largest_difference =
+                        Some(Divergence { step, index: l, at: self.locate(f, l, p, w), fortran: a, rust: b });
+                }
                 st.max_ulp = st.max_ulp.max(u);
                 if st.first_difference.is_none() {
                     st.first_difference =
@@ -356,6 +363,20 @@ impl Comparator {
                 None if st.not_compared => "no Rust twin here: not compared".into(),
                 None => "-".into(),
             };
+            // where the difference is largest, when that is elsewhere than the first divergence
+            if let (Some(d), Some(l)) = (&st.first_divergence, &st.largest_difference)
+                && !pair
+                && (d.step, d.index) != (l.step, l.index)
+            {
+                let u = ulp_text(ulp_diff(l.fortran, l.rust));
+                fd += &format!(
+                    "; largest ({u} ULP) step {}, {}: {other} {}, rust {}",
+                    l.step,
+                    l.at,
+                    num(l.fortran),
+                    num(l.rust)
+                );
+            }
             if let Some(o) = &st.pair_order {
                 fd += &format!("  [pairs as sets: {}]", o.text(other));
             }
@@ -453,6 +474,46 @@ mod tests {
                 assert_eq!(st.first_divergence.as_ref().unwrap().at, "mirror 0");
             }
         }
+    }
+
+    /// A stage whose "Fortran" p differs from the Rust one by 1 ULP at particle 0 and by much
+    /// more at particle 2.
+    struct Skewed;
+    impl Stage for Skewed {
+        fn module(&self) -> crate::modules::Module {
+            crate::modules::Module::Eos
+        }
+        fn name(&self) -> &'static str {
+            "eos.eval"
+        }
+        fn reads(&self) -> &[Field] {
+            &[]
+        }
+        fn writes(&self) -> &[Field] {
+            &[Field::P]
+        }
+        fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
+            p.p[..3].copy_from_slice(&[1.0, 2.0, 3.0]);
+            if b == Backend::Fortran {
+                p.p[0] = f64::from_bits(1.0f64.to_bits() + 1);
+                p.p[2] = 3.5;
+            }
+        }
+    }
+
+    #[test]
+    fn the_largest_difference_is_located_beside_the_first() {
+        let k = Clock { t: 0.0, dt: 0.0, dt_prev: 0.0, first: true };
+        let mut cmp = Comparator::new(1);
+        let mut p = Particles { dim: 1, nreal: 3, ntotal: 3, id: vec![0, 1, 2], p: vec![0.0; 3], ..Default::default() };
+        let mut w = Work::default();
+        cmp.run(&Skewed, &mut p, &mut w, &k, 0);
+        let st = &cmp.rows()[0];
+        assert_eq!(st.first_divergence.as_ref().unwrap().at, "particle 0", "{st:?}");
+        let l = st.largest_difference.as_ref().unwrap();
+        assert_eq!((l.at.as_str(), l.fortran, l.rust), ("particle 2", 3.5, 3.0), "{st:?}");
+        let t = cmp.table();
+        assert!(t.contains("; largest (") && t.contains("step 0, particle 2: fortran 3.5e0, rust 3e0"), "{t}");
     }
 
     #[test]
