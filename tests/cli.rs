@@ -519,3 +519,15 @@ fn an_analysis_about_the_wrong_point_is_warned_of() {
     assert!(warned(&["check", "cases/verify/sedov_rz.toml", "--set", "analysis.center_m=[0.0, 0.1]"]));
     assert!(warned(&["check", "cases/shock_tube.toml", "--set", "analysis.kind=noh"]));
 }
+
+/// `--compat -ITEM` (a leading minus, with a space after the flag) is the item switched off, not
+/// an unknown flag; an unknown item is still one line and exit status 2.
+#[test]
+fn compat_takes_an_item_switched_off_after_a_space() {
+    let o = blastsph(&["check", "shock_tube", "--compat", "-force_energy"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let o = blastsph(&["check", "shock_tube", "--compat", "-nonsense"]);
+    let se = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{se}");
+    assert!(se.contains("\"-nonsense\" is neither a profile") && se.trim().lines().count() == 1, "{se}");
+}

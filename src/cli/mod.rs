@@ -58,7 +58,7 @@ pub struct LegacyArgs {
     pub legacy: Option<PathBuf>,
     /// Compatibility items of the Rust twins: a profile (liu-book), items to switch on
     /// (sound_speed), off (-sound_speed); comma-separated (as --set compat.ITEM=true|false)
-    #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+    #[arg(long, value_name = "PROFILE,ITEM,-ITEM", allow_hyphen_values = true)]
     pub compat: Option<String>,
 }
 
@@ -285,7 +285,7 @@ pub enum LegacyCmd {
         #[arg(long, value_name = "DIR")]
         legacy: PathBuf,
         /// The compat profile and items of the reference run (default liu-book)
-        #[arg(long, value_name = "PROFILE,ITEM,-ITEM")]
+        #[arg(long, value_name = "PROFILE,ITEM,-ITEM", allow_hyphen_values = true)]
         compat: Option<String>,
         /// Where ledger.json goes (default: runs/<case name>_ledger)
         #[arg(long, value_name = "DIR")]
