@@ -576,12 +576,7 @@ fn a_setup_routine_of_another_particle_count_is_warned_of() {
 /// in blastsph's own state bit for bit; a wrong sign of the rotation term is found and named.
 #[test]
 fn a_legacy_soil_strength_code_runs_and_is_compared() {
-    let d = scratch("strength");
-    let src = root().join("tests/legacy_strength");
-    for e in std::fs::read_dir(&src).unwrap() {
-        let p = e.unwrap().path();
-        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
-    }
+    let d = strength_fixture("strength");
     build(&d.join("legacy.toml"), &d.join("build")).expect("the strength fixture builds");
     let (lg, case) = (d.join("build"), "cases/hard/soil_spall.toml");
     let out = d.join("dual");
@@ -641,6 +636,16 @@ fn a_legacy_soil_strength_code_runs_and_is_compared() {
     assert!(r["first_divergence"]["at"].as_str().unwrap().contains("xy component"), "the xy component: {r}");
 }
 
+/// A copy of the soil-strength fixture (tests/legacy_strength) in scratch folder `name`.
+fn strength_fixture(name: &str) -> PathBuf {
+    let d = scratch(name);
+    for e in std::fs::read_dir(root().join("tests/legacy_strength")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+    }
+    d
+}
+
 /// A code whose constants live in a COMMON block that its own initialiser fills (here the
 /// strength fixture's G, α_φ and k, moved from PARAMETERs into `common /soil/` and set by a
 /// `soil_init` with no arguments): mapped as `module = "init"`, the routine is called once before
@@ -648,12 +653,7 @@ fn a_legacy_soil_strength_code_runs_and_is_compared() {
 /// the mapping the block stays zero and the dual run finds the strength rates wrong.
 #[test]
 fn a_legacy_initialiser_fills_its_common_blocks_before_the_first_step() {
-    let d = scratch("init_common");
-    let src = root().join("tests/legacy_strength");
-    for e in std::fs::read_dir(&src).unwrap() {
-        let p = e.unwrap().path();
-        std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
-    }
+    let d = strength_fixture("init_common");
     let inc = "c     soil.inc -- the soil's constants, set by soil_init\n      double precision gmod, alphi, coh\n      common /soil/ gmod, alphi, coh\n";
     std::fs::write(d.join("soil.inc"), inc).unwrap();
     let init = "      subroutine soil_init\n      implicit none\n      include 'soil.inc'\n      gmod = 63.58d6\n      alphi = 0.25d0\n      coh = 200.d0\n      return\n      end\n";
