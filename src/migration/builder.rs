@@ -838,18 +838,18 @@ fn has_entry(text: &str, name: &str) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     #[test]
     fn an_entry_statement_is_found_in_either_form() {
         let fixed =
             "      SUBROUTINE EQSTAT(N,RHO,U,P,C)\nC     ENTRY EOSOLD(N)\n      ENTRY EOSALL (N,RHO)\n      END\n";
-        assert!(super::has_entry(fixed, "eosall"));
-        assert!(!super::has_entry(fixed, "eosold"), "a comment line");
-        assert!(!super::has_entry(fixed, "eos"), "another name's prefix");
-        assert!(super::has_entry("subroutine a(x)\n  entry b ! the other way in\nend\n", "B"));
-        assert!(!super::has_entry("subroutine entryb(x)\nend\n", "b"));
+        assert!(has_entry(fixed, "eosall"));
+        assert!(!has_entry(fixed, "eosold"), "a comment line");
+        assert!(!has_entry(fixed, "eos"), "another name's prefix");
+        assert!(has_entry("subroutine a(x)\n  entry b ! the other way in\nend\n", "B"));
+        assert!(!has_entry("subroutine entryb(x)\nend\n", "b"));
     }
-    use super::*;
 
     #[test]
     fn assumed_shape_dummies_are_found_in_every_declaration_form() {
