@@ -480,6 +480,8 @@ fn a_stop_in_the_legacy_code_ends_blastsph_with_status_3() {
 
 /// A `STOP` later in a run leaves its summary.json saying how the run ended (it said "running",
 /// from the run's start or its last checkpoint), and `report` reads the frames written before it.
+/// The run folder is given relative to the current folder (`--out run`): the legacy call runs in
+/// `DIR/work`, where that relative path named nothing, and the summary kept saying "running".
 #[test]
 fn a_stop_later_in_a_run_is_told_in_its_summary() {
     let d = variant_built("stop_later", "eos.f", |t| {
@@ -490,16 +492,14 @@ fn a_stop_later_in_a_run_is_told_in_its_summary() {
         )
     });
     let (lg, run) = (d.join("build"), d.join("run"));
-    let o = blastsph(&[
-        "run",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--out",
-        run.to_str().unwrap(),
-        "--set",
-        "time.output_interval_s=0.005",
-    ]);
+    let case = root().join("cases").join("shock_tube.toml");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["run", case.to_str().unwrap(), "--legacy", "build", "--out", "run"])
+        .args(["--set", "time.output_interval_s=0.005"])
+        .current_dir(&d)
+        .output()
+        .expect("blastsph runs");
+    assert!(lg.join("build.json").is_file());
     let se = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{se}");
     let line = se.lines().find(|l| l.starts_with("error:")).unwrap_or_else(|| panic!("{se}"));
@@ -802,4 +802,105 @@ fn a_routine_under_the_wrong_module_is_named_with_the_module_it_fits() {
     ]);
     let so = String::from_utf8_lossy(&o.stdout);
     assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// A routine of the user's own that forms the density rate and the pressure force in one pair
+/// loop (as many thesis codes do): the mass form of the continuity equation and the symmetric
+/// force and energy terms, p read from its argument.
+const DENS_FORCE: &str = "      subroutine dens_force(ntotal, mass, niac, pair_i, pair_j, dwdx,
+     &                      vx, rho, p, drhodt, dvxdt, dedt)
+c-----------------------------------------------------------------------
+c     Density rate and pressure force in one loop over the pairs.
+c-----------------------------------------------------------------------
+      implicit none
+      include 'param.inc'
+      integer ntotal, niac, pair_i(max_interaction),
+     &        pair_j(max_interaction)
+      double precision mass(maxn), dwdx(dim,max_interaction),
+     &        vx(dim,maxn), rho(maxn), p(maxn), drhodt(maxn),
+     &        dvxdt(dim,maxn), dedt(maxn)
+      integer i, j, k, d
+      double precision vd, pr, f, de
+
+      do 10 i = 1, ntotal
+        drhodt(i) = 0.d0
+        dedt(i) = 0.d0
+        do 5 d = 1, dim
+          dvxdt(d,i) = 0.d0
+    5   continue
+   10 continue
+
+      do 40 k = 1, niac
+        i = pair_i(k)
+        j = pair_j(k)
+        vd = 0.d0
+        do 20 d = 1, dim
+          vd = vd + (vx(d,i) - vx(d,j))*dwdx(d,k)
+   20   continue
+        drhodt(i) = drhodt(i) + mass(j)*vd
+        drhodt(j) = drhodt(j) + mass(i)*vd
+        pr = p(i)/(rho(i)*rho(i)) + p(j)/(rho(j)*rho(j))
+        do 30 d = 1, dim
+          f = pr*dwdx(d,k)
+          dvxdt(d,i) = dvxdt(d,i) - mass(j)*f
+          dvxdt(d,j) = dvxdt(d,j) + mass(i)*f
+   30   continue
+        de = 0.5d0*pr*vd
+        dedt(i) = dedt(i) + mass(j)*de
+        dedt(j) = dedt(j) + mass(i)*de
+   40 continue
+      end
+";
+
+/// A routine that stands for the density rate and the force (`module = "density,force"`) runs
+/// after the EOS, whose p it reads: it ran at the density rate's place, before the EOS, and
+/// read the last step's p, while the dual run compared it with its twins on the same stale p
+/// and found 0 ULP (a docs-only migration of a thesis-style code found `run --legacy` 11 % off
+/// its own program in p). Now `run --legacy` gives the Rust run's bits and the dual run is at
+/// 0 ULP.
+#[test]
+fn a_density_and_force_routine_runs_after_the_eos_whose_p_it_reads() {
+    let d = variant("dens_force", |m| {
+        // only the new routine is mapped (the fixture's sources are still built)
+        let head = m.split("[[routine]]").next().unwrap();
+        format!(
+            "{head}[[routine]]\nname = \"dens_force\"\nmodule = \"density,force\"\nargs = [\"ntotal\", \"mass\", \"niac\", \"pair_i\", \"pair_j\", \"dwdx\", \"vx\", \"rho\", \"p\", \"drhodt\", \"dvxdt\", \"dedt\"]\n"
+        )
+    });
+    std::fs::write(d.join("dens_force.f"), DENS_FORCE).unwrap();
+    let lg = d.join("build");
+    build(&d.join("legacy.toml"), &lg).expect("the variant builds");
+    let lgs = lg.to_str().unwrap();
+    let sets = [
+        "--set",
+        "sph.density=\"continuity\"",
+        "--set",
+        "sph.continuity_form=\"mass\"",
+        "--set",
+        "sph.energy_form=\"symmetric\"",
+        "--set",
+        "time.end_s=0.05",
+    ];
+    let with = |args: &[&str]| -> Vec<String> { args.iter().chain(&sets).map(|s| s.to_string()).collect() };
+    let so = blastsph_ok(&with(&["check", "shock_tube", "--legacy", lgs]), 0);
+    let line = so.lines().find(|l| l.trim_start().starts_with("dens_force")).unwrap_or_else(|| panic!("{so}"));
+    assert!(line.contains("stands for density.rate + force.internal; phase eos, after eos.eval (which makes its p)"), "{line}");
+    // the step: the EOS, then the routine
+    let (eos, df) = (so.find(" eos.eval ").unwrap(), so.find(" legacy.dens_force ").unwrap());
+    assert!(so[..eos].contains("predict") && eos < df, "{so}");
+    let (ra, rb) = (d.join("rust"), d.join("legacy"));
+    blastsph_ok(&with(&["run", "shock_tube", "--out", ra.to_str().unwrap()]), 0);
+    blastsph_ok(&with(&["run", "shock_tube", "--legacy", lgs, "--out", rb.to_str().unwrap()]), 0);
+    let names = ["x", "vx", "rho", "p", "e"];
+    let (a, b) = (last_frame(&ra, &names), last_frame(&rb, &names));
+    for (k, n) in names.iter().enumerate() {
+        assert!(a[k].iter().zip(&b[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "{n} differs from the Rust run");
+    }
+    let out = d.join("dual");
+    blastsph_ok(&with(&["dual", "shock_tube", "--legacy", lgs, "--out", out.to_str().unwrap()]), 0);
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for f in ["drho", "acc", "dde"] {
+        let x = row(&rows, "legacy.dens_force", f);
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
+    }
 }

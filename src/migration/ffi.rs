@@ -152,6 +152,9 @@ pub fn flush_fortran() {
 /// Names the summary.json that the exit handler marks when a legacy routine ends the process
 /// during a run (`None`: none, e.g. between runs or in a dual run, which keeps no summary).
 pub fn report_exit_to(path: Option<PathBuf>) {
+    // absolute: the handler runs inside a legacy call, whose current folder is `DIR/work`, so a
+    // relative run folder (`--out r`) would name another place there
+    let path = path.map(|p| std::path::absolute(&p).unwrap_or(p));
     *SUMMARY.lock().unwrap_or_else(|e| e.into_inner()) = path;
 }
 

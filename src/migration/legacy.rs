@@ -891,11 +891,59 @@ impl Legacy {
             if alone {
                 reads = argf.iter().copied().filter(|f| !writes.contains(f)).collect();
             }
-            // the phase, and where the stages it stands for were
-            let phase = covered
+            // where the stages it stands for are in the step
+            let pos: Vec<usize> = covered
                 .iter()
-                .map(|(ph, _)| *ph)
-                .min()
+                .filter_map(|(_, s)| {
+                    entries.iter().position(|e| {
+                        e.phase != Phase::Init && e.stage.module() == s.module() && e.stage.name() == s.name()
+                    })
+                })
+                .collect();
+            // A routine standing for stages of several phases runs at the first of them, unless
+            // a stage of its own step between them makes one of its inputs (a "density,force"
+            // routine reads the p the EOS writes after the density rate): then it runs after the
+            // last such maker, so that it reads what its twins read where they stood. A stage
+            // between the first place and that maker that reads one of its outputs would then
+            // read a stale value: such a routine cannot stand for these stages, and is not run.
+            let (first, last) = (pos.iter().min().copied(), pos.iter().max().copied());
+            let mut maker: Option<usize> = None;
+            if let (Some(a), Some(b)) = (first, last) {
+                for k in a + 1..b {
+                    if !pos.contains(&k) && entries[k].stage.writes().iter().any(|f| reads.contains(f)) {
+                        maker = Some(k);
+                    }
+                }
+            }
+            if let (Some(a), Some(m)) = (first, maker) {
+                let clash = (a + 1..m).filter(|k| !pos.contains(k)).find_map(|k| {
+                    let e = &entries[k];
+                    e.stage.reads().iter().find(|f| writes.contains(f)).map(|f| (e.stage.name(), *f))
+                });
+                if let Some((name, f)) = clash {
+                    let made: Vec<String> =
+                        entries[m].stage.writes().iter().filter(|f| reads.contains(f)).map(|f| f.name()).collect();
+                    let why = format!(
+                        "it stands for {} of different places in the step: {name} between them reads its {}, and {} after it makes its {}; called at either place it would read or give a stale value, so blastsph's own {} runs in its place (map it as separate routines)",
+                        covered.iter().map(|(_, s)| s.name()).collect::<Vec<_>>().join(" + "),
+                        f.name(),
+                        entries[m].stage.name(),
+                        made.join(", "),
+                        r.modules.join(",")
+                    );
+                    note("not run", why, json!({ "replaced": false }));
+                    continue;
+                }
+            }
+            let after: String = maker.map_or(String::new(), |m| {
+                let made: Vec<String> =
+                    entries[m].stage.writes().iter().filter(|f| reads.contains(f)).map(|f| f.name()).collect();
+                format!(", after {} (which makes its {})", entries[m].stage.name(), made.join(", "))
+            });
+            // the phase: the maker's, or the first of the stages it stands for
+            let phase = maker
+                .map(|m| entries[m].phase)
+                .or_else(|| covered.iter().map(|(ph, _)| *ph).min())
                 .or_else(|| mods.iter().flat_map(|&m| fresh(m, ctx)).map(|(ph, _)| ph).min())
                 .unwrap_or(Phase::Rates);
             let mut at: Option<usize> = None;
@@ -906,6 +954,10 @@ impl Legacy {
                     entries.remove(k);
                     at = Some(at.map_or(k, |a: usize| a.min(k)));
                 }
+            }
+            // just after the maker (its index less the removed stages before it)
+            if let Some(m) = maker {
+                at = Some(m + 1 - pos.iter().filter(|&&k| k < m).count());
             }
             let module = covered.first().map_or(mods[0], |(_, s)| s.module());
             let terms = covered.iter().map(|(_, s)| s.terms()).find(|t| *t != Terms::default()).unwrap_or_else(|| {
@@ -995,7 +1047,7 @@ impl Legacy {
             };
             note(
                 if alone { "alone" } else { "run" },
-                format!("{what}; phase {ph}"),
+                format!("{what}; phase {ph}{after}"),
                 json!({ "stands_for": twins, "phase": ph, "writes": writes.iter().map(|f| f.name()).collect::<Vec<_>>() }),
             );
         }
