@@ -617,6 +617,15 @@ fn wall_plane(d: usize, w: &crate::case::WallCfg) -> Option<(Vec<f64>, Vec<f64>)
 pub fn hint(case: &Case, msg: &str) -> String {
     let s = &case.sph;
     let mut out = Vec::new();
+    if (msg.contains("density = -") || msg.contains("(not above zero)"))
+        && s.density == DensityKind::Continuity
+        && case.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. }))
+        && case.materials.iter().all(|m| matches!(m.eos, EosCfg::Jwl { .. } | EosCfg::IdealGas { .. }))
+    {
+        // (a charge with soil or water beside it keeps continuity: summation smooths the density
+        // across the interface)
+        out.push("detonation products alone in a void: set sph.density = \"summation\" (the default for them): by continuity their rarefied centre runs below zero density whatever the step (docs/validation.md, \"A charge alone in a void\")");
+    }
     if msg.contains("density = -") || msg.contains("non-finite") {
         if s.density == DensityKind::Continuity && s.continuity_form == ContinuityForm::Mass {
             out.push("set sph.continuity_form = \"volume\" (the mass form drives low-density particles beside dense ones negative)");

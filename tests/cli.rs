@@ -531,3 +531,30 @@ fn compat_takes_an_item_switched_off_after_a_space() {
     assert_eq!(o.status.code(), Some(2), "{se}");
     assert!(se.contains("\"-nonsense\" is neither a profile") && se.trim().lines().count() == 1, "{se}");
 }
+
+/// A TNT sphere alone in vacuum with continuity density set (the old default) goes below zero
+/// density; the diagnostic names that density behind the infinite pressure, and the advice is
+/// the summation density products alone now take by default (it said "lower time.cfl", which
+/// does not help: validation.md, "A charge alone in a void").
+#[test]
+fn products_alone_by_continuity_name_their_negative_density_and_the_fix() {
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/hard/free_sphere_3d.toml");
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("run");
+    let o = blastsph(&[
+        "run",
+        case.to_str().unwrap(),
+        "--threads",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "sph.density=\"continuity\"",
+    ]);
+    let se = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{se}");
+    assert!(se.contains("kg/m3 (not above zero)"), "{se}");
+    assert!(se.contains("likely fix: detonation products alone in a void: set sph.density = \"summation\""), "{se}");
+    assert!(!se.contains("lower time.cfl"), "{se}");
+}

@@ -884,7 +884,10 @@ fn a_density_and_force_routine_runs_after_the_eos_whose_p_it_reads() {
     let with = |args: &[&str]| -> Vec<String> { args.iter().chain(&sets).map(|s| s.to_string()).collect() };
     let so = blastsph_ok(&with(&["check", "shock_tube", "--legacy", lgs]), 0);
     let line = so.lines().find(|l| l.trim_start().starts_with("dens_force")).unwrap_or_else(|| panic!("{so}"));
-    assert!(line.contains("stands for density.rate + force.internal; phase eos, after eos.eval (which makes its p)"), "{line}");
+    assert!(
+        line.contains("stands for density.rate + force.internal; phase eos, after eos.eval (which makes its p)"),
+        "{line}"
+    );
     // the step: the EOS, then the routine
     let (eos, df) = (so.find(" eos.eval ").unwrap(), so.find(" legacy.dens_force ").unwrap());
     assert!(so[..eos].contains("predict") && eos < df, "{so}");

@@ -199,8 +199,15 @@ impl Sim {
                 // a wall's or symmetry plane's image, which has no id of its own
                 (false, None) => format!("its neighbour {j}'s (a virtual particle, a wall's image)"),
             };
+            // a pressure or sound speed made from a density at or below zero (a JWL's exp(−R/η))
+            let rho = self.p.rho.get(j).copied().unwrap_or(f64::NAN);
+            let from = if matches!(f, Field::P | Field::C) && (rho.is_nan() || rho <= 0.0) {
+                format!(", from its density {rho:e} kg/m3 (not above zero)")
+            } else {
+                String::new()
+            };
             format!(
-                "; {who} {} is {v} already (written by {})",
+                "; {who} {} is {v} already (written by {}){from}",
                 f.name(),
                 if by.is_empty() { "the set-up".to_string() } else { by.join(", ") }
             )
