@@ -558,3 +558,16 @@ fn products_alone_by_continuity_name_their_negative_density_and_the_fix() {
     assert!(se.contains("likely fix: detonation products alone in a void: set sph.density = \"summation\""), "{se}");
     assert!(!se.contains("lower time.cfl"), "{se}");
 }
+
+/// `check` takes `--threads` as `run` does (a run's command line checks as it is); a count out of
+/// range is one line and exit status 2.
+#[test]
+fn check_takes_threads_as_run_does() {
+    let o = blastsph(&["check", "shock_tube", "--threads", "1"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = blastsph(&["check", "shock_tube", "--threads", "0"]);
+    let se = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    assert!(se.contains("--threads 0"), "{se}");
+}

@@ -205,6 +205,10 @@ pub enum Cmd {
         /// Folder to look a case name up in (default as for `run`)
         #[arg(long = "case-dir", value_name = "DIR")]
         case_dir: Option<PathBuf>,
+        /// Worker threads of the set-up (default: one per core): taken so that a `run` command
+        /// line checks as it is; the plan and the estimates do not depend on it
+        #[arg(long)]
+        threads: Option<usize>,
     },
     /// Measurements and plots of a finished run directory
     Report {
@@ -591,7 +595,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
             finished(&r, "wall in all");
             Ok(0)
         }
-        Cmd::Check { case, args, case_dir } => {
+        Cmd::Check { case, args, case_dir, threads: n } => {
+            threads(n)?;
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
             let est = case::size::check(&c, args.max_particles)?;
