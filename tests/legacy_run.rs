@@ -891,6 +891,18 @@ fn a_density_and_force_routine_runs_after_the_eos_whose_p_it_reads() {
     // the step: the EOS, then the routine
     let (eos, df) = (so.find(" eos.eval ").unwrap(), so.find(" legacy.dens_force ").unwrap());
     assert!(so[..eos].contains("predict") && eos < df, "{so}");
+    // with a mirror wall the mirrors' p is copied after the EOS (phase eosshare): the routine
+    // runs after that copy (the place is the step's order, not the modules' order)
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    let walled =
+        text.replacen("[[region]]", "[[wall]]\nfrom_m = [-0.6]\nto_m = [-0.6]\nkind = \"mirror\"\n\n[[region]]", 1);
+    let wcase = d.join("shock_tube_wall.toml");
+    std::fs::write(&wcase, walled).unwrap();
+    let so = blastsph_ok(&with(&["check", wcase.to_str().unwrap(), "--legacy", lgs]), 0);
+    let line = so.lines().find(|l| l.trim_start().starts_with("dens_force")).unwrap_or_else(|| panic!("{so}"));
+    assert!(line.contains("phase eosshare, after boundary.mirror_copy (which makes its p)"), "{line}");
+    let (cp, df) = (so.find(" boundary.mirror_copy ").unwrap(), so.find(" legacy.dens_force ").unwrap());
+    assert!(cp < df, "{so}");
     let (ra, rb) = (d.join("rust"), d.join("legacy"));
     blastsph_ok(&with(&["run", "shock_tube", "--out", ra.to_str().unwrap()]), 0);
     blastsph_ok(&with(&["run", "shock_tube", "--legacy", lgs, "--out", rb.to_str().unwrap()]), 0);

@@ -906,17 +906,26 @@ impl Legacy {
             // last such maker, so that it reads what its twins read where they stood. A stage
             // between the first place and that maker that reads one of its outputs would then
             // read a stale value: such a routine cannot stand for these stages, and is not run.
-            let (first, last) = (pos.iter().min().copied(), pos.iter().max().copied());
+            // (The entries are in the modules' order here; the step is their stable sort by
+            // phase, so a stage's place in the step is (phase, index).)
+            let key = |k: usize| (entries[k].phase, k);
+            let (first, last) = (pos.iter().map(|&k| key(k)).min(), pos.iter().map(|&k| key(k)).max());
+            let between = |k: usize, a: (Phase, usize), b: (Phase, usize)| {
+                !pos.contains(&k) && entries[k].phase != Phase::Init && key(k) > a && key(k) < b
+            };
             let mut maker: Option<usize> = None;
             if let (Some(a), Some(b)) = (first, last) {
-                for k in a + 1..b {
-                    if !pos.contains(&k) && entries[k].stage.writes().iter().any(|f| reads.contains(f)) {
+                for k in 0..entries.len() {
+                    if between(k, a, b)
+                        && entries[k].stage.writes().iter().any(|f| reads.contains(f))
+                        && maker.is_none_or(|m| key(k) > key(m))
+                    {
                         maker = Some(k);
                     }
                 }
             }
             if let (Some(a), Some(m)) = (first, maker) {
-                let clash = (a + 1..m).filter(|k| !pos.contains(k)).find_map(|k| {
+                let clash = (0..entries.len()).filter(|&k| between(k, a, key(m))).find_map(|k| {
                     let e = &entries[k];
                     e.stage.reads().iter().find(|f| writes.contains(f)).map(|f| (e.stage.name(), *f))
                 });
