@@ -132,6 +132,11 @@ fn a_free_tnt_sphere_expands_at_the_defaults() {
     // the products spread: the farthest particle from 2 cm to beyond 6 cm in 60 µs
     let rmax = (0..n).map(|i| (0..3).map(|d| sim.p.x[d + 3 * i].powi(2)).sum::<f64>().sqrt()).fold(0.0, f64::max);
     assert!(rmax > 0.06, "farthest particle at {rmax} m");
+    // and their volume Σ m/ρ (the report's equivalent radius) tracks that extent: with the gas
+    // dynamics' cap h ≤ 4 h0 their density stuck at m W(0, 4 h0) and the radius at 0.42 of it
+    let vol: f64 = (0..n).map(|i| sim.p.mass[i] / sim.p.rho[i]).sum();
+    let req = (3.0 * vol / (4.0 * std::f64::consts::PI)).cbrt();
+    assert!(req > 0.8 * rmax && req < 1.25 * rmax, "equivalent radius {req} m, farthest particle {rmax} m");
 }
 
 #[test]

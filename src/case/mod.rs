@@ -190,7 +190,7 @@ pub const THESIS_PARITY: [(&str, &str, &str); 11] = [
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
 /// preset, then `sph.density` (summation when every material is an ideal gas — gas dynamics — or
 /// detonation products, continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
-/// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0, by the rate
+/// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0 but for a JWL's products alone, by the rate
 /// otherwise). Returns whether anything was added.
 fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     let mut changed = false;
@@ -222,14 +222,7 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
         }
         Some(other) => return Err(input(format!("parity = {other}: the only preset is \"thesis\""))),
     }
-    let gas = root.get("material").and_then(|m| m.as_array()).is_some_and(|a| {
-        !a.is_empty()
-            && a.iter().all(|m| m.get("eos").and_then(|e| e.get("kind")).and_then(|k| k.as_str()) == Some("ideal_gas"))
-    });
-    // detonation products alone (every material an ideal gas or JWL, presets included: a charge
-    // in a void) take summation density too: by continuity, the rarefied products at the centre of
-    // an unconfined 3D charge ran below zero density within 20 µs whatever the step
-    // (docs/validation.md, "A charge alone in a void")
+    // each material's EOS kind, a preset's included (its eos table may change constants only)
     let kind = |m: &toml::Value| -> Option<String> {
         let own = m.get("eos").and_then(|e| e.get("kind")).and_then(|k| k.as_str()).map(String::from);
         own.or_else(|| {
@@ -237,14 +230,20 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
             pre.get("eos")?.get("kind")?.as_str().map(String::from)
         })
     };
-    // (a programmed burn starts from the condensed explosive: its front holds p_CJ by continuity
-    // and overshoots by 7 % with summation, docs/validation.md; so products only where they are
-    // products from the start, an instant burn or none)
+    let every = |ok: &dyn Fn(&str) -> bool| {
+        root.get("material")
+            .and_then(|m| m.as_array())
+            .is_some_and(|a| !a.is_empty() && a.iter().all(|m| kind(m).as_deref().is_some_and(ok)))
+    };
+    let gas = every(&|k| k == "ideal_gas");
+    // detonation products alone (every material an ideal gas or JWL: a charge in a void) take
+    // summation density too: by continuity, the rarefied products at the centre of an unconfined
+    // 3D charge ran below zero density within 20 µs whatever the step (docs/validation.md, "A
+    // charge alone in a void"). A programmed burn starts from the condensed explosive: its front
+    // holds p_CJ by continuity and overshoots by 7 % with summation, so only products from the
+    // start (an instant burn or none)
     let programmed = root.get("detonation").and_then(|d| d.get("mode")).and_then(|m| m.as_str()) == Some("programmed");
-    let products = !programmed
-        && root.get("material").and_then(|m| m.as_array()).is_some_and(|a| {
-            !a.is_empty() && a.iter().all(|m| matches!(kind(m).as_deref(), Some("ideal_gas" | "jwl")))
-        });
+    let products = !programmed && every(&|k| k == "ideal_gas" || k == "jwl");
     if get(root, "sph", "density").is_none() {
         put(root, "sph", "density", toml::Value::String(if products { "summation" } else { "continuity" }.into()))?;
         changed = true;
@@ -271,7 +270,12 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
         let conducting = get(root, "conductivity", "alpha")
             .and_then(|v| v.as_float().or(v.as_integer().map(|i| i as f64)))
             .is_some_and(|a| a > 0.0);
-        if sum && !conducting && get(root, "sph", "h_max_ratio").is_none() {
+        // products alone with a JWL (a charge in a void) expand as a whole: h grows everywhere
+        // alike and the neighbours stay ~26 in 3D without a cap, while with it their density
+        // stuck at m W(0, 4 h0) once they were 8 spacings apart (docs/validation.md, "A charge
+        // alone in a void"): no cap then either
+        let jwl_products = products && !gas;
+        if sum && !conducting && !jwl_products && get(root, "sph", "h_max_ratio").is_none() {
             put(root, "sph", "h_max_ratio", toml::Value::Float(4.0))?;
         }
         changed = true;

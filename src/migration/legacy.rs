@@ -924,14 +924,16 @@ impl Legacy {
                     }
                 }
             }
+            // what the maker makes of the routine's inputs
+            let made: Vec<String> = maker.map_or(Vec::new(), |m| {
+                entries[m].stage.writes().iter().filter(|f| reads.contains(f)).map(|f| f.name()).collect()
+            });
             if let (Some(a), Some(m)) = (first, maker) {
                 let clash = (0..entries.len()).filter(|&k| between(k, a, key(m))).find_map(|k| {
                     let e = &entries[k];
                     e.stage.reads().iter().find(|f| writes.contains(f)).map(|f| (e.stage.name(), *f))
                 });
                 if let Some((name, f)) = clash {
-                    let made: Vec<String> =
-                        entries[m].stage.writes().iter().filter(|f| reads.contains(f)).map(|f| f.name()).collect();
                     let why = format!(
                         "it stands for {} of different places in the step: {name} between them reads its {}, and {} after it makes its {}; called at either place it would read or give a stale value, so blastsph's own {} runs in its place (map it as separate routines)",
                         covered.iter().map(|(_, s)| s.name()).collect::<Vec<_>>().join(" + "),
@@ -945,8 +947,6 @@ impl Legacy {
                 }
             }
             let after: String = maker.map_or(String::new(), |m| {
-                let made: Vec<String> =
-                    entries[m].stage.writes().iter().filter(|f| reads.contains(f)).map(|f| f.name()).collect();
                 format!(", after {} (which makes its {})", entries[m].stage.name(), made.join(", "))
             });
             // the phase: the maker's, or the first of the stages it stands for
@@ -955,19 +955,18 @@ impl Legacy {
                 .or_else(|| covered.iter().map(|(ph, _)| *ph).min())
                 .or_else(|| mods.iter().flat_map(|&m| fresh(m, ctx)).map(|(ph, _)| ph).min())
                 .unwrap_or(Phase::Rates);
-            let mut at: Option<usize> = None;
-            for (_, s) in &covered {
-                if let Some(k) = entries.iter().position(|e| {
-                    e.phase != Phase::Init && e.stage.module() == s.module() && e.stage.name() == s.name()
-                }) {
-                    entries.remove(k);
-                    at = Some(at.map_or(k, |a: usize| a.min(k)));
-                }
+            // the stages it stands for leave the step (from the last, so the others keep their
+            // indices); it goes where the first of them was, or just after the maker (its index
+            // less the removed stages before it)
+            let mut gone = pos.clone();
+            gone.sort_unstable();
+            for &k in gone.iter().rev() {
+                entries.remove(k);
             }
-            // just after the maker (its index less the removed stages before it)
-            if let Some(m) = maker {
-                at = Some(m + 1 - pos.iter().filter(|&&k| k < m).count());
-            }
+            let at = match maker {
+                Some(m) => Some(m + 1 - gone.iter().filter(|&&k| k < m).count()),
+                None => gone.first().copied(),
+            };
             let module = covered.first().map_or(mods[0], |(_, s)| s.module());
             let terms = covered.iter().map(|(_, s)| s.terms()).find(|t| *t != Terms::default()).unwrap_or_else(|| {
                 let k = ri as u8;
