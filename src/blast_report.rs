@@ -456,7 +456,7 @@ pub fn report(
     let totals: Vec<usize> = frames.iter().map(|f| f.x.len()).collect();
     let sections;
     // (the whole scene's last frame: a particle's peak velocity is looked up there, in 3D too,
-    // where the section's last frame lacks the particles that have left its slab)
+    // where the section's last frame holds only the particles that began on its slab)
     let whole_last = &frames[frames.len() - 1];
     let frames: &[Frame] = if case.dim == 3 {
         sections = section_frames(case, frames);
@@ -656,9 +656,18 @@ pub fn report(
         }
     }
     // particle maps
+    // the window: the scene at t = 0 (the ground's extent, room above for ejecta); a scene of
+    // gases alone (a charge in a void: nothing stays where it began) spans every frame
+    let gases = case
+        .materials
+        .iter()
+        .all(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. } | crate::case::EosCfg::IdealGas { .. }));
     let f0 = &frames[0];
-    let fin = |v: &[f64]| v.iter().cloned().filter(|x| x.is_finite()).collect::<Vec<_>>();
-    let (xs0, ys0) = (fin(&f0.x), fin(&f0.y));
+    let spanned: &[Frame] = if gases { frames } else { &frames[..1] };
+    let fin = |get: fn(&Frame) -> &Vec<f64>| {
+        spanned.iter().flat_map(|f| get(f).iter().cloned().filter(|x| x.is_finite())).collect::<Vec<_>>()
+    };
+    let (xs0, ys0) = (fin(|f| &f.x), fin(|f| &f.y));
     let (xlo, xhi) =
         (xs0.iter().cloned().fold(f64::INFINITY, f64::min), xs0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let (ylo, yhi) =
@@ -693,11 +702,10 @@ pub fn report(
         let tag = format!("{:05.0}us", f.time * 1e6);
         let side = sides(f, case.axisymmetric());
         let mat: Vec<usize> = f.mat.iter().map(|m| (*m).max(0) as usize).collect();
-        // in 3D the section's share of the scene (products and ejecta that left the slab are
-        // not drawn)
+        // in 3D the section's share of the scene (the particles that lay on it at t = 0)
         let share = (case.dim == 3).then(|| {
             format!(
-                "the vertical section through the charge's axis: {} of the scene's {} particles (what left it is not drawn)",
+                "the vertical section through the charge's axis: {} of the scene's {} particles (those on it at t = 0, followed)",
                 f.x.len(),
                 totals.get(k).copied().unwrap_or(0)
             )
@@ -1187,10 +1195,11 @@ fn charge_of(case: &Case, frames: &[Frame]) -> Charge {
 }
 
 /// The vertical section of a 3D run through the charge's axis along x (the plane y = the axis's
-/// y), as 2D frames (x, z) for the report's maps: the soil, charge and everything else within
-/// half a spacing of the plane (the first layer beside it when the plane is a symmetry plane of
-/// a quarter model; every particle, projected, when none lies there at t = 0); speeds in the
-/// plane; each particle's `mass` set to ρ V^⅔ so that its drawn side is V^⅓.
+/// y), as 2D frames (x, z) for the report's maps: the soil, charge and everything else that lay
+/// within 0.75 spacing of the plane at t = 0 (the first layer beside it when the plane is a
+/// symmetry plane of a quarter model; every particle, projected, when none lies there), followed
+/// wherever they go and drawn projected onto the plane; speeds in the plane; each particle's
+/// `mass` set to ρ V^⅔ so that its drawn side is V^⅓.
 fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
     let charge = charge_of(case, frames);
     let ay = charge.centre.as_ref().map_or(0.0, |c| c[1]);
@@ -1199,13 +1208,15 @@ fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
     let cx = charge.centre.as_ref().map_or(0.0, |c| c[0]);
     let mirrored = crate::analysis::crater::mirror_planes(case, (cx, ay), ds).iter().any(|&(k, _)| k == 1);
     let slab = |y: f64| if mirrored { (y - ay) >= 0.0 && (y - ay) < ds } else { (y - ay).abs() < 0.75 * ds };
-    // a scene with no particle on that plane is drawn projected onto it, whole
-    let whole = !f0.y.iter().any(|&y| slab(y));
-    let keep = |y: f64| whole || slab(y);
+    // the section is Lagrangian: the particles that lay in the slab at t = 0, followed (an
+    // expanding cloud's particles leave a fixed slab: a free sphere's section was empty from
+    // 30 µs); a scene with no particle on that plane is drawn projected onto it, whole
+    let on: std::collections::HashSet<i64> = (0..f0.y.len()).filter(|&i| slab(f0.y[i])).map(|i| f0.id[i]).collect();
+    let whole = on.is_empty();
     frames
         .iter()
         .map(|f| {
-            let idx: Vec<usize> = (0..f.x.len()).filter(|&i| keep(f.y[i])).collect();
+            let idx: Vec<usize> = (0..f.x.len()).filter(|&i| whole || on.contains(&f.id[i])).collect();
             let pick =
                 |v: &[f64]| -> Vec<f64> { if v.is_empty() { Vec::new() } else { idx.iter().map(|&i| v[i]).collect() } };
             Frame {
@@ -1246,6 +1257,43 @@ mod tests {
         // beyond 20 s: s
         assert_eq!(TimeUnit::for_end(30.0).axis(), "t (s)");
         assert_eq!(TimeUnit::for_end(30.0).text(7.5), "7.5 s");
+    }
+
+    /// The 3D section follows the particles that lay on it at t = 0: a cloud expanding from the
+    /// plane y = 0 keeps its section (a fixed slab held only the particle at y = 0 once the
+    /// cloud had grown tenfold; a free sphere's section was empty from 30 µs).
+    #[test]
+    fn a_3d_section_follows_its_particles() {
+        let text = std::fs::read_to_string("cases/hard/free_sphere_3d.toml").unwrap();
+        let case = crate::case::parse(&text, "free_sphere_3d.toml", &[], Some("free_sphere_3d")).unwrap();
+        let frame = |time: f64, grow: f64| {
+            let y: Vec<f64> = [0.0, 0.001, -0.001, 0.01, -0.01].iter().map(|v| v * grow).collect();
+            let n = y.len();
+            crate::output::Frame {
+                time,
+                x: y.iter().map(|v| 0.5 * v).collect(),
+                z: y.iter().map(|v| 0.25 * v).collect(),
+                y,
+                vx: vec![0.0; n],
+                vy: vec![0.0; n],
+                vz: vec![0.0; n],
+                rho: vec![1630.0; n],
+                p: vec![1e5; n],
+                e: vec![1e6; n],
+                h: vec![0.003; n],
+                mass: vec![0.01; n],
+                mat: vec![0; n],
+                id: (1..=n as i64).collect(),
+                ..Default::default()
+            }
+        };
+        let frames = [frame(0.0, 1.0), frame(3e-5, 10.0)];
+        let secs = super::section_frames(&case, &frames);
+        // the slab is 0.75 of the smallest h (no soil) about y = 0 at t = 0: ids 1, 2 and 3
+        assert_eq!(secs[0].id, [1, 2, 3]);
+        assert_eq!(secs[1].id, [1, 2, 3], "the section at 30 µs");
+        // drawn in x–z
+        assert_eq!(secs[1].y, [0.0, 0.0025, -0.0025]);
     }
 
     #[test]
