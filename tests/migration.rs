@@ -386,6 +386,45 @@ fn a_wrong_number_or_type_of_arguments_is_refused() {
     refused(&d, &["p_gas", "argument 2 (\"itype\" in the manifest)", "dummy `u`", "double"]);
 }
 
+/// A scalar bound to an array dummy, or an array to a scalar dummy, compiles and links (names
+/// are positional and FORTRAN 77 has no interfaces) and then reads past a one-value buffer or
+/// sees one value of an array: the build reads each dummy's declaration (its includes too) and
+/// refuses the mismatch. Before, `dt` for sum_density's `hsml(maxn)` built and `check` blamed
+/// "another formulation"; p_gas's scalars mapped as whole arrays ran with p frozen for all but
+/// the first particle.
+#[test]
+fn a_scalar_bound_to_an_array_dummy_or_the_reverse_is_refused() {
+    let d = variant("dt_for_hsml", |t| {
+        t.replace("[\"ntotal\", \"hsml\", \"mass\", \"niac\"", "[\"ntotal\", \"dt\", \"mass\", \"niac\"")
+    });
+    refused(
+        &d,
+        &["sum_density", "argument 2 (\"dt\" in the manifest, one value)", "is an array in density.f", "`hsml(maxn)`"],
+    );
+    // p_gas's four scalars (`double precision rho, u, p, c`) without `call = "each_particle"`
+    let d = variant("p_gas_whole", |t| t.replacen("call = \"each_particle\"\nargs = [\"rho\"", "args = [\"rho\"", 1));
+    refused(
+        &d,
+        &[
+            "p_gas",
+            "argument 1 (\"rho\" in the manifest, an array)",
+            "is a scalar in eos.f (dummy `rho`)",
+            "call = \"each_particle\"",
+        ],
+    );
+    // two integers swapped: ntotal (one value) where sum_density declares itype(maxn), and the reverse
+    let d = variant("ntotal_itype", |t| {
+        t.replace(
+            "[\"ntotal\", \"hsml\", \"mass\", \"niac\", \"pair_i\", \"pair_j\", \"w\", \"itype\", \"rho\"]",
+            "[\"itype\", \"hsml\", \"mass\", \"niac\", \"pair_i\", \"pair_j\", \"w\", \"ntotal\", \"rho\"]",
+        )
+    });
+    refused(
+        &d,
+        &["sum_density", "argument 1 (\"itype\" in the manifest, an array)", "dummy `ntotal`", "argument 8: swapped?"],
+    );
+}
+
 /// Two reals swapped in the manifest compile and link (names are positional), but the build says
 /// so: the dummy at the manifest's `u` is the routine's `rho`, and the reverse.
 #[test]

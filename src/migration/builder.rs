@@ -393,6 +393,162 @@ fn assumed_shape(body: &str, dummy: &str) -> bool {
     })
 }
 
+/// How a dummy argument is declared in a routine's statements from [`routine_text`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Decl {
+    /// With extents (the text between the parentheses, spaces dropped: `dim,maxn`, `*`, `1`).
+    Array(String),
+    /// In a type statement, with no extents anywhere.
+    Scalar,
+    /// In no declaration the routine's own text holds: a scalar by implicit typing, unless an
+    /// `include` declares it.
+    Undeclared,
+}
+
+/// The declaration of `dummy` in a routine's statements: a type statement with or without `::`
+/// (`real*8 x(dim,maxn), y`, `double precision, intent(in) :: x(maxn)`), a `dimension(...)`
+/// attribute over a list that names it, or a DIMENSION statement (`dimension x(maxn)`); any
+/// statement that gives it extents makes it an array.
+fn declaration(body: &str, dummy: &str) -> Decl {
+    const TYPES: [&str; 10] = [
+        "doubleprecision",
+        "doublecomplex",
+        "real",
+        "integer",
+        "logical",
+        "complex",
+        "character",
+        "dimension",
+        "type(",
+        "class(",
+    ];
+    let d = dummy.to_ascii_lowercase();
+    // the text after a balanced group that `s` opens with `(`, and the group's inside
+    let group = |s: &str| -> Option<(String, String)> {
+        let mut depth = 0usize;
+        for (k, c) in s.char_indices() {
+            match c {
+                '(' => depth += 1,
+                ')' => {
+                    depth = depth.checked_sub(1)?;
+                    if depth == 0 {
+                        return Some((s[1..k].to_string(), s[k + 1..].to_string()));
+                    }
+                }
+                _ => {}
+            }
+        }
+        None
+    };
+    // the entities of a list at top level: `x(dim,maxn)`, `y`, `z*8`, `w=1.0`
+    let entities = |list: &str| -> Vec<(String, Option<String>)> {
+        let (mut out, mut cur, mut depth) = (Vec::new(), String::new(), 0i32);
+        for c in list.chars().chain(std::iter::once(',')) {
+            match c {
+                '(' => depth += 1,
+                ')' => depth -= 1,
+                ',' if depth == 0 => {
+                    let name: String = cur.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+                    let dims = group(&cur[name.len()..]).map(|(g, _)| g);
+                    out.push((name, dims));
+                    cur.clear();
+                    continue;
+                }
+                _ => {}
+            }
+            cur.push(c);
+        }
+        out
+    };
+    let mut found = Decl::Undeclared;
+    for l in body.lines() {
+        let st: String = l.chars().filter(|c| !c.is_whitespace()).collect();
+        let Some(kw) = TYPES.iter().find(|k| st.starts_with(*k)) else { continue };
+        // not a function statement, nor an assignment to a name that begins with a type's
+        // (`integers(i) = 0`): a type statement without `::` has no `=` outside parentheses
+        let mut depth = 0i32;
+        let assigns = st.chars().any(|c| {
+            depth += (c == '(') as i32 - (c == ')') as i32;
+            c == '=' && depth == 0
+        });
+        if !st.contains("::") && (assigns || st.contains("function")) {
+            continue;
+        }
+        let (attr_dims, list) = match st.split_once("::") {
+            Some((attrs, ents)) => {
+                let dims =
+                    attrs.find("dimension(").and_then(|k| group(&attrs[k + "dimension".len()..]).map(|(g, _)| g));
+                (dims, ents.to_string())
+            }
+            None => {
+                if kw.ends_with('(') {
+                    continue;
+                }
+                let rest = &st[kw.len()..];
+                // the type's length or kind: real*8, character*(*), real(8), integer*4
+                let rest = match (*kw, rest.strip_prefix('*')) {
+                    ("dimension", _) => rest.to_string(),
+                    (_, Some(r)) if r.starts_with('(') => group(r).map(|(_, after)| after).unwrap_or_default(),
+                    (_, Some(r)) => r.trim_start_matches(|c: char| c.is_ascii_digit()).to_string(),
+                    (_, None) if rest.starts_with('(') => group(rest).map(|(_, after)| after).unwrap_or_default(),
+                    _ => rest.to_string(),
+                };
+                (None, rest)
+            }
+        };
+        for (name, dims) in entities(&list) {
+            if name != d {
+                continue;
+            }
+            match dims.or_else(|| attr_dims.clone()) {
+                Some(g) => return Decl::Array(g),
+                None => found = Decl::Scalar,
+            }
+        }
+    }
+    found
+}
+
+/// A routine's statements with the declarations its `include` lines bring in (the files looked
+/// up beside the source, then in `dirs`, their names matched in any case as the statements are
+/// lower case; nested includes to a depth of 4), and whether every include was found.
+fn with_includes(body: &str, beside: &Path, dirs: &[PathBuf], fixed: bool, depth: usize) -> (String, bool) {
+    let mut out = body.to_string();
+    let mut all = true;
+    for l in body.lines() {
+        let t = l.trim_start().trim_start_matches('#');
+        let Some(rest) = t.strip_prefix("include") else { continue };
+        let name = rest.trim().trim_matches(|c| c == '\'' || c == '"' || c == '<' || c == '>').trim();
+        let found = std::iter::once(beside).chain(dirs.iter().map(|d| d.as_path())).find_map(|d| {
+            std::fs::read_dir(d)
+                .ok()?
+                .filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .find(|p| p.file_name().and_then(|f| f.to_str()).is_some_and(|f| f.eq_ignore_ascii_case(name)))
+        });
+        let text = found.and_then(|p| std::fs::read_to_string(p).ok());
+        // the file's statements, as those of a routine of its own
+        let inc = text.filter(|_| depth < 4).and_then(|t| {
+            let wrapped = if fixed {
+                format!("      subroutine blastsph_inc\n{t}\n      end\n")
+            } else {
+                format!("subroutine blastsph_inc\n{t}\nend\n")
+            };
+            routine_text(&wrapped, "blastsph_inc", fixed)
+        });
+        match inc {
+            Some(i) => {
+                let i = i.split_once('\n').map_or("", |(_, rest)| rest).to_string();
+                let (i, ok) = with_includes(&i, beside, dirs, fixed, depth + 1);
+                all &= ok;
+                out.push_str(&i);
+            }
+            None => all = false,
+        }
+    }
+    (out, all)
+}
+
 fn rel(p: &Path, base: &Path) -> String {
     p.strip_prefix(base).unwrap_or(p).display().to_string()
 }
@@ -582,6 +738,16 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         let body = std::fs::read_to_string(&m.sources[k])
             .ok()
             .and_then(|t| routine_text(&t, &r.name, fixed_form(&m.sources[k])));
+        // with its includes' declarations, and whether each was found (else a dummy that no
+        // statement declares may be declared in the one not read)
+        let (decls, included) = match &body {
+            Some(b) => {
+                let beside = m.sources[k].parent().unwrap_or(Path::new("."));
+                let (d, all) = with_includes(b, beside, &m.include_dirs, fixed_form(&m.sources[k]), 0);
+                (Some(d), all)
+            }
+            None => (None, false),
+        };
         for (pos, (a, (cty, dummy))) in r.args.iter().zip(&p.params).enumerate() {
             let want = format!("{} *", a.term.kind.c_type());
             // `intent(in)` makes the pointer const: the same argument to the shim
@@ -595,6 +761,57 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                     dummy,
                     dummy,
                     dummy
+                )));
+            }
+            // a scalar bound to an array dummy (or the reverse): positional names compile and
+            // link whatever they are, and the routine reads past a one-value buffer (or sees one
+            // value of an array); `x(1)`, the old idiom for an array of any size, is either
+            let call_shape = match (r.call, a.term.shape) {
+                (CallMode::Whole, s) => s,
+                (_, Shape::ParticleVec | Shape::PairVec) => Shape::ParticleVec,
+                _ => Shape::Scalar,
+            };
+            let array_here = call_shape != Shape::Scalar;
+            // one particle's or pair's vector in a 1D build may be declared either way
+            let either = r.call != CallMode::Whole && array_here && sizes.dim == 1;
+            let decl = decls.as_deref().map_or(Decl::Undeclared, |b| declaration(b, dummy));
+            let mismatch = !either
+                && match &decl {
+                    Decl::Array(g) => !array_here && g != "1",
+                    Decl::Scalar => array_here,
+                    Decl::Undeclared => array_here && included,
+                };
+            if mismatch {
+                let how = match &decl {
+                    Decl::Array(g) => format!("an array in {file} (`{dummy}({g})`)"),
+                    Decl::Scalar => format!("a scalar in {file} (dummy `{dummy}`)"),
+                    Decl::Undeclared => format!("a scalar in {file} (dummy `{dummy}`, typed implicitly)"),
+                };
+                let swapped = r
+                    .args
+                    .iter()
+                    .position(|b| b.written.eq_ignore_ascii_case(dummy) || b.term.name.eq_ignore_ascii_case(dummy))
+                    .filter(|&q| q != pos);
+                let advice = match (swapped, r.call, a.term.shape) {
+                    (Some(q), _, _) => format!(
+                        "names are positional, so the manifest's list must follow the dummies' order (the manifest gives `{dummy}` as argument {}: swapped?)",
+                        q + 1
+                    ),
+                    (None, CallMode::Whole, Shape::Particle | Shape::ParticleVec) if array_here => {
+                        "a routine of one particle's values is mapped with call = \"each_particle\"".to_string()
+                    }
+                    (None, CallMode::Whole, Shape::Pair | Shape::PairVec) if array_here => {
+                        "a routine of one pair's values is mapped with call = \"each_pair\"".to_string()
+                    }
+                    _ => "names are positional, so the manifest's list must follow the dummies' order".to_string(),
+                };
+                return Err(input(format!(
+                    "{}: routine {}: argument {} (\"{}\" in the manifest, {}) is {how}: {advice}",
+                    m.path.display(),
+                    r.name,
+                    pos + 1,
+                    a.written,
+                    if array_here { "an array" } else { "one value" },
                 )));
             }
             if cty != want {
@@ -624,11 +841,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                 written: a.written.clone(),
                 dummy: dummy.clone(),
                 kind: a.term.kind,
-                shape: match (r.call, a.term.shape) {
-                    (CallMode::Whole, s) => s,
-                    (_, Shape::ParticleVec | Shape::PairVec) => Shape::ParticleVec,
-                    _ => Shape::Scalar,
-                },
+                shape: call_shape,
                 unit: a.term.unit.to_string(),
             });
         }
@@ -849,6 +1062,34 @@ mod tests {
         assert!(!has_entry(fixed, "eos"), "another name's prefix");
         assert!(has_entry("subroutine a(x)\n  entry b ! the other way in\nend\n", "B"));
         assert!(!has_entry("subroutine entryb(x)\nend\n", "b"));
+    }
+
+    #[test]
+    fn a_dummys_rank_is_read_from_every_declaration_form() {
+        let decl = |text: &str, fixed: bool, d: &str| declaration(&routine_text(text, "eos", fixed).unwrap(), d);
+        let arr = |g: &str| Decl::Array(g.into());
+        // F77: type statements with a length, a DIMENSION statement, implicit typing
+        let f77 = "      subroutine eos(n, itype, x, rho, p, q)\n      include 'param.inc'\n      integer n, itype(maxn)\n      real*8 x(dim, maxn), rho(*)\n      double precision p\n      dimension p(maxn)\n      integers(3) = 0\n      end\n";
+        assert_eq!(decl(f77, true, "n"), Decl::Scalar);
+        assert_eq!(decl(f77, true, "itype"), arr("maxn"));
+        assert_eq!(decl(f77, true, "x"), arr("dim,maxn"));
+        assert_eq!(decl(f77, true, "rho"), arr("*"));
+        assert_eq!(decl(f77, true, "p"), arr("maxn"), "typed in one statement, given extents in another");
+        assert_eq!(decl(f77, true, "q"), Decl::Undeclared);
+        // an assignment to a name that begins with a type's is not a declaration
+        assert_eq!(decl(f77, true, "s"), Decl::Undeclared);
+        // free form: attributes, a dimension attribute, a kind, a character length
+        let f90 = "subroutine eos(a, b, c, s, k)\n  real(8), dimension(maxn), intent(in) :: a, b\n  real(kind=8), intent(out) :: c(dim,maxn)\n  character*(*) s\n  integer*4 :: k\nend subroutine\n";
+        assert_eq!(decl(f90, false, "a"), arr("maxn"));
+        assert_eq!(decl(f90, false, "b"), arr("maxn"));
+        assert_eq!(decl(f90, false, "c"), arr("dim,maxn"));
+        assert_eq!(decl(f90, false, "s"), Decl::Scalar);
+        assert_eq!(decl(f90, false, "k"), Decl::Scalar);
+        // another name that ends or begins with the dummy's is not it
+        assert_eq!(
+            decl("      subroutine eos(x)\n      real*8 dx(maxn), xx(maxn), x\n      end\n", true, "x"),
+            Decl::Scalar
+        );
     }
 
     #[test]
