@@ -804,6 +804,43 @@ fn a_routine_under_the_wrong_module_is_named_with_the_module_it_fits() {
     assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
 }
 
+/// A routine of another formulation than the case's (the book's con_density in the shock tube's
+/// summation density) is no miss beside a mapped routine that stands for its module
+/// (sum_density), but mapped without one nothing of the user's code runs for that module: it is
+/// counted NOT RUN (a Tait EOS mapped alone gave "every module within tolerance").
+#[test]
+fn a_routine_of_another_formulation_alone_in_its_module_is_counted_not_run() {
+    let d = shared().to_str().unwrap();
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", d], 0);
+    assert!(!so.contains("warning: legacy con_density"), "beside sum_density: {so}");
+    let v = variant("con_density_alone", |m| {
+        let (head, tail) = m.split_once("[[routine]]\nname = \"sum_density\"").expect("sum_density's entry");
+        let rest = tail.split_once("[[routine]]").map_or(String::new(), |(_, r)| format!("[[routine]]{r}"));
+        format!("{head}{rest}")
+    });
+    assert!(!std::fs::read_to_string(v.join("legacy.toml")).unwrap().contains("sum_density"));
+    build(&v.join("legacy.toml"), &v.join("build")).expect("the variant builds");
+    let lg = v.join("build");
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", lg.to_str().unwrap()], 0);
+    let w = so.lines().find(|l| l.starts_with("warning: legacy con_density is not run")).unwrap_or_else(|| panic!("{so}"));
+    assert!(w.contains("another formulation") && w.contains("no mapped routine stands for density"), "{w}");
+    let out = scratch("con_density_alone_dual");
+    let o = blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--steps",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ]);
+    let so = String::from_utf8_lossy(&o.stdout);
+    assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// A routine of the user's own that forms the density rate and the pressure force in one pair
 /// loop (as many thesis codes do): the mass form of the continuity equation and the symmetric
 /// force and energy terms, p read from its argument.

@@ -1068,6 +1068,24 @@ impl Legacy {
             info.max_interaction,
             self.cwd.display()
         );
+        // a routine of another formulation (the book's con_density in a summation case) is no
+        // miss where another mapped routine stands for its module (sum_density); where none
+        // does, nothing of the user's ran for that module and the routine counts as NOT RUN (a
+        // Tait EOS mapped alone in a case whose EOS reads e: the verdict read as agreement)
+        let mods_of = |name: &str| info.routines.iter().find(|r| r.name == name).map(|r| r.modules.clone()).unwrap_or_default();
+        let ran: Vec<String> = notes.iter().filter(|n| n.status == "run").flat_map(|n| mods_of(&n.name)).collect();
+        for n in notes.iter_mut() {
+            if n.status == "not run" && n.json.get("replaced").is_none() && n.why.contains("another formulation") {
+                let mods = mods_of(&n.name);
+                if !mods.iter().any(|m| ran.contains(m)) {
+                    n.json["replaced"] = json!(false);
+                    n.why += &format!(
+                        "; no mapped routine stands for {}: blastsph's own stages run in its place",
+                        mods.join(",")
+                    );
+                }
+            }
+        }
         let mut routines = serde_json::Map::new();
         for n in &notes {
             text += &format!("  {:<14} {:<8} {}\n", n.name, n.status, n.why);
