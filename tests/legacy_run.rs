@@ -822,7 +822,8 @@ fn a_routine_of_another_formulation_alone_in_its_module_is_counted_not_run() {
     build(&v.join("legacy.toml"), &v.join("build")).expect("the variant builds");
     let lg = v.join("build");
     let so = blastsph_ok(&["check", "shock_tube", "--legacy", lg.to_str().unwrap()], 0);
-    let w = so.lines().find(|l| l.starts_with("warning: legacy con_density is not run")).unwrap_or_else(|| panic!("{so}"));
+    let w =
+        so.lines().find(|l| l.starts_with("warning: legacy con_density is not run")).unwrap_or_else(|| panic!("{so}"));
     assert!(w.contains("another formulation") && w.contains("no mapped routine stands for density"), "{w}");
     let out = scratch("con_density_alone_dual");
     let o = blastsph(&[

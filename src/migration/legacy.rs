@@ -1072,7 +1072,8 @@ impl Legacy {
         // miss where another mapped routine stands for its module (sum_density); where none
         // does, nothing of the user's ran for that module and the routine counts as NOT RUN (a
         // Tait EOS mapped alone in a case whose EOS reads e: the verdict read as agreement)
-        let mods_of = |name: &str| info.routines.iter().find(|r| r.name == name).map(|r| r.modules.clone()).unwrap_or_default();
+        let mods_of =
+            |name: &str| info.routines.iter().find(|r| r.name == name).map(|r| r.modules.clone()).unwrap_or_default();
         let ran: Vec<String> = notes.iter().filter(|n| n.status == "run").flat_map(|n| mods_of(&n.name)).collect();
         for n in notes.iter_mut() {
             if n.status == "not run" && n.json.get("replaced").is_none() && n.why.contains("another formulation") {
