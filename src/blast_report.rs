@@ -180,6 +180,9 @@ fn draw_surface_map(path: &Path, case: &Case, t: f64, m: &SurfaceMap) -> Result<
 pub struct GaugeRecord {
     pub name: String,
     pub samples: Vec<(f64, f64, f64)>,
+    /// The indices of the samples that follow a void (a point gauge with no particle in reach):
+    /// the plots break their line there rather than draw readings across it.
+    pub after_void: Vec<usize>,
 }
 
 /// Reads gauges.csv (docs/cases.md `[[gauge]]` lists its columns); empty fields (a point
@@ -197,7 +200,8 @@ pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
         .map(|n| (col(n, "p_pa"), ["vx_ms", "vy_ms", "vz_ms"].iter().filter_map(|q| col(n, q)).collect()))
         .collect();
     let mut out: Vec<GaugeRecord> =
-        names.iter().map(|n| GaugeRecord { name: n.clone(), samples: Vec::new() }).collect();
+        names.iter().map(|n| GaugeRecord { name: n.clone(), ..Default::default() }).collect();
+    let mut void = vec![false; names.len()];
     for l in lines {
         if l.starts_with('#') {
             continue;
@@ -205,8 +209,15 @@ pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
         let f: Vec<&str> = l.split(',').collect();
         let Some(t) = f.first().and_then(|s| s.parse::<f64>().ok()) else { continue };
         for (g, (pc, vc)) in cols.iter().enumerate() {
-            let Some(p) = pc.and_then(|c| f.get(c)).and_then(|s| s.parse::<f64>().ok()) else { continue };
+            let Some(p) = pc.and_then(|c| f.get(c)).and_then(|s| s.parse::<f64>().ok()) else {
+                void[g] = true;
+                continue;
+            };
             let v2: f64 = vc.iter().filter_map(|&c| f.get(c).and_then(|s| s.parse::<f64>().ok())).map(|v| v * v).sum();
+            if std::mem::take(&mut void[g]) && !out[g].samples.is_empty() {
+                let k = out[g].samples.len();
+                out[g].after_void.push(k);
+            }
             out[g].samples.push((t, p, v2.sqrt()));
         }
     }
@@ -297,7 +308,17 @@ fn draw_gauges(
 ) -> Result<Vec<String>> {
     let series = |f: &dyn Fn(&(f64, f64, f64)) -> f64| -> Vec<(String, Vec<(f64, f64)>)> {
         recs.iter()
-            .map(|g| (format!("gauge {}", g.name), g.samples.iter().map(|x| (tu.of(x.0), f(x))).collect()))
+            .map(|g| {
+                // a NaN point where a void was: the plot breaks its line there
+                let mut pts = Vec::with_capacity(g.samples.len() + g.after_void.len());
+                for (k, x) in g.samples.iter().enumerate() {
+                    if g.after_void.binary_search(&k).is_ok() {
+                        pts.push((tu.of(x.0), f64::NAN));
+                    }
+                    pts.push((tu.of(x.0), f(x)));
+                }
+                (format!("gauge {}", g.name), pts)
+            })
             .collect()
     };
     plot::lines_with_refs(
@@ -1294,6 +1315,18 @@ mod tests {
         assert_eq!(secs[1].id, [1, 2, 3], "the section at 30 µs");
         // drawn in x–z
         assert_eq!(secs[1].y, [0.0, 0.0025, -0.0025]);
+    }
+
+    /// A point gauge's void (empty fields) is remembered, so its plot breaks the line there
+    /// (gauges.png drew a 16 ms straight decay across a void of a buried charge's gauge).
+    #[test]
+    fn a_gauges_void_is_kept_as_a_break() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("gauges.csv");
+        std::fs::write(&p, "t_s,A_p_pa,A_vx_ms,A_vy_ms\n0,1,0,0\n1,2,0,0\n2,,,\n3,,,\n4,5,0,0\n5,6,0,0\n").unwrap();
+        let g = super::read_gauges(&p).unwrap();
+        assert_eq!(g[0].samples.len(), 4);
+        assert_eq!(g[0].after_void, [2]);
     }
 
     #[test]

@@ -579,13 +579,15 @@ pub fn lines_with_refs(
         .map_err(perr)?;
     for (k, (name, pts)) in series.iter().enumerate() {
         let c = colours[k % colours.len()];
-        ch.draw_series(LineSeries::new(
-            pts.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()),
-            c.stroke_width(2),
-        ))
-        .map_err(perr)?
-        .label(name)
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+        // a point that is not finite breaks the line (a gauge's void): one segment each side
+        let segments: Vec<&[(f64, f64)]> =
+            pts.split(|p| !(p.0.is_finite() && p.1.is_finite())).filter(|s| !s.is_empty()).collect();
+        for (j, seg) in segments.iter().enumerate() {
+            let drawn = ch.draw_series(LineSeries::new(seg.iter().copied(), c.stroke_width(2))).map_err(perr)?;
+            if j == 0 {
+                drawn.label(name).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+            }
+        }
     }
     for (k, r) in refs.iter().enumerate() {
         let c = colours[k % colours.len()];
