@@ -108,6 +108,11 @@ fn rz_and_3d_bad_input_is_refused_with_one_line() {
             "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [-0.5, 0]\nhi_m = [1, 1]\nspacing_m = 0.1\n",
             "lo_m[0] = -0.5",
         ),
+        // a sphere centred at r < 0 (a sign slip: a lens of a fifth of the mass, silently)
+        (
+            "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"sphere\"\ncenter_m = [-0.02, 0.7]\nradius_m = 0.05\nspacing_m = 0.01\n",
+            "center_m[0] = -0.02",
+        ),
         // a ring's mass is not given
         (
             "dim = 2\ngeometry = \"axisymmetric\"\n[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [0, 0]\nhi_m = [1, 1]\nspacing_m = 0.1\nmass_kg = 0.01\n",

@@ -105,8 +105,19 @@ pub(super) fn geometry(c: &Case, v: &mut Checker) -> Result<()> {
                     neg(format!("{key}.vertices_m[{q}][0]"), p[0])?;
                 }
             }
-            // the points of a sphere with x < 0 are not generated
-            Shape::Cylinder | Shape::Sphere => {}
+            // a disc about a centre at r < 0 revolves into a lens, not a sphere: the sign
+            // slip of a centre gave a charge a fifth of the sphere's mass, silently
+            Shape::Sphere => {
+                if let Some(cm) = &r.center_m
+                    && cm[0] < 0.0
+                {
+                    return Err(input(format!(
+                        "{key}.center_m[0] = {}: in axisymmetric geometry x is the radius r >= 0 (a sphere is centred on the axis, r = 0; a centre at r > 0 revolves into a torus)",
+                        cm[0]
+                    )));
+                }
+            }
+            Shape::Cylinder => {}
         }
         if r.mass_kg.is_some() {
             return Err(input(format!(
