@@ -94,7 +94,17 @@ fn run_legacy_ends_in_the_state_of_the_codes_own_program_bit_for_bit() {
 fn the_ledger_attributes_each_difference_to_its_item() {
     let out = scratch("ledger");
     let so = blastsph_ok(
-        &["legacy", "ledger", "shock_tube", "--legacy", shared().to_str().unwrap(), "--out", out.to_str().unwrap()],
+        &[
+            "legacy",
+            "ledger",
+            "shock_tube",
+            "--legacy",
+            shared().to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--threads",
+            "1",
+        ],
         0,
     );
     assert!(so.contains("end in the same state, bit for bit"), "{so}");
@@ -802,6 +812,20 @@ fn a_routine_under_the_wrong_module_is_named_with_the_module_it_fits() {
     ]);
     let so = String::from_utf8_lossy(&o.stdout);
     assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// `check` compares its estimate of the pairs with the legacy build's max_interaction, as the
+/// docs ask the user to (the refusal, or the code's own STOP, came only at the first step).
+#[test]
+fn check_warns_when_the_pairs_outgrow_the_legacy_arrays() {
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", shared().to_str().unwrap()], 0);
+    assert!(!so.contains("warning: about"), "20000 pair slots for about 5440 pairs: {so}");
+    let d = variant_built("small_pairs", "param.inc", |t| {
+        t.replace("max_interaction = 20*maxn", "max_interaction = 2*maxn")
+    });
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", d.join("build").to_str().unwrap()], 0);
+    let w = so.lines().find(|l| l.starts_with("warning: about")).unwrap_or_else(|| panic!("{so}"));
+    assert!(w.contains("max_interaction = 2000 (its param.inc)") && w.contains("raise max_interaction"), "{w}");
 }
 
 /// A routine of another formulation than the case's (the book's con_density in the shock tube's

@@ -269,11 +269,16 @@ fn the_safe_api_checks_kinds_lengths_and_indices() {
     // an unknown routine
     assert!(lib.routine("tree_search").unwrap_err().to_string().contains("no routine tree_search"));
     // the case-size check the solver calls
-    let e = check_capacity(1000, 20000, 1001, None).unwrap_err();
+    let e = check_capacity(1000, 20000, 1001, None, "param.inc").unwrap_err();
     assert_eq!(e.exit_code(), 2);
     assert!(e.to_string().contains("maxn = 1000"), "{e}");
-    assert!(check_capacity(1000, 20000, 1000, Some(20000)).is_ok());
-    assert!(check_capacity(1000, 20000, 10, Some(20001)).unwrap_err().to_string().contains("max_interaction = 20000"));
+    assert!(check_capacity(1000, 20000, 1000, Some(20000), "param.inc").is_ok());
+    assert!(
+        check_capacity(1000, 20000, 10, Some(20001), "param.inc")
+            .unwrap_err()
+            .to_string()
+            .contains("max_interaction = 20000")
+    );
     assert!(lib.info().check_capacity(400, Some(5000)).is_ok());
 }
 

@@ -300,6 +300,9 @@ pub enum LegacyCmd {
         /// Folder to look a case name up in (default as for `run`)
         #[arg(long = "case-dir", value_name = "DIR")]
         case_dir: Option<PathBuf>,
+        /// Worker threads of the Rust modules (default: one per core); the results do not depend on it
+        #[arg(long, value_name = "N")]
+        threads: Option<usize>,
     },
 }
 
@@ -600,8 +603,24 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
             let est = case::size::check(&c, args.max_particles)?;
-            let sim = Sim::new(c, &overrides(&args)?)?;
+            let ov = overrides(&args)?;
+            let sim = Sim::new(c, &ov)?;
             print!("{}", check_text(&sim));
+            // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
+            // come at the first step)
+            if let Some(info) = ov.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
+                && est.pairs > info.max_interaction as f64
+                && sim.plan.legacy["routines"]
+                    .as_object()
+                    .is_some_and(|r| r.values().any(|v| v["status"] == "run" || v["status"] == "alone"))
+            {
+                println!(
+                    "warning: about {:.3e} neighbour pairs (the estimate below) against the legacy build's max_interaction = {} (its {}): a routine that takes the pairs is refused, or your search stops, at the first step; raise max_interaction and rebuild",
+                    est.pairs,
+                    info.max_interaction,
+                    info.include_name()
+                );
+            }
             let (limit, from) = case::size::memory_limit();
             println!(
                 "size (estimated before generating): at most {:.0} particles, {:.3e} neighbour pairs, {} of memory ({})",
@@ -685,7 +704,8 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
         }
-        Cmd::Legacy { cmd: LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir } } => {
+        Cmd::Legacy { cmd: LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir, threads: n } } => {
+            threads(n)?;
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let la = LegacyArgs { legacy: Some(legacy.clone()), compat };
             let c = case::load(&case, &la.sets(&sets)?)?;

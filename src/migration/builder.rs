@@ -132,6 +132,14 @@ pub struct BuildInfo {
 }
 
 impl BuildInfo {
+    /// The file name of the include that sets the sizes (param.inc, or the manifest's
+    /// `param_include`), for messages.
+    pub fn include_name(&self) -> String {
+        Path::new(&self.param_include)
+            .file_name()
+            .map_or(self.param_include.clone(), |f| f.to_string_lossy().into_owned())
+    }
+
     /// Reads `DIR/build.json`.
     pub fn read(dir: &Path) -> Result<BuildInfo> {
         let p = dir.join(BUILD_JSON);
@@ -146,7 +154,7 @@ impl BuildInfo {
     }
     /// [`manifest::check_capacity`] against this build's sizes.
     pub fn check_capacity(&self, particles: usize, pairs: Option<usize>) -> Result<()> {
-        manifest::check_capacity(self.maxn, self.max_interaction, particles, pairs)
+        manifest::check_capacity(self.maxn, self.max_interaction, particles, pairs, &self.include_name())
     }
 }
 

@@ -126,8 +126,10 @@ impl Legacy {
         let shown = dir.display();
         if info.dim != case.dim {
             return Err(input(format!(
-                "--legacy {shown}: the build has dim = {} (its param.inc), the case dim = {}",
-                info.dim, case.dim
+                "--legacy {shown}: the build has dim = {} (its {}), the case dim = {}",
+                info.dim,
+                info.include_name(),
+                case.dim
             )));
         }
         if case.sph.lattice_gradient
@@ -476,8 +478,11 @@ impl LegacyStage {
         let search = self.writes.contains(&Field::PairI);
         if nt > info.maxn || (!search && np > info.max_interaction) {
             die(format!(
-                "legacy {}: {nt} particles and {np} pairs, more than the build's maxn = {} or max_interaction = {} (param.inc): raise them and rebuild",
-                r.name, info.maxn, info.max_interaction
+                "legacy {}: {nt} particles and {np} pairs, more than the build's maxn = {} or max_interaction = {} (its {}): raise them and rebuild",
+                r.name,
+                info.maxn,
+                info.max_interaction,
+                info.include_name()
             ));
         }
         let mut sh = lg.shared();

@@ -419,18 +419,25 @@ pub fn load(path: &Path) -> Result<Manifest> {
 }
 
 /// Checks that a case fits the arrays of a legacy build: `particles` (real and virtual) against
-/// its `maxn`, and `pairs`, where known, against its `max_interaction`. One line, exit status 2.
-pub fn check_capacity(maxn: usize, max_interaction: usize, particles: usize, pairs: Option<usize>) -> Result<()> {
+/// its `maxn`, and `pairs`, where known, against its `max_interaction`, named in `include` (the
+/// build's include file). One line, exit status 2.
+pub fn check_capacity(
+    maxn: usize,
+    max_interaction: usize,
+    particles: usize,
+    pairs: Option<usize>,
+    include: &str,
+) -> Result<()> {
     if particles > maxn {
         return Err(SphError::Input(format!(
-            "the case has {particles} particles, more than the legacy build's maxn = {maxn} (param.inc): raise maxn and rebuild"
+            "the case has {particles} particles, more than the legacy build's maxn = {maxn} (its {include}): raise maxn and rebuild"
         )));
     }
     if let Some(np) = pairs
         && np > max_interaction
     {
         return Err(SphError::Input(format!(
-            "the case has {np} pairs, more than the legacy build's max_interaction = {max_interaction} (param.inc): raise it and rebuild"
+            "the case has {np} pairs, more than the legacy build's max_interaction = {max_interaction} (its {include}): raise it and rebuild"
         )));
     }
     Ok(())
