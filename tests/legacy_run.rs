@@ -797,19 +797,7 @@ fn a_routine_under_the_wrong_module_is_named_with_the_module_it_fits() {
     assert!(o.status.success(), "{se}");
     let w = se.lines().find(|l| l.starts_with("warning: legacy p_gas is not run")).unwrap_or_else(|| panic!("{se}"));
     assert!(w.contains("fit eos.eval of another module") && w.contains("module = \"eos\"?"), "{w}");
-    let out = scratch("wrong_module_dual");
-    let o = blastsph(&[
-        "dual",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--steps",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-        "--threads",
-        "1",
-    ]);
+    let o = dual_plain(&lg, 3, &scratch("wrong_module_dual"));
     let so = String::from_utf8_lossy(&o.stdout);
     assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
 }
@@ -849,19 +837,7 @@ fn a_routine_of_another_formulation_alone_in_its_module_is_counted_not_run() {
     let w =
         so.lines().find(|l| l.starts_with("warning: legacy con_density is not run")).unwrap_or_else(|| panic!("{so}"));
     assert!(w.contains("another formulation") && w.contains("no mapped routine stands for density"), "{w}");
-    let out = scratch("con_density_alone_dual");
-    let o = blastsph(&[
-        "dual",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--steps",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-        "--threads",
-        "1",
-    ]);
+    let o = dual_plain(&lg, 2, &scratch("con_density_alone_dual"));
     let so = String::from_utf8_lossy(&o.stdout);
     assert!(so.contains("1 mapped legacy routine(s) NOT RUN"), "{so}{}", String::from_utf8_lossy(&o.stderr));
 }

@@ -54,6 +54,23 @@ pub fn dual_book_args(lg: &Path, steps: Option<usize>, out: &Path) -> Vec<String
     a
 }
 
+/// `blastsph dual shock_tube --legacy LG --steps N --out OUT --threads 1` (no compat profile).
+pub fn dual_plain(lg: &Path, steps: usize, out: &Path) -> Output {
+    let n = steps.to_string();
+    blastsph(&[
+        "dual",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--steps",
+        &n,
+        "--out",
+        out.to_str().unwrap(),
+        "--threads",
+        "1",
+    ])
+}
+
 /// [`dual_book_args`] run.
 pub fn dual_book(lg: &Path, steps: Option<usize>, out: &Path) -> Output {
     blastsph(&dual_book_args(lg, steps, out))
