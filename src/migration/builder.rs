@@ -373,32 +373,9 @@ fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
 }
 
 /// Whether `dummy` is declared assumed-shape in a routine's statements from [`routine_text`]:
-/// `x(:)` or `x(:, :)` anywhere in a declaration (`real*8 x(:)`, `double precision :: x(:)`,
-/// `dimension x(:)`), or a `dimension(:)` attribute over a list that names it.
+/// its extents ([`declaration`]) begin with `:` (`x(:)`, `x(:, :)`, `dimension(:) :: x`).
 fn assumed_shape(body: &str, dummy: &str) -> bool {
-    const DECL: [&str; 9] =
-        ["real", "double", "integer", "logical", "complex", "character", "type(", "class(", "dimension"];
-    let d = dummy.to_ascii_lowercase();
-    let word = |c: Option<char>| c.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_');
-    body.lines().any(|l| {
-        let st: String = l.chars().filter(|c| !c.is_whitespace()).collect();
-        if !DECL.iter().any(|k| st.starts_with(k)) {
-            return false;
-        }
-        // the name as a word, then `(` and `:` (spaces allowed between), in the statement as
-        // written (`real*8 a(:)`: the space keeps `8` and `a` apart)
-        let direct = l.match_indices(d.as_str()).any(|(k, _)| {
-            let after = l[k + d.len()..].trim_start();
-            !word(l[..k].chars().last())
-                && !word(l[k + d.len()..].chars().next())
-                && after.strip_prefix('(').is_some_and(|r| r.trim_start().starts_with(':'))
-        });
-        // the attribute: dimension(:...) :: a, d, b
-        let attr = st.split_once("::").is_some_and(|(attrs, ents)| {
-            attrs.contains("dimension(:") && ents.split(',').any(|e| e.split(['(', '=']).next().unwrap_or("") == d)
-        });
-        direct || attr
-    })
+    matches!(declaration(body, dummy), Decl::Array(g) if g.starts_with(':'))
 }
 
 /// How a dummy argument is declared in a routine's statements from [`routine_text`].
@@ -743,24 +720,22 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             )));
         }
         let mut args = Vec::new();
-        let body = std::fs::read_to_string(&m.sources[k])
+        // the routine's statements with its includes' declarations, and whether each include
+        // was found (else a dummy that no statement declares may be declared in the one not read)
+        let fixed_src = fixed_form(&m.sources[k]);
+        let beside = m.sources[k].parent().unwrap_or(Path::new("."));
+        let (decls, included) = std::fs::read_to_string(&m.sources[k])
             .ok()
-            .and_then(|t| routine_text(&t, &r.name, fixed_form(&m.sources[k])));
-        // with its includes' declarations, and whether each was found (else a dummy that no
-        // statement declares may be declared in the one not read)
-        let (decls, included) = match &body {
-            Some(b) => {
-                let beside = m.sources[k].parent().unwrap_or(Path::new("."));
-                let (d, all) = with_includes(b, beside, &m.include_dirs, fixed_form(&m.sources[k]), 0);
+            .and_then(|t| routine_text(&t, &r.name, fixed_src))
+            .map_or((None, false), |b| {
+                let (d, all) = with_includes(&b, beside, &m.include_dirs, fixed_src, 0);
                 (Some(d), all)
-            }
-            None => (None, false),
-        };
+            });
         for (pos, (a, (cty, dummy))) in r.args.iter().zip(&p.params).enumerate() {
             let want = format!("{} *", a.term.kind.c_type());
             // `intent(in)` makes the pointer const: the same argument to the shim
             let cty = cty.strip_prefix("const ").unwrap_or(cty);
-            if body.as_deref().is_some_and(|b| assumed_shape(b, dummy)) {
+            if decls.as_deref().is_some_and(|b| assumed_shape(b, dummy)) {
                 return Err(input(format!(
                     "{}: routine {}: argument {} (dummy `{}` in {file}) is an assumed-shape array (`(:)`): the shims pass an address, as to FORTRAN 77 code; declare it explicit-shape (`{}(maxn)`) or assumed-size (`{}(*)`)",
                     m.path.display(),

@@ -685,6 +685,9 @@ impl Legacy {
     ) -> (String, serde_json::Value) {
         let info = self.lib.info();
         let mut notes: Vec<Note> = Vec::new();
+        // the routines not run as of another formulation than the case's (below: NOT RUN where
+        // no other routine stands for their module)
+        let mut other_formulation: Vec<String> = Vec::new();
         let bound: Vec<Vec<String>> =
             info.routines.iter().map(|r| r.bindings.iter().map(|b| b.name.clone()).collect()).collect();
         for (ri, r) in info.routines.iter().enumerate() {
@@ -850,6 +853,9 @@ impl Legacy {
                         )
                     };
                     note("not run", why, if near { json!({ "replaced": false }) } else { json!({}) });
+                    if !near {
+                        other_formulation.push(r.name.clone());
+                    }
                     continue;
                 }
                 // a routine that adds rate terms beside a Rust stage of its own module that it
@@ -1081,7 +1087,7 @@ impl Legacy {
             |name: &str| info.routines.iter().find(|r| r.name == name).map(|r| r.modules.clone()).unwrap_or_default();
         let ran: Vec<String> = notes.iter().filter(|n| n.status == "run").flat_map(|n| mods_of(&n.name)).collect();
         for n in notes.iter_mut() {
-            if n.status == "not run" && n.json.get("replaced").is_none() && n.why.contains("another formulation") {
+            if other_formulation.contains(&n.name) {
                 let mods = mods_of(&n.name);
                 if !mods.iter().any(|m| ran.contains(m)) {
                     n.json["replaced"] = json!(false);
