@@ -93,20 +93,9 @@ fn run_legacy_ends_in_the_state_of_the_codes_own_program_bit_for_bit() {
 #[test]
 fn the_ledger_attributes_each_difference_to_its_item() {
     let out = scratch("ledger");
-    let so = blastsph_ok(
-        &[
-            "legacy",
-            "ledger",
-            "shock_tube",
-            "--legacy",
-            shared().to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--threads",
-            "1",
-        ],
-        0,
-    );
+    let ledger =
+        ["legacy", "ledger", "shock_tube", "--legacy", shared().to_str().unwrap(), "--out", out.to_str().unwrap()];
+    let so = blastsph_ok(&[&ledger[..], &["--threads", "1"]].concat(), 0);
     assert!(so.contains("end in the same state, bit for bit"), "{so}");
     let (r, rows) = report_rows(&out.join("ledger.json"));
     assert_eq!(r["profile"], "liu-book");
@@ -133,15 +122,7 @@ fn the_ledger_attributes_each_difference_to_its_item() {
     assert!((l1("profile") - 0.01553).abs() < 2e-4, "{so}");
     assert!(l1("-sound_speed") > l1("profile"), "{so}");
     // a second ledger into the same folder replaces the first (its ledger.json is blastsph's)
-    let again = blastsph(&[
-        "legacy",
-        "ledger",
-        "shock_tube",
-        "--legacy",
-        shared().to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let again = blastsph(&ledger);
     assert_eq!(again.status.code(), Some(0), "{}", String::from_utf8_lossy(&again.stderr));
     // --compat none: the routines against blastsph's own twins, no item rows (it ran the
     // liu-book profile in its place)
