@@ -938,3 +938,194 @@ fn a_density_and_force_routine_runs_after_the_eos_whose_p_it_reads() {
         assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
     }
 }
+
+/// The fixture's art_visc with its arrays in COMMON blocks instead of arguments (a routine with
+/// no arguments, as many old codes write them): the include file that declares the blocks.
+const AVSTATE_INC: &str = "      include 'param.inc'
+      integer ntotal, niac, pair_i(max_interaction),
+     &        pair_j(max_interaction)
+      double precision hsml(maxn), mass(maxn), x(dim,maxn),
+     &        vx(dim,maxn), rho(maxn), c(maxn), w(max_interaction),
+     &        dwdx(dim,max_interaction), dvxdt(dim,maxn), dedt(maxn)
+      common /avst/ hsml, mass, x, vx, rho, c, w, dwdx, dvxdt, dedt
+      common /avcnt/ ntotal, niac, pair_i, pair_j
+";
+
+/// The globals of the COMMON and module variants: every legacy name is the vocabulary's.
+const AV_GLOBALS: &str = "globals = { ntotal = \"ntotal\", hsml = \"hsml\", mass = \"mass\", x = \"x\", vx = \"vx\", niac = \"niac\", rho = \"rho\", c = \"c\", pair_i = \"pair_i\", pair_j = \"pair_j\", w = \"w\", dwdx = \"dwdx\", dvxdt = \"dvxdt\", dedt = \"dedt\" }";
+
+/// The fixture with art_visc's arguments moved into globals: its source edited by `src`, the
+/// manifest's entry by `entry` (the text after `module = "viscosity"`), and `head` added to
+/// the manifest's top.
+fn av_globals_variant(name: &str, head: &str, entry: &str, src: impl Fn(&str) -> String) -> PathBuf {
+    let v = variant(name, |m| {
+        let old = "module = \"viscosity\"\nargs = [\"ntotal\", \"hsml\", \"mass\", \"x\", \"vx\", \"niac\", \"rho\", \"c\", \"pair_i\", \"pair_j\", \"w\", \"dwdx\",\n        \"dvxdt\", \"dedt\"]";
+        assert!(m.contains(old), "art_visc's entry");
+        let m = m.replace(old, &format!("module = \"viscosity\"\n{entry}"));
+        m.replacen("[[routine]]", &format!("{head}\n\n[[routine]]"), 1)
+    });
+    let f = v.join("art_visc.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = src(&text);
+    assert_ne!(new, text);
+    std::fs::write(&f, new).unwrap();
+    v
+}
+
+/// art_visc.f with its argument list and declarations replaced by `decl` (fixed form).
+fn av_without_arguments(text: &str, decl: &str) -> String {
+    let (head, rest) =
+        text.split_once("      implicit none\n      include 'param.inc'\n").expect("art_visc's declarations");
+    let body = rest.split_once("dedt(maxn)\n").expect("the last declaration line").1;
+    let head = head.replace(
+        "      subroutine art_visc(ntotal, hsml, mass, x, vx, niac, rho, c,\n     &                    pair_i, pair_j, w, dwdx, dvxdt, dedt)",
+        "      subroutine art_visc",
+    );
+    assert!(head.starts_with("      subroutine art_visc\n"), "{head}");
+    format!("{head}{decl}{body}")
+}
+
+/// The dual run's rows of art_visc (field, max_ulp) of a build, with the book's profile.
+fn art_visc_rows(lg: &Path, out: &str) -> Vec<(String, String)> {
+    let d = scratch(out);
+    let o = dual_book(lg, Some(3), &d);
+    assert!(o.status.success(), "{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let (_, rows) = report_rows(&d.join("dual_report.json"));
+    let av: Vec<(String, String)> = rows
+        .iter()
+        .filter(|r| r["stage"] == "legacy.art_visc")
+        .map(|r| (r["field"].to_string(), r["max_ulp"].to_string()))
+        .collect();
+    assert!(!av.is_empty(), "art_visc was compared: {rows:?}");
+    av
+}
+
+/// A legacy routine that keeps its arrays in COMMON blocks (declared in an include file) or in
+/// a Fortran module, with no arguments, is mapped by naming those variables as `globals`: the
+/// shim copies blastsph's arrays into them before the call and back after. The dual run then
+/// compares it exactly as the same routine with arguments.
+#[test]
+fn a_routine_whose_arrays_are_in_common_blocks_or_a_module_is_mapped_by_its_globals() {
+    let plain = art_visc_rows(shared(), "av_plain_dual");
+
+    // COMMON blocks in an include file
+    let v = av_globals_variant("av_common", "global_includes = [\"avstate.inc\"]", AV_GLOBALS, |t| {
+        av_without_arguments(t, "      implicit none\n      include 'avstate.inc'\n")
+    });
+    std::fs::write(v.join("avstate.inc"), AVSTATE_INC).unwrap();
+    let info = build(&v.join("legacy.toml"), &v.join("build")).expect("the COMMON variant builds");
+    let av = info.routines.iter().find(|r| r.name == "art_visc").unwrap();
+    assert!(av.args.is_empty() && av.globals.len() == 14, "{av:?}");
+    assert!(av.globals.iter().all(|g| g.from == "include 'avstate.inc'"), "{:?}", av.globals);
+    assert_eq!(art_visc_rows(&v.join("build"), "av_common_dual"), plain);
+
+    // a module of allocatable arrays, allocated by an initialiser mapped as init
+    let module = "      module avmod
+      implicit none
+      include 'param.inc'
+      integer ntotal, niac
+      integer, allocatable :: pair_i(:), pair_j(:)
+      double precision, allocatable :: hsml(:), mass(:), x(:,:),
+     &        vx(:,:), rho(:), c(:)
+      double precision, allocatable :: w(:), dwdx(:,:), dvxdt(:,:),
+     &        dedt(:)
+      end module avmod
+
+      subroutine av_alloc
+      use avmod
+      implicit none
+      allocate(pair_i(max_interaction), pair_j(max_interaction))
+      allocate(w(max_interaction), dwdx(dim,max_interaction))
+      allocate(hsml(maxn), mass(maxn), x(dim,maxn), vx(dim,maxn))
+      allocate(rho(maxn), c(maxn), dvxdt(dim,maxn), dedt(maxn))
+      end
+";
+    let entry = |init: bool| {
+        let mut e = format!("{AV_GLOBALS}\n");
+        if init {
+            e.push_str("\n[[routine]]\nname = \"av_alloc\"\nmodule = \"init\"\nargs = []\n");
+        }
+        e
+    };
+    for init in [true, false] {
+        let name = if init { "av_module" } else { "av_module_unallocated" };
+        let v = av_globals_variant(name, "global_modules = [\"avmod\"]", &entry(init), |t| {
+            av_without_arguments(t, "      use avmod\n      implicit none\n")
+        });
+        std::fs::write(v.join("avmod.f"), module).unwrap();
+        let info = build(&v.join("legacy.toml"), &v.join("build")).expect("the module variant builds");
+        let av = info.routines.iter().find(|r| r.name == "art_visc").unwrap();
+        assert!(av.globals.iter().all(|g| g.from == "module avmod"), "{:?}", av.globals);
+        if init {
+            assert_eq!(art_visc_rows(&v.join("build"), "av_module_dual"), plain);
+        } else {
+            // without its initialiser the module's arrays are not allocated: one line, exit 2
+            let o = dual_book(&v.join("build"), Some(3), &scratch("av_unallocated_dual"));
+            let se = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{se}");
+            assert!(se.contains("art_visc") && se.contains("not allocated") && se.contains("init"), "{se}");
+        }
+    }
+}
+
+/// What the build refuses of globals, each with one line naming the global.
+#[test]
+fn globals_that_are_not_declared_or_of_another_type_or_rank_are_refused() {
+    let refused = |name: &str, head: &str, globals: &str, inc: &str| -> String {
+        let v = av_globals_variant(name, head, globals, |t| {
+            av_without_arguments(t, "      implicit none\n      include 'avstate.inc'\n")
+        });
+        std::fs::write(v.join("avstate.inc"), inc).unwrap();
+        let e = build(&v.join("legacy.toml"), &v.join("build")).expect_err("refused");
+        let e = e.to_string();
+        assert!(!e.contains('\n'), "one line: {e}");
+        e
+    };
+    // a name the include does not declare
+    let e = refused(
+        "g_undeclared",
+        "global_includes = [\"avstate.inc\"]",
+        &AV_GLOBALS.replace("dedt = \"dedt\"", "dedt = \"dedt\", eta_v = \"eta\""),
+        AVSTATE_INC,
+    );
+    assert!(e.contains("global `eta_v`") && e.contains("declared in none of global_includes (avstate.inc)"), "{e}");
+    // an integer array bound to a real name: gfortran's type check, named
+    let e = refused(
+        "g_type",
+        "global_includes = [\"avstate.inc\"]",
+        &AV_GLOBALS.replace("c = \"c\"", "c = \"mat\""),
+        AVSTATE_INC,
+    );
+    assert!(
+        e.contains("global `c`") && e.contains("\"mat\", a default integer") && e.contains("include 'avstate.inc'"),
+        "{e}"
+    );
+    // an array bound to a one-value name
+    let e = refused(
+        "g_rank",
+        "global_includes = [\"avstate.inc\"]",
+        &AV_GLOBALS
+            .replace("ntotal = \"ntotal\"", "ntotal = \"ntotal\", ri = \"time\"")
+            .replace("hsml = \"hsml\"", "hsml = \"dt\""),
+        &AVSTATE_INC.replace("dedt(maxn)\n", "dedt(maxn), ri\n"),
+    );
+    assert!(
+        e.contains("global `hsml` is an array in include 'avstate.inc' (`hsml(maxn)`)")
+            && e.contains("\"dt\" is one value"),
+        "{e}"
+    );
+    // globals with nowhere to find them; in a per-particle call; a module that is not in the sources
+    let e = refused("g_nowhere", "", AV_GLOBALS, AVSTATE_INC);
+    assert!(e.contains("globals") && e.contains("global_includes") && e.contains("global_modules"), "{e}");
+    let e = refused("g_module", "global_modules = [\"nosuch\"]", AV_GLOBALS, AVSTATE_INC);
+    assert!(e.contains("global_modules: \"nosuch\" is not a module of the sources"), "{e}");
+    let e = refused(
+        "g_each",
+        "global_includes = [\"avstate.inc\"]",
+        &format!("call = \"each_particle\"\n{AV_GLOBALS}"),
+        AVSTATE_INC,
+    );
+    assert!(e.contains("globals are copied in and out once per call"), "{e}");
+    let e = refused("g_badname", "global_includes = [\"avstate.inc\"]", "globals = { \"x(1)\" = \"x\" }", AVSTATE_INC);
+    assert!(e.contains("\"x(1)\" is not a Fortran name"), "{e}");
+}

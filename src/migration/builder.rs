@@ -78,6 +78,21 @@ pub struct RoutineInfo {
     pub file: String,
     pub args: Vec<ArgInfo>,
     pub bindings: Vec<BindingInfo>,
+    /// Its variables in COMMON blocks or modules (bound as `bindings` are; copied in before
+    /// the call and back after).
+    #[serde(default)]
+    pub globals: Vec<GlobalInfo>,
+}
+
+/// A routine's global variable, as built.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct GlobalInfo {
+    /// Vocabulary name.
+    pub name: String,
+    /// The variable's name in the legacy code.
+    pub var: String,
+    /// Where it is declared: `include 'common.inc'` or `module particles`.
+    pub from: String,
 }
 
 /// One source file, as built.
@@ -303,7 +318,14 @@ fn fixed_form(p: &Path) -> bool {
 /// procedure's declarations are not its own), one a line; None when the text defines no such
 /// subroutine.
 fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
+    unit_text(text, "subroutine", name, fixed)
+}
+
+/// The statements of program unit `unit name` (`subroutine` or `module`) as [`routine_text`]
+/// gives a subroutine's: a module's are its specification part, up to its `contains` or `end`.
+fn unit_text(text: &str, unit: &str, name: &str, fixed: bool) -> Option<String> {
     let name = name.to_ascii_lowercase();
+    let header = format!("{unit} ");
     // the statements, continuations joined
     let mut stmts: Vec<String> = Vec::new();
     let mut open = false;
@@ -349,11 +371,12 @@ fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
                 let mut head = t;
                 while let Some(r) = ["recursive ", "pure ", "elemental ", "impure ", "module "]
                     .iter()
+                    .filter(|_| unit == "subroutine")
                     .find_map(|p| head.strip_prefix(p))
                 {
                     head = r.trim_start();
                 }
-                if let Some(rest) = head.strip_prefix("subroutine ")
+                if let Some(rest) = head.strip_prefix(header.as_str())
                     && rest.trim_start().strip_prefix(&name).is_some_and(|r| r.is_empty() || r.starts_with([' ', '(']))
                 {
                     out = Some(format!("{t}\n"));
@@ -361,7 +384,11 @@ fn routine_text(text: &str, name: &str, fixed: bool) -> Option<String> {
             }
             Some(o) => {
                 let flat: String = t.chars().filter(|c| !c.is_whitespace()).collect();
-                if flat == "end" || flat.starts_with("endsubroutine") || flat == "contains" {
+                if flat == "end"
+                    || flat.starts_with("endsubroutine")
+                    || flat.starts_with("endmodule")
+                    || flat == "contains"
+                {
                     break;
                 }
                 o.push_str(t);
@@ -534,6 +561,148 @@ fn with_includes(body: &str, beside: &Path, dirs: &[PathBuf], fixed: bool, depth
     (out, all)
 }
 
+/// The declarations the routines' globals are looked up in: each of the manifest's
+/// `global_includes` (its statements with the includes it names, read as fixed form and as free
+/// form, since an include file's form is that of the file that includes it) and each of its
+/// `global_modules` (the module's specification part, from the source that defines it).
+struct GlobalTexts {
+    includes: Vec<(String, String)>,
+    modules: Vec<(String, String)>,
+}
+
+impl GlobalTexts {
+    fn read(m: &Manifest) -> Result<Self> {
+        let includes = m
+            .global_includes
+            .iter()
+            .map(|(name, path)| {
+                let text = std::fs::read_to_string(path).unwrap_or_default();
+                let beside = path.parent().unwrap_or(Path::new("."));
+                let mut all = String::new();
+                for fixed in [true, false] {
+                    let lead = if fixed { "      " } else { "" };
+                    let wrapped = format!("{lead}subroutine blastsph_inc\n{text}\n{lead}end\n");
+                    if let Some(b) = routine_text(&wrapped, "blastsph_inc", fixed) {
+                        all.push_str(&with_includes(&b, beside, &m.include_dirs, fixed, 0).0);
+                    }
+                }
+                (name.clone(), all)
+            })
+            .collect();
+        let mut modules = Vec::new();
+        for name in &m.global_modules {
+            let found = m.sources.iter().find_map(|src| {
+                let t = std::fs::read_to_string(src).ok()?;
+                let fixed = fixed_form(src);
+                let b = unit_text(&t, "module", name, fixed)?;
+                Some(with_includes(&b, src.parent().unwrap_or(Path::new(".")), &m.include_dirs, fixed, 0).0)
+            });
+            let Some(text) = found else {
+                return Err(input(format!(
+                    "{}: global_modules: \"{name}\" is not a module of the sources",
+                    m.path.display()
+                )));
+            };
+            modules.push((name.clone(), text));
+        }
+        Ok(GlobalTexts { includes, modules })
+    }
+}
+
+/// Whether `name` appears in `text` as a whole Fortran name.
+fn mentions(text: &str, name: &str) -> bool {
+    text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).any(|w| w == name)
+}
+
+/// The extents a COMMON statement gives `var` (`common /part/ x(dim,maxn), rho(maxn)`).
+fn common_extents(text: &str, var: &str) -> Option<String> {
+    for l in text.lines() {
+        let st: String = l.chars().filter(|c| !c.is_whitespace()).collect();
+        let Some(rest) = st.strip_prefix("common") else { continue };
+        // drop the block names: /part/ (and // of blank common)
+        let mut list = String::new();
+        let mut in_name = false;
+        for c in rest.chars() {
+            match c {
+                '/' => {
+                    in_name = !in_name;
+                    list.push(',');
+                }
+                _ if in_name => {}
+                _ => list.push(c),
+            }
+        }
+        let decl = declaration(&format!("dimension {list}"), var);
+        if let Decl::Array(g) = decl {
+            return Some(g);
+        }
+    }
+    None
+}
+
+/// Where a routine's global variable is declared, checked against its vocabulary name's
+/// shape, and whether it is an allocatable module variable.
+fn locate_global(m: &Manifest, routine: &str, g: &manifest::Global, texts: &GlobalTexts) -> Result<(shim::Site, bool)> {
+    let var = g.var.as_str();
+    let site = texts
+        .includes
+        .iter()
+        .find(|(_, t)| mentions(t, var))
+        .map(|(n, t)| (shim::Site::Include(n.clone()), t))
+        .or_else(|| {
+            texts.modules.iter().find(|(_, t)| mentions(t, var)).map(|(n, t)| (shim::Site::Module(n.clone()), t))
+        });
+    let Some((site, text)) = site else {
+        let mut where_ = Vec::new();
+        if !m.global_includes.is_empty() {
+            let names: Vec<&str> = m.global_includes.iter().map(|(n, _)| n.as_str()).collect();
+            where_.push(format!("global_includes ({})", names.join(", ")));
+        }
+        if !m.global_modules.is_empty() {
+            where_.push(format!("global_modules ({})", m.global_modules.join(", ")));
+        }
+        return Err(input(format!(
+            "{}: routine {routine}: global `{var}` (\"{}\") is declared in none of {}",
+            m.path.display(),
+            g.term.name,
+            where_.join(" nor ")
+        )));
+    };
+    let from = match &site {
+        shim::Site::Include(i) => format!("include '{i}'"),
+        shim::Site::Module(n) => format!("module {n}"),
+    };
+    let decl = match declaration(text, var) {
+        Decl::Undeclared => common_extents(text, var).map_or(Decl::Undeclared, Decl::Array),
+        d => d,
+    };
+    let scalar = g.term.shape == Shape::Scalar;
+    let bad = match &decl {
+        Decl::Array(x) => scalar && x != "1",
+        Decl::Scalar => !scalar,
+        Decl::Undeclared => false,
+    };
+    if bad {
+        let how = match &decl {
+            Decl::Array(x) => format!("an array in {from} (`{var}({x})`)"),
+            _ => format!("one value in {from}"),
+        };
+        return Err(input(format!(
+            "{}: routine {routine}: global `{var}` is {how}, but the vocabulary's \"{}\" is {}",
+            m.path.display(),
+            g.term.name,
+            if scalar { "one value" } else { "an array" }
+        )));
+    }
+    let allocatable = matches!(site, shim::Site::Module(_))
+        && text.lines().any(|l| {
+            let flat: String = l.chars().filter(|c| !c.is_whitespace()).collect();
+            flat.contains("allocatable")
+                && (declaration(l, var) != Decl::Undeclared || (flat.starts_with("allocatable") && mentions(l, var)))
+        });
+    Ok((site, allocatable))
+}
+
 fn rel(p: &Path, base: &Path) -> String {
     p.strip_prefix(base).unwrap_or(p).display().to_string()
 }
@@ -648,6 +817,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     }
 
     // each mapped routine: defined once, with the manifest's arguments
+    let global_texts = GlobalTexts::read(&m)?;
+    let mut copies: Vec<(String, &'static str, shim::GlobalCopy)> = Vec::new();
     let mut routines = Vec::new();
     let mut warnings = Vec::new();
     for r in &m.routines {
@@ -845,6 +1016,31 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                 unit: t.unit.to_string(),
             })
             .collect();
+        let mut globals = Vec::new();
+        let ri = routines.len();
+        for g in &r.globals {
+            let k = r.bindings().iter().position(|t| t.name == g.term.name).expect("a global is bound");
+            let (site, allocatable) = locate_global(&m, &r.name, g, &global_texts)?;
+            globals.push(GlobalInfo {
+                name: g.term.name.to_string(),
+                var: g.var.clone(),
+                from: match &site {
+                    shim::Site::Include(i) => format!("include '{i}'"),
+                    shim::Site::Module(n) => format!("module {n}"),
+                },
+            });
+            copies.push((
+                r.name.clone(),
+                g.term.name,
+                shim::GlobalCopy {
+                    sym: shim::global_symbol(ri, k),
+                    var: g.var.clone(),
+                    kind: g.term.kind,
+                    site,
+                    allocatable,
+                },
+            ));
+        }
         routines.push(RoutineInfo {
             name: r.name.clone(),
             symbol: p.symbol.clone(),
@@ -854,7 +1050,86 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             file,
             args,
             bindings,
+            globals,
         });
+    }
+
+    // the globals' copy routines: fixed form first (the include files of old codes), else free
+    let mut extra_objs: Vec<PathBuf> = Vec::new();
+    if !copies.is_empty() {
+        let gsrc = obj.join("bs9_gcopy.f90");
+        std::fs::write(&gsrc, shim::gcopy_source()).map_err(|e| SphError::Io(format!("{}: {e}", gsrc.display())))?;
+        let gobj = obj.join("bs9_gcopy.o");
+        let (ok, _, se) = log.run(
+            Command::new("gfortran")
+                .arg("-c")
+                .args(&free)
+                .arg(format!("-J{}", obj.join("mod").display()))
+                .arg("-o")
+                .arg(&gobj)
+                .arg(&gsrc),
+        )?;
+        if !ok {
+            return Err(fail(format!("the generated copy module does not compile: {}", first_error(&se))));
+        }
+        extra_objs.push(gobj);
+        let items: Vec<shim::GlobalCopy> = copies.iter().map(|(_, _, c)| c.clone()).collect();
+        // which attempt's error to report: the free form's when every include is a free-form file
+        let all_free = !m.global_includes.is_empty()
+            && m.global_includes
+                .iter()
+                .all(|(_, p)| p.extension().and_then(|e| e.to_str()).is_some_and(|e| manifest::FREE_FORM.contains(&e)));
+        let mut errors = Vec::new();
+        let mut built = None;
+        for fixed_try in [true, false] {
+            let (text, spans) = shim::globals_source(&items, fixed_try);
+            let src = obj.join(if fixed_try { "blastsph_globals.f" } else { "blastsph_globals.f90" });
+            std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
+            let o = obj.join("blastsph_globals.o");
+            let (ok, _, se) = log.run(
+                Command::new("gfortran")
+                    .arg("-c")
+                    .args(if fixed_try { &fixed } else { &free })
+                    .args(&incs)
+                    .arg(format!("-I{}", m.dir.display()))
+                    .arg(format!("-J{}", obj.join("mod").display()))
+                    .arg("-o")
+                    .arg(&o)
+                    .arg(&src),
+            )?;
+            if ok {
+                built = Some(o);
+                break;
+            }
+            // the global whose copy routine the first error is in
+            let file = src.file_name().and_then(|f| f.to_str()).unwrap_or_default().to_string();
+            let line = se.lines().find_map(|l| {
+                let rest = l.split_once(&format!("{file}:"))?.1;
+                rest.split(':').next()?.parse::<usize>().ok()
+            });
+            let which = line.and_then(|n| spans.iter().position(|(a, b)| (*a..=*b).contains(&n)));
+            let e = first_error(&se);
+            errors.push(match which {
+                Some(q) => {
+                    let (rname, vname, c) = &copies[q];
+                    let from = match &c.site {
+                        shim::Site::Include(i) => format!("include '{i}'"),
+                        shim::Site::Module(n) => format!("module {n}"),
+                    };
+                    let kind = match c.kind {
+                        Kind::Real => "double precision",
+                        Kind::Int => "a default integer",
+                    };
+                    format!("routine {rname}: global `{}` (\"{vname}\", {kind}) from {from}: {e}", c.var)
+                }
+                None => e,
+            });
+        }
+        let Some(o) = built else {
+            let e = if all_free { errors.pop() } else { errors.into_iter().next() };
+            return Err(fail(format!("the globals' copy routines do not compile: {}", e.unwrap_or_default())));
+        };
+        extra_objs.push(o);
     }
 
     // the shims
@@ -880,8 +1155,16 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let lib = out.join(LIBRARY);
     let lib_objs: Vec<&PathBuf> = objects.iter().zip(&is_program).filter(|(_, p)| !**p).map(|(o, _)| o).collect();
     let link: Vec<String> = LINK_FLAGS.iter().map(|s| s.to_string()).collect();
-    let (ok, _, se) =
-        log.run(Command::new("gfortran").args(&link).args(&free).arg("-o").arg(&lib).args(&lib_objs).arg(&shim_obj))?;
+    let (ok, _, se) = log.run(
+        Command::new("gfortran")
+            .args(&link)
+            .args(&free)
+            .arg("-o")
+            .arg(&lib)
+            .args(&lib_objs)
+            .args(&extra_objs)
+            .arg(&shim_obj),
+    )?;
     if !ok {
         return Err(fail(format!("the library does not link: {}", first_error(&se))));
     }

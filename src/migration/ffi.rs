@@ -458,6 +458,9 @@ impl Routine<'_> {
                 )))
             }
             shim::BAD_PAIR => Err(err("a pair index lies outside the particles".into())),
+            shim::NOT_ALLOCATED => Err(err(
+                "an allocatable module variable among its globals is not allocated (allocate it in a routine mapped as module = \"init\")".into(),
+            )),
             s => Err(err(format!("the shim returned status {s}"))),
         }
     }

@@ -18,7 +18,11 @@
 //!                                # routine that fills COMMON blocks, called once before the rest
 //! args = ["ntotal", "hsml", ...] # one vocabulary name per dummy argument, in order
 //! # call = "each_particle"       # or "each_pair"; whole arrays by default
+//! # globals = { dens = "rho" }   # variables in COMMON blocks or modules: legacy name → vocabulary
 //! ```
+//!
+//! with, at the top, `global_includes = ["common.inc"]` (the include files that declare the
+//! globals' COMMON blocks) or `global_modules = ["particles"]` (modules of the sources).
 //!
 //! Every problem is one line naming the file and the key, an input error (exit status 2).
 
@@ -50,6 +54,12 @@ struct RawManifest {
     itype: std::collections::BTreeMap<String, i32>,
     #[serde(default)]
     run_dirs: Vec<String>,
+    /// Include files that declare the COMMON blocks the routines' `globals` live in.
+    #[serde(default)]
+    global_includes: Vec<String>,
+    /// Fortran modules of the sources whose variables the routines' `globals` are.
+    #[serde(default)]
+    global_modules: Vec<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -65,9 +75,15 @@ struct RawParamNames {
 struct RawRoutine {
     name: String,
     module: String,
+    /// Absent: the routine has no arguments (its variables are `globals`, or it takes none).
+    #[serde(default)]
     args: Vec<String>,
     #[serde(default)]
     call: Option<String>,
+    /// The routine's variables that are not arguments (in a COMMON block of `global_includes`, or
+    /// of a module of `global_modules`): legacy name → vocabulary name.
+    #[serde(default)]
+    globals: std::collections::BTreeMap<String, String>,
 }
 
 /// The names of the three compile-time parameters in the user's include file.
@@ -85,6 +101,17 @@ pub struct Arg {
     pub term: &'static Term,
 }
 
+/// A variable a routine reads or writes that is not one of its arguments: a member of a COMMON
+/// block (declared in one of the manifest's `global_includes`) or a variable of a Fortran module
+/// (one of `global_modules`). The shim copies blastsph's array into it before the call and back
+/// after, as it does its argument buffers.
+#[derive(Debug, Clone)]
+pub struct Global {
+    /// The variable's name in the legacy code, lower case.
+    pub var: String,
+    pub term: &'static Term,
+}
+
 /// One mapped routine.
 #[derive(Debug, Clone)]
 pub struct Routine {
@@ -93,6 +120,9 @@ pub struct Routine {
     pub modules: Vec<String>,
     pub call: CallMode,
     pub args: Vec<Arg>,
+    /// Its variables in COMMON blocks or modules (whole-array calls only), in the manifest's
+    /// order of their legacy names.
+    pub globals: Vec<Global>,
 }
 
 /// What blastsph passes to a routine's shim, in order: a vocabulary name with its whole-array shape.
@@ -115,7 +145,10 @@ impl Routine {
         };
         let whole = |n: &str| vocab::lookup(n).expect("vocabulary name");
         match self.call {
-            CallMode::Whole => self.args.iter().for_each(|a| push(a.term)),
+            CallMode::Whole => {
+                self.args.iter().for_each(|a| push(a.term));
+                self.globals.iter().for_each(|g| push(g.term));
+            }
             CallMode::EachParticle => {
                 push(whole("ntotal"));
                 self.args.iter().for_each(|a| push(a.term));
@@ -159,6 +192,11 @@ pub struct Manifest {
     /// folders your code opens files in, relative to where your program runs (the book's
     /// `input` and `output` open `./TEST/data/...`).
     pub run_dirs: Vec<String>,
+    /// The include files of the routines' globals: the name as an `include` line writes it, and
+    /// the file found (in `include_dirs`, else beside the manifest).
+    pub global_includes: Vec<(String, PathBuf)>,
+    /// The modules of the routines' globals, lower case.
+    pub global_modules: Vec<String>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -391,7 +429,67 @@ pub fn load(path: &Path) -> Result<Manifest> {
         if call == CallMode::EachParticle && args.iter().any(|a| a.term.name == "ntotal") {
             return Err(err(&format!("{key}.args"), "an each_particle call takes one particle: no \"ntotal\"".into()));
         }
-        routines.push(Routine { name, modules, call, args });
+        let mut globals: Vec<Global> = Vec::new();
+        for (v, n) in &r.globals {
+            let gkey = format!("{key}.globals.{v}");
+            let var = v.trim().to_ascii_lowercase();
+            if !is_ident(&var) {
+                return Err(err(&gkey, format!("\"{v}\" is not a Fortran name")));
+            }
+            if call != CallMode::Whole {
+                return Err(err(
+                    &gkey,
+                    format!(
+                        "globals are copied in and out once per call: a {} call cannot take them (map a whole-array routine)",
+                        call.name()
+                    ),
+                ));
+            }
+            let written = n.trim().to_ascii_lowercase();
+            let term = vocab::lookup(&written).ok_or_else(|| {
+                err(&gkey, format!("unknown name \"{n}\" (see the argument table of docs/migration.md)"))
+            })?;
+            if args.iter().any(|a| a.term.name == term.name) {
+                return Err(err(&gkey, format!("\"{n}\" is also an argument of the routine")));
+            }
+            if let Some(o) = globals.iter().find(|g| g.term.name == term.name) {
+                return Err(err(&gkey, format!("\"{n}\" is also the global {}", o.var)));
+            }
+            globals.push(Global { var, term });
+        }
+        if !globals.is_empty() && raw.global_includes.is_empty() && raw.global_modules.is_empty() {
+            return Err(err(
+                &format!("{key}.globals"),
+                "name the include file of their COMMON blocks (global_includes) or their module (global_modules)"
+                    .into(),
+            ));
+        }
+        routines.push(Routine { name, modules, call, args, globals });
+    }
+
+    let mut global_includes = Vec::new();
+    for g in &raw.global_includes {
+        let name = g.trim();
+        if name.is_empty() || name.len() > 50 || name.chars().any(|c| c.is_control() || c == '\'' || c == '"') {
+            return Err(err("global_includes", format!("\"{g}\" is not a file name an include line can give")));
+        }
+        let found =
+            include_dirs.iter().map(|d| d.join(name)).chain(std::iter::once(dir.join(name))).find(|p| p.is_file());
+        let Some(found) = found else {
+            return Err(err(
+                "global_includes",
+                format!("\"{g}\" is in none of include_dirs (nor beside the manifest)"),
+            ));
+        };
+        global_includes.push((name.to_string(), found));
+    }
+    let mut global_modules = Vec::new();
+    for g in &raw.global_modules {
+        let name = g.trim().to_ascii_lowercase();
+        if !is_ident(&name) {
+            return Err(err("global_modules", format!("\"{g}\" is not a Fortran module name")));
+        }
+        global_modules.push(name);
     }
 
     for d in &raw.run_dirs {
@@ -415,6 +513,8 @@ pub fn load(path: &Path) -> Result<Manifest> {
         routines,
         itype: raw.itype.clone(),
         run_dirs: raw.run_dirs.clone(),
+        global_includes,
+        global_modules,
     })
 }
 
