@@ -1129,3 +1129,93 @@ fn globals_that_are_not_declared_or_of_another_type_or_rank_are_refused() {
     let e = refused("g_badname", "global_includes = [\"avstate.inc\"]", "globals = { \"x(1)\" = \"x\" }", AVSTATE_INC);
     assert!(e.contains("\"x(1)\" is not a Fortran name"), "{e}");
 }
+
+/// A plane-strain routine that keeps the velocity and the kernel gradient in one array per
+/// component (`up(maxn)`, `wp(maxn)`, `dwx(max_interaction)`, `dwy(max_interaction)`) is mapped
+/// with the components' names (`vx_1`, `vx_2`, `dwdx_1`, `dwdx_2`) and compares as the same
+/// routine with whole vectors: every dim-th value, in 2D, where a stride slip would show.
+#[test]
+fn a_routine_with_one_array_per_component_is_mapped_by_the_components_names() {
+    let d = strength_fixture("strength_split");
+    let f = d.join("strain.f");
+    let t = std::fs::read_to_string(&f).unwrap();
+    let mut split = t.clone();
+    for (a, b) in [
+        ("pair_j, dwdx, mass,", "pair_j, mass,"),
+        ("     &   rho, vx, itype,", "     &   dwx, dwy, rho, up, wp,\n     &   itype,"),
+        ("dwdx(dim, max_interaction), ", ""),
+        ("vx(dim, maxn), ", ""),
+        (
+            "      include 'soil.inc'\n",
+            "      include 'soil.inc'\n      double precision up(maxn), wp(maxn), dwx(max_interaction),\n     &  dwy(max_interaction)\n",
+        ),
+        ("vx(1,", "up("),
+        ("vx(2,", "wp("),
+        ("dwdx(1,k)", "dwx(k)"),
+        ("dwdx(2,k)", "dwy(k)"),
+    ] {
+        assert!(split.contains(a), "strain.f holds {a}");
+        split = split.replace(a, b);
+    }
+    assert!(!split.contains("vx(") && !split.contains("dwdx("), "every use rewritten");
+    std::fs::write(&f, split).unwrap();
+    let m = d.join("legacy.toml");
+    let mt = std::fs::read_to_string(&m).unwrap();
+    let old = "\"pair_j\", \"dwdx\", \"mass\", \"rho\", \"vx\", \"itype\",";
+    assert!(mt.contains(old), "{mt}");
+    let with = |names: &str| mt.replace(old, names);
+    std::fs::write(&m, with("\"pair_j\", \"mass\", \"dwdx_1\", \"dwdx_2\", \"rho\", \"vx_1\", \"vx_2\", \"itype\","))
+        .unwrap();
+    build(&m, &d.join("build")).expect("the split-array variant builds");
+    let out = d.join("dual");
+    let lg = d.join("build");
+    let o = blastsph(&[
+        "dual",
+        "cases/hard/soil_spall.toml",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--steps",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(0), "{so}{se}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for field in ["eps", "rot", "dtau", "dde"] {
+        let r = row(&rows, "legacy.strain_rate", field);
+        assert!(r["compared"].as_u64().unwrap() > 0 && r["max_ulp"].as_u64() == Some(0), "{r}");
+    }
+    // the components with the y's and x's swapped: the shear and rotation rates differ
+    std::fs::write(&m, with("\"pair_j\", \"mass\", \"dwdx_2\", \"dwdx_1\", \"rho\", \"vx_1\", \"vx_2\", \"itype\","))
+        .unwrap();
+    build(&m, &d.join("swapped")).expect("the swapped variant builds");
+    let out = d.join("dual_swapped");
+    let lg = d.join("swapped");
+    let o = blastsph(&[
+        "dual",
+        "cases/hard/soil_spall.toml",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--steps",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stdout));
+    // refused: a third component in 2D; a vector beside its own component
+    for (names, want) in [
+        (
+            "\"pair_j\", \"dwdx_1\", \"dwdx_3\", \"mass\", \"rho\", \"vx_1\", \"vx_2\", \"itype\",",
+            "\"dwdx_3\" is component 3 of dwdx, but this build has dim = 2",
+        ),
+        (
+            "\"pair_j\", \"dwdx_1\", \"dwdx\", \"mass\", \"rho\", \"vx_1\", \"vx_2\", \"itype\",",
+            "\"dwdx_1\" is a component of \"dwdx\"",
+        ),
+    ] {
+        std::fs::write(&m, with(names)).unwrap();
+        let e = blastsph::migration::manifest::load(&m).expect_err("refused").to_string();
+        assert!(e.contains(want), "{e}");
+    }
+}

@@ -4,6 +4,7 @@
 //! code keeps from call to call (`t`, `eta`, `tdsdt`, `countiac`, ...: one array per name, shared
 //! by every routine of the build, as the arrays of the book's `single_step` are).
 
+use super::vocab::vector_component;
 use crate::modules::Slots;
 use crate::modules::param::NSTR;
 use crate::state::{Field, Particles, Work};
@@ -34,6 +35,12 @@ pub fn field_of(name: &str) -> Option<Field> {
         "dsxx" | "dsyy" | "dszz" | "dsxy" | "dsxz" | "dsyz" => Dtau,
         "epsxx" | "epsyy" | "epszz" | "epsxy" | "epsxz" | "epsyz" => Eps,
         "rxy" | "rxz" | "ryz" => Rot,
+        n if super::vocab::vector_component(n).is_some() => match super::vocab::vector_component(n)?.0 {
+            "x" => X,
+            "vx" => V,
+            "dvxdt" => Acc,
+            _ => Dwdx,
+        },
         "pair_i" => PairI,
         "pair_j" => PairJ,
         "niac" => PairI,
@@ -88,6 +95,12 @@ pub struct Ctx<'a> {
     pub pbuf: usize,
     /// The legacy code's work arrays, by name.
     pub scratch: &'a mut HashMap<String, Buf>,
+}
+
+fn grow(v: &mut Vec<f64>, n: usize) {
+    if v.len() < n {
+        v.resize(n, 0.0);
+    }
 }
 
 fn padded<T: Copy + Default>(src: &[T], len: usize) -> Vec<T> {
@@ -151,6 +164,24 @@ pub fn gather(name: &str, vec: bool, per_pair: bool, c: &mut Ctx, p: &Particles,
         "v_min" => r(&w.v_min),
         "u_min" => r(&w.e_min),
         "rho_min" => r(&w.rho_min),
+        n if vector_component(n).is_some() => {
+            // one component of a vector: every dim-th value from the component's, as many rows
+            // as the vector holds (particles, or pairs for dwdx)
+            let (base, k) = vector_component(n).expect("a component");
+            let src: &[f64] = match base {
+                "x" => &p.x,
+                "vx" => &p.v,
+                "dvxdt" => w.acc.get(c.slots.acc_range(dim * nt)).unwrap_or(&[]),
+                _ => &w.dwdx,
+            };
+            let mut v = vec![0.0; len];
+            if k < dim {
+                for (r, slot) in v.iter_mut().enumerate().take(src.len() / dim) {
+                    *slot = src[k + dim * r];
+                }
+            }
+            Buf::R(v)
+        }
         n if n.starts_with("ds") && component(n).is_some() => Buf::R(strided(&w.dtau, component(n).unwrap())),
         n if n.starts_with("eps") && component(n).is_some() => Buf::R(strided(&w.eps, component(n).unwrap())),
         n if n.starts_with('s') && component(n).is_some() => Buf::R(strided(&p.tau, component(n).unwrap())),
@@ -215,6 +246,35 @@ pub fn scatter(name: &str, b: Buf, writes: &[Field], c: &mut Ctx, p: &mut Partic
         ("v_min", Buf::R(v)) => put(&mut w.v_min, &v, dim * p.nreal),
         ("u_min", Buf::R(v)) => put(&mut w.e_min, &v, p.nreal),
         ("rho_min", Buf::R(v)) => put(&mut w.rho_min, &v, p.nreal),
+        (n, Buf::R(v)) if vector_component(n).is_some() => {
+            let (base, k) = vector_component(n).expect("a component");
+            if k >= dim {
+                return;
+            }
+            let rows = if base == "dwdx" { np } else { nt };
+            let dst: &mut [f64] = match base {
+                "x" => {
+                    grow(&mut p.x, dim * nt);
+                    &mut p.x[..dim * nt]
+                }
+                "vx" => {
+                    grow(&mut p.v, dim * nt);
+                    &mut p.v[..dim * nt]
+                }
+                "dvxdt" => {
+                    let r = c.slots.acc_range(dim * nt);
+                    &mut w.acc[r]
+                }
+                _ => {
+                    // the pairs a search leaves: the other components follow in their own scatter
+                    w.dwdx.resize(dim * np, 0.0);
+                    &mut w.dwdx[..]
+                }
+            };
+            for r in 0..rows.min(v.len()) {
+                dst[k + dim * r] = v[r];
+            }
+        }
         (n, Buf::R(v)) => {
             if let Some((k, stride)) = component(n) {
                 let dst = match f {

@@ -457,6 +457,26 @@ pub fn load(path: &Path) -> Result<Manifest> {
             }
             globals.push(Global { var, term });
         }
+        // a vector's components: within the build's dim, and not beside the whole vector
+        let names: Vec<&str> = args.iter().map(|a| a.term.name).chain(globals.iter().map(|g| g.term.name)).collect();
+        for n in &names {
+            if let Some((base, k)) = vocab::vector_component(n) {
+                if k >= raw.dim as usize {
+                    return Err(err(
+                        &key,
+                        format!("\"{n}\" is component {} of {base}, but this build has dim = {}", k + 1, raw.dim),
+                    ));
+                }
+                if names.contains(&base) {
+                    return Err(err(
+                        &key,
+                        format!(
+                            "\"{n}\" is a component of \"{base}\", which the routine also takes whole: give one or the other"
+                        ),
+                    ));
+                }
+            }
+        }
         if !globals.is_empty() && raw.global_includes.is_empty() && raw.global_modules.is_empty() {
             return Err(err(
                 &format!("{key}.globals"),

@@ -228,7 +228,32 @@ pub const TERMS: &[Term] = &[
     t!("w", &[], Real, Pair, NB, "1/m^dim", "kernel W_ij of each pair, Work::w", InOut, "out of the searches, in to sum_density, av_vel"),
     t!("dwdx", &[], Real, PairVec, NB, "1/m^(dim+1)", "kernel gradient ∇_i W_ij of each pair, Work::dwdx", InOut,
       "out of the searches, in to every force routine"),
+    // one component of a vector, for codes that keep one array per component (xp, yp, zp)
+    t!("x_1", &[], Real, Particle, NB, "m", "position's first component, Particles::x[0 + dim*i]", InOut, "split-array codes"),
+    t!("x_2", &[], Real, Particle, NB, "m", "position's second component, Particles::x[1 + dim*i] (dim ≥ 2)", InOut, "split-array codes"),
+    t!("x_3", &[], Real, Particle, NB, "m", "position's third component, Particles::x[2 + dim*i] (dim 3)", InOut, "split-array codes"),
+    t!("vx_1", &[], Real, Particle, NB, "m/s", "velocity's first component, Particles::v[0 + dim*i]", InOut, "split-array codes"),
+    t!("vx_2", &[], Real, Particle, NB, "m/s", "velocity's second component (dim ≥ 2)", InOut, "split-array codes"),
+    t!("vx_3", &[], Real, Particle, NB, "m/s", "velocity's third component (dim 3)", InOut, "split-array codes"),
+    t!("dvxdt_1", &[], Real, Particle, NB, "m/s²", "first component of the routine's own acceleration (its term of Work::acc)", Out, "split-array codes"),
+    t!("dvxdt_2", &[], Real, Particle, NB, "m/s²", "second component of the routine's own acceleration (dim ≥ 2)", Out, "split-array codes"),
+    t!("dvxdt_3", &[], Real, Particle, NB, "m/s²", "third component of the routine's own acceleration (dim 3)", Out, "split-array codes"),
+    t!("dwdx_1", &[], Real, Pair, NB, "1/m^(dim+1)", "first component of each pair's kernel gradient, Work::dwdx[0 + dim*k]", InOut, "split-array codes"),
+    t!("dwdx_2", &[], Real, Pair, NB, "1/m^(dim+1)", "second component of each pair's kernel gradient (dim ≥ 2)", InOut, "split-array codes"),
+    t!("dwdx_3", &[], Real, Pair, NB, "1/m^(dim+1)", "third component of each pair's kernel gradient (dim 3)", InOut, "split-array codes"),
 ];
+
+/// A vector's component name (`x_2`): the vector's name and the 0-based component.
+pub fn vector_component(name: &str) -> Option<(&'static str, usize)> {
+    let (base, k) = name.rsplit_once('_')?;
+    let k: usize = match k {
+        "1" => 0,
+        "2" => 1,
+        "3" => 2,
+        _ => return None,
+    };
+    ["x", "vx", "dvxdt", "dwdx"].into_iter().find(|b| *b == base).map(|b| (b, k))
+}
 
 /// The names of an `each_pair` call: what the book's `direct_find` hands to `kernel` for pair k.
 #[rustfmt::skip]
