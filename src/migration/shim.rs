@@ -12,6 +12,9 @@
 //! allocated once and kept), adding 1 to 1-based indices (`pair_i`, `pair_j`, `mat`), calls the
 //! routine on the buffers — once, per particle or per pair — and copies every buffer back
 //! (subtracting 1 again). Per-pair arrays come back only up to the `niac` the routine leaves.
+//! A routine's globals (COMMON or module variables, [`super::manifest::Global`]) have buffers
+//! as arguments do; the shim copies each buffer into its variable through a generated routine
+//! ([`globals_source`]) before the call, and the variable back into the buffer after it.
 //!
 //! Status: 0 done; 1 an array is larger than its legacy buffer; 2 a loop count (ntotal, niac)
 //! outside the buffers; 3 the routine found more pairs than blastsph's arrays hold (the first
