@@ -350,7 +350,9 @@ pub fn ignored_keys(case: &Case) -> Vec<String> {
 /// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
 /// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
 /// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's
-/// base and top (z) and the planes of its `lo_m`/`hi_m` that cut it; a sphere is round.
+/// base and top (z) and the planes of its `lo_m`/`hi_m` that cut it; a sphere is round; a
+/// `keep_below` plane normal to an axis is a face where it cuts the box's or cylinder's span
+/// (an inclined one cuts the lattice in a staircase and is not checked).
 pub fn seam_warnings(case: &Case) -> Vec<String> {
     use crate::case::Shape;
     let d = case.dim;
@@ -364,6 +366,20 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
             let Some(cut) = case.regions.iter().find(|r| &r.name == name) else { continue };
             // the flat faces: (axis, coordinate)
             let mut faces: Vec<(usize, f64)> = Vec::new();
+            // a keep_below plane normal to an axis is a face where it cuts the shape's span on
+            // that axis
+            let clip_faces = |faces: &mut Vec<(usize, f64)>, span: &dyn Fn(usize) -> (f64, f64)| {
+                for c in &cut.keep_below {
+                    let axes: Vec<usize> = (0..d.min(c.normal.len())).filter(|&a| c.normal[a] != 0.0).collect();
+                    if let [a] = axes[..]
+                        && let Some(&f) = c.point_m.get(a)
+                        && f > span(a).0
+                        && f < span(a).1
+                    {
+                        faces.push((a, f));
+                    }
+                }
+            };
             match cut.shape {
                 Shape::Box => {
                     if let (Some(l), Some(h)) = (&cut.lo_m, &cut.hi_m) {
@@ -371,6 +387,7 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
                             faces.push((a, l[a]));
                             faces.push((a, h[a]));
                         }
+                        clip_faces(&mut faces, &|a| (l[a], h[a]));
                     }
                 }
                 Shape::Cylinder if d == 3 => {
@@ -389,6 +406,7 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
                                 }
                             }
                         }
+                        clip_faces(&mut faces, &|a| span[a]);
                     }
                 }
                 _ => {}
@@ -415,9 +433,10 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
     out
 }
 
-/// Each explosive region (JWL) shaped as a box, cylinder or sphere, with no `subtract` and no
-/// `mass_kg` of its own (a mass the case sets is the user's choice: the thesis's C4 charge holds
-/// 6.4/6 of its box on purpose), whose particles hold more than 2 % more or less mass than the
+/// Each explosive region (JWL) shaped as a box, cylinder or sphere, with no `subtract`, no
+/// `keep_below` planes (the clipped shape's volume is not computed) and no `mass_kg` of its own
+/// (a mass the case sets is the user's choice: the thesis's C4 charge holds 6.4/6 of its box on
+/// purpose), whose particles hold more than 2 % more or less mass than the
 /// shape (its volume, clipped to its `lo_m`/`hi_m`, times the region's density; in RZ the volume
 /// of revolution, in 2D plane per metre): one line each. A lattice fills a round shape by whole
 /// cells (a staircase), and a box by whole spacings from its corner: a charge of 2 spacings per
@@ -433,6 +452,7 @@ pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<S
         let mc = &case.materials[m];
         if !matches!(mc.eos, EosCfg::Jwl { .. })
             || !rc.subtract.is_empty()
+            || !rc.keep_below.is_empty()
             || rc.mass_kg.is_some()
             || !matches!(rc.shape, Shape::Box | Shape::Cylinder | Shape::Sphere)
         {
@@ -1012,21 +1032,30 @@ mod tests {
 
     #[test]
     fn a_charge_cut_out_of_the_soil_off_its_cell_faces_warns_of_the_seam() {
-        let scene = |top: &str| {
+        let clipped = |top: &str, clip: &str| {
             let text = format!(
                 "dim = 2\ngeometry = \"axisymmetric\"\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
                  [[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n\
-                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, -0.299]\nhi_m = [0.046, {top}]\nspacing_m = 0.023\n\
+                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, -0.299]\nhi_m = [0.046, {top}]\nspacing_m = 0.023\n{clip}\n\
                  [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, -1.012]\nhi_m = [1.012, 0.0]\nspacing_m = 0.023\nsubtract = [\"charge\"]\n"
             );
             seam_warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
         };
+        let scene = |top: &str| clipped(top, "");
         // on the soil's cell faces (-0.207 = -1.012 + 35 x 0.023): no seam
         assert!(scene("-0.207").is_empty());
         // 0.2 m under the ground is 35.304 spacings from the soil's bottom
         let w = scene("-0.2");
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].contains("z = -0.2 m") && w[0].contains("35.304 spacings"), "{w:?}");
+        // a keep_below plane normal to the axis is a face: on the soil's cells (-0.23 = -1.012 +
+        // 34 x 0.023) no seam, off them (-0.25: 33.130 spacings) a seam; an inclined plane is
+        // not checked
+        let plane = |z: &str, n: &str| format!("keep_below = [{{ point_m = [0.0, {z}], normal = {n} }}]");
+        assert!(clipped("-0.207", &plane("-0.23", "[0.0, 1.0]")).is_empty());
+        let w = clipped("-0.207", &plane("-0.25", "[0.0, 1.0]"));
+        assert!(w.len() == 1 && w[0].contains("z = -0.25 m") && w[0].contains("33.130 spacings"), "{w:?}");
+        assert!(clipped("-0.207", &plane("-0.25", "[1.0, 1.0]")).is_empty());
         // 3D: a quarter cylinder's clip planes through its axis and a loose clip beside it are no
         // seam; its base off the soil's cells is
         let quarter = |base: &str, hi: &str| {

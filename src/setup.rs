@@ -127,8 +127,20 @@ fn point_in_polygon(p: &[f64], poly: &[Vec<f64>]) -> bool {
     inside
 }
 
-/// Is point `p` inside the shape of region `r`?
+/// Is point `p` inside the shape of region `r`, clipped by its `keep_below` planes (every plane's
+/// (p − point_m)·n̂ ≤ 0)?
 pub(crate) fn inside(case: &Case, r: usize, p: &[f64]) -> bool {
+    inside_shape(case, r, p) && kept_by_planes(&case.regions[r], p)
+}
+
+/// Is `p` on the kept side of every `keep_below` plane of the region, (p − point_m)·n̂ ≤ 0 (m)?
+/// True for a region without planes.
+pub(crate) fn kept_by_planes(rc: &crate::case::RegionCfg, p: &[f64]) -> bool {
+    rc.keep_below.iter().all(|c| c.keeps(p))
+}
+
+/// Is point `p` inside the shape of region `r`, its `keep_below` planes left out?
+fn inside_shape(case: &Case, r: usize, p: &[f64]) -> bool {
     let rc = &case.regions[r];
     let d = case.dim;
     match rc.shape {
@@ -268,8 +280,8 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
     };
     let keep = |p: &[f64; 3]| -> bool {
         let shaped = matches!(rc.shape, Shape::Polygon | Shape::Cylinder | Shape::Sphere);
-        // axisymmetric: x is the radius, r >= 0
-        (!shaped || inside(case, r, p)) && !(case.axisymmetric() && p[0] < 0.0)
+        // axisymmetric: x is the radius, r >= 0; the keep_below planes clip every shape
+        (!shaped || inside_shape(case, r, p)) && kept_by_planes(rc, p) && !(case.axisymmetric() && p[0] < 0.0)
     };
     // bounded by the size check; the product is checked all the same
     let cap = cnt[0].checked_mul(cnt[1]).and_then(|c| c.checked_mul(cnt[2])).unwrap_or(0);
@@ -322,8 +334,21 @@ fn generate(case: &Case) -> Result<Initial> {
         let pts: Vec<[f64; 3]> =
             lattice_points(case, r)?.into_iter().filter(|p| !cut.iter().any(|&c| inside(case, c, p))).collect();
         if pts.is_empty() {
+            if !rc.keep_below.is_empty() {
+                // the same lattice without the planes: did they remove it all?
+                let mut bare = case.clone();
+                bare.regions[r].keep_below.clear();
+                let shaped = lattice_points(&bare, r)?;
+                if !shaped.is_empty() {
+                    return Err(input(format!(
+                        "region[{r}] ({}).keep_below: the planes leave none of the shape's {} lattice points (each keeps the side (x - point_m).normal <= 0; the normal points out of the kept side: is one reversed?)",
+                        rc.name,
+                        shaped.len()
+                    )));
+                }
+            }
             return Err(input(format!(
-                "region[{r}] ({}): holds no particles (is spacing_m = {} larger than the region, or is it all cut out?)",
+                "region[{r}] ({}): holds no particles (is spacing_m = {} larger than the region, or is it all cut out by subtract or keep_below?)",
                 rc.name, rc.spacing_m
             )));
         }

@@ -80,6 +80,27 @@ fn refinement_of_a_lattice_keeps_its_cells() {
     assert_eq!(count(&c).0, 40 * 16);
 }
 
+/// A region clipped by `keep_below` keeps its plane under refinement (a place, not a count of
+/// spacings): the 2D box [0, 1]² under the line x + y = 0.57 keeps the cells with
+/// i + j ≤ M, M = ⌊0.57/Δx⌋ − 1 (no node on the line at these spacings), (M + 1)(M + 2)/2 of
+/// them at every k: 15, 66, 253 at Δx = 0.1, 0.05, 0.025 — not 15 k².
+#[test]
+fn refinement_keeps_a_regions_clip_planes() {
+    let body = "dim = 2\n[time]\nend_s = 1e-3\n[[material]]\nname = \"w\"\neos = { kind = \"ideal_gas\", gamma = 1.4, rho0_kgm3 = 1.0 }\n\
+                [[region]]\nname = \"a\"\nmaterial = \"w\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [1.0, 1.0]\nspacing_m = 0.1\n\
+                keep_below = [{ point_m = [0.57, 0.0], normal = [1.0, 1.0] }]\n";
+    for (k, want) in [(1.0, 15usize), (2.0, 66), (4.0, 253)] {
+        let (c, sets) = bench::refine(body, "clip", Some("clip"), &[], k).unwrap();
+        assert!(sets.iter().all(|s| !s.contains("keep_below")), "{sets:?}");
+        let r = &c.regions[0];
+        assert_eq!(r.keep_below.len(), 1);
+        assert_eq!((&r.keep_below[0].point_m[..], &r.keep_below[0].normal[..]), (&[0.57, 0.0][..], &[1.0, 1.0][..]));
+        let m = (0.57 / r.spacing_m).floor() as usize - 1;
+        assert_eq!((m + 1) * (m + 2) / 2, want, "k = {k}");
+        assert_eq!(count(&c).0, want, "k = {k}");
+    }
+}
+
 #[test]
 fn refinement_of_a_blast_scales_the_particles_and_keeps_the_scene() {
     let (base, _) = refined("surface_loose_tnt6.toml", 1.0);

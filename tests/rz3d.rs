@@ -478,3 +478,260 @@ fn rz_and_3d_compact_charge_on_dense_sand_agree_at_23_mm() {
 fn rz_and_3d_compact_charge_on_dense_sand_agreement_shrinks_with_resolution() {
     assert_rz_3d_converge(true, &Within { peak: 0.14, arrival: 0.05, impulse: 0.07, diameter: 0.07, depth: 0.05 });
 }
+
+/// A case of one gas with the regions `regions` (TOML text) in `dim` dimensions (`geometry`
+/// "plane" or "axisymmetric").
+fn gas_case(dim: usize, geometry: &str, regions: &str) -> String {
+    format!(
+        "dim = {dim}\ngeometry = \"{geometry}\"\n[time]\nend_s = 1e-3\n[[material]]\nname = \"gas\"\n\
+         eos = {{ kind = \"ideal_gas\", gamma = 1.4, rho0_kgm3 = 1.0 }}\n{regions}"
+    )
+}
+
+/// A box region `name` of the gas over [0, 1]^dim at Δx = 0.05 (20 cells an axis), with extra
+/// keys `more` (a `keep_below`, a `subtract`).
+fn unit_box(name: &str, dim: usize, more: &str) -> String {
+    let v = |x: f64| format!("[{}]", vec![format!("{x}"); dim].join(", "));
+    format!(
+        "[[region]]\nname = \"{name}\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = {}\nhi_m = {}\nspacing_m = 0.05\n{more}\n",
+        v(0.0),
+        v(1.0)
+    )
+}
+
+/// The cells of the unit box's 20^3 lattice (centres (i + 1/2) Δx, Δx = 0.05) under the plane
+/// n·(x − p) = 0 with n_z > 0, counted column by column: in column (i, j) the plane stands at
+/// z_max = p_z − (n_x (x − p_x) + n_y (y − p_y))/n_z, and the column keeps the k = 0 … 19 with
+/// (k + 1/2) Δx ≤ z_max, i.e. min(20, max(0, ⌊z_max/Δx − 1/2⌋ + 1)) of them.
+fn cells_under(p: [f64; 3], n: [f64; 3]) -> usize {
+    let dx = 0.05;
+    let mut count = 0;
+    for i in 0..20 {
+        for j in 0..20 {
+            let (x, y) = ((f64::from(i) + 0.5) * dx, (f64::from(j) + 0.5) * dx);
+            let zmax = p[2] - (n[0] * (x - p[0]) + n[1] * (y - p[1])) / n[2];
+            count += ((zmax / dx - 0.5).floor() + 1.0).clamp(0.0, 20.0) as usize;
+        }
+    }
+    count
+}
+
+/// `keep_below` clips a region's lattice to the half-spaces (x − point_m)·n ≤ 0: counted
+/// against the plane's own column formula (an inclined plane through no lattice node), against
+/// counts exact by construction (a 45° plane x + y ≤ 10.5 Δx keeps the 55 columns with
+/// i + j ≤ 9; a ridge of two planes keeps 110 columns' worth), in 3D, 2D, RZ (the plane a cone
+/// there, its rings' mass summed by hand) and 1D, and a disc halved; every particle kept lies on
+/// the kept side.
+#[test]
+fn keep_below_clips_any_region_to_its_half_spaces() {
+    let count = |text: &str| -> Vec<usize> {
+        let c = case::parse(text, "t.toml", &[], Some("t")).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        blastsph::setup::particles(&c).expect("particles").counts
+    };
+    // an inclined plane, normal (1, 2, 3) (not unit: it is normalised), through no node
+    let (p, n) = ([0.5, 0.5, 0.5123], [1.0, 2.0, 3.0]);
+    let want = cells_under(p, n);
+    assert!(want > 1000 && want < 7000, "a real cut: {want} of 8000");
+    let plane = format!("keep_below = [{{ point_m = {p:?}, normal = {n:?} }}]");
+    let c = case::parse(&gas_case(3, "plane", &unit_box("a", 3, &plane)), "t.toml", &[], Some("t")).unwrap();
+    let init = blastsph::setup::particles(&c).expect("particles");
+    assert_eq!(init.counts, [want], "inclined plane: the column formula");
+    for q in init.x.chunks(3) {
+        let s: f64 = (0..3).map(|a| n[a] * (q[a] - p[a])).sum();
+        assert!(s <= 0.0, "a particle at {q:?} above the plane ({s})");
+    }
+    // the mirror image of that plane through the box's centre keeps as many
+    let (pm, nm) = ([0.5, 0.5, 1.0 - 0.5123], [-1.0, -2.0, -3.0]);
+    let mirrored = format!("keep_below = [{{ point_m = {pm:?}, normal = {nm:?} }}]");
+    assert_eq!(count(&gas_case(3, "plane", &unit_box("a", 3, &mirrored))), [want], "mirrored plane");
+    // x + y <= 10.5 dx: columns with i + j <= 9, 55 of them, each 20 cells tall
+    let diag = "keep_below = [{ point_m = [0.525, 0.0, 0.0], normal = [1.0, 1.0, 0.0] }]";
+    assert_eq!(count(&gas_case(3, "plane", &unit_box("a", 3, diag))), [55 * 20], "45-degree plane");
+    // a ridge: z <= 0.525 - |x - 0.5|, two planes; row i keeps floor(10 - |i - 9.5|) + 1 cells
+    let ridge = "keep_below = [{ point_m = [0.5, 0.0, 0.525], normal = [1.0, 0.0, 1.0] },\n\
+                 { point_m = [0.5, 0.0, 0.525], normal = [-1.0, 0.0, 1.0] }]";
+    assert_eq!(count(&gas_case(3, "plane", &unit_box("a", 3, ridge))), [110 * 20], "a ridge of two planes");
+    // 2D plane and RZ (there the line r + z = 10.5 dx revolves into a cone): 55 cells
+    let diag2 = "keep_below = [{ point_m = [0.525, 0.0], normal = [1.0, 1.0] }]";
+    assert_eq!(count(&gas_case(2, "plane", &unit_box("a", 2, diag2))), [55], "2D");
+    let c = case::parse(&gas_case(2, "axisymmetric", &unit_box("a", 2, diag2)), "t.toml", &[], Some("t")).unwrap();
+    let init = blastsph::setup::particles(&c).expect("particles");
+    assert_eq!(init.counts, [55], "RZ");
+    // the cone's rings: a ring at r_i holds 2 pi r_i rho dx^2, and column i keeps 10 - i rings
+    let want_mass: f64 = (0..10)
+        .map(|i| f64::from(10 - i) * 2.0 * std::f64::consts::PI * (f64::from(i) + 0.5) * 0.05 * 0.05 * 0.05)
+        .sum();
+    let mass: f64 = init.mass.iter().sum();
+    assert!((mass / want_mass - 1.0).abs() < 1e-12, "RZ cone mass {mass} against {want_mass}");
+    // 1D: a lattice of 20 points at (k + 1/2) 0.05 keeping x >= 0.3 (normal -1): k = 6 ... 19
+    let lat = "[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.025]\ncount = [20]\n\
+               spacing_m = 0.05\nkeep_below = [{ point_m = [0.3], normal = [-2.0] }]\n";
+    assert_eq!(count(&gas_case(1, "plane", lat)), [14], "1D");
+    // a sphere cut in half by a plane through its centre: the disc of radius 0.3 about (0.5, 0.5)
+    // on the 2D lattice keeps the nodes with y < 0.5, half of them (no node on y = 0.5)
+    let disc = |more: &str| {
+        format!(
+            "[[region]]\nname = \"a\"\nmaterial = \"gas\"\nshape = \"sphere\"\ncenter_m = [0.5, 0.5]\nradius_m = 0.3\n\
+             lo_m = [0.0, 0.0]\nhi_m = [1.0, 1.0]\nspacing_m = 0.05\n{more}\n"
+        )
+    };
+    let whole = count(&gas_case(2, "plane", &disc("")))[0];
+    let half = count(&gas_case(2, "plane", &disc("keep_below = [{ point_m = [0.5, 0.5], normal = [0.0, 1.0] }]")))[0];
+    assert!(whole > 100 && whole % 2 == 0 && half * 2 == whole, "half disc {half} of {whole}");
+}
+
+/// `cases/slope_3d.toml`: its ground is the box clipped by the 30° plane through the crest, so
+/// its soil count is the plane's column formula less the half charge it makes room for (a half
+/// disc of radius 4 Δx about a cell corner: 26 cells, 8 layers); a few steps run with status ok.
+/// The charge's own mass warning goes once the charge is clipped by a plane (its shape's mass is
+/// then not known).
+#[test]
+fn slope_3d_case_is_the_clipped_box_and_runs() {
+    let c = case::load(&case_path("slope_3d.toml"), &[]).expect("case loads");
+    let init = blastsph::setup::particles(&c).expect("particles");
+    let dx = 0.0115;
+    let (x_crest, top, tan) = (40.0 * dx, 36.0 * dx, 30f64.to_radians().tan());
+    let mut columns = 0;
+    for i in 0..76 {
+        let zmax = top - ((f64::from(i) + 0.5) * dx - x_crest) * tan;
+        columns += ((zmax / dx - 0.5).floor() + 1.0).clamp(0.0, 36.0) as usize;
+    }
+    let half_disc = (-4..4).flat_map(|i| (0..4).map(move |j| (i, j))).filter(|&(i, j)| {
+        let (u, v) = (f64::from(i) + 0.5, f64::from(j) + 0.5);
+        u * u + v * v < 16.0
+    });
+    let charge = 8 * half_disc.count();
+    assert_eq!(charge, 208);
+    assert_eq!(init.counts, [charge, 33 * columns - charge], "charge and soil particles");
+    assert!(init.counts.iter().sum::<usize>() <= 80_000);
+
+    let bin = env!("CARGO_BIN_EXE_blastsph");
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("run");
+    let o = std::process::Command::new(bin)
+        .arg("run")
+        .arg(case_path("slope_3d.toml"))
+        .args(["--end-time", "3e-6", "--threads", "1", "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["status"], "ok", "{s}");
+    assert!(s["steps"].as_u64().unwrap() >= 3, "{}", s["steps"]);
+    assert_eq!(s["particles"].as_u64(), Some(33 * columns as u64));
+
+    // without its mass_kg the half charge holds 3.4 % more than its half cylinder: check warns;
+    // clipped by a plane (one above it all, which keeps every particle) it does not
+    let text = std::fs::read_to_string(case_path("slope_3d.toml")).unwrap();
+    let bare: String = text.lines().filter(|l| !l.starts_with("mass_kg")).map(|l| format!("{l}\n")).collect();
+    assert!(bare.len() < text.len());
+    let check = |body: &str| {
+        let f = d.path().join("slope.toml");
+        std::fs::write(&f, body).unwrap();
+        let o = std::process::Command::new(bin).arg("check").arg(&f).output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr)
+    };
+    let warned = check(&bare);
+    assert!(warned.contains("region charge (tnt)") && warned.contains("+3.4 %"), "{warned}");
+    let clipped = bare.replace(
+        "spacing_m = 0.0115\n\n[[region]]\nname = \"soil\"",
+        "spacing_m = 0.0115\nkeep_below = [{ point_m = [0.0, 0.0, 1.0], normal = [0.0, 0.0, 1.0] }]\n\n[[region]]\nname = \"soil\"",
+    );
+    assert_ne!(clipped, bare);
+    let quiet = check(&clipped);
+    assert!(quiet.contains("tnt 208") && !quiet.contains("region charge (tnt)"), "{quiet}");
+}
+
+/// Bad `keep_below` input: `blastsph check` refuses it with exit status 2 and one line naming
+/// the region and the key (an unknown key inside a plane: the line of the file and the key, as
+/// every unknown key), never a panic.
+#[test]
+fn keep_below_bad_input_is_refused_with_one_line() {
+    let bin = env!("CARGO_BIN_EXE_blastsph");
+    let d = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "{ point_m = [0.5, 0.5], normal = [0.0, 0.0, 1.0] }",
+            "region[0] (a).keep_below[0].point_m: needs 3 components, got 2",
+        ),
+        (
+            "{ point_m = [0.5, 0.5, 0.5], normal = [0.0, 1.0] }",
+            "region[0] (a).keep_below[0].normal: needs 3 components, got 2",
+        ),
+        (
+            "{ point_m = [0.5, 0.5, 0.5], normal = [0.0, 0.0, 0.0] }",
+            "region[0] (a).keep_below[0].normal = [0, 0, 0]: a zero vector",
+        ),
+        ("{ point_m = [0.5, 0.5, 0.5], normal = [0.0, nan, 1.0] }", "region[0] (a).keep_below[0].normal[1] = NaN"),
+        ("{ point_m = [0.5, 0.5, 0.5], normal = [0.0, 0.0, inf] }", "region[0] (a).keep_below[0].normal[2] = inf"),
+        (
+            "{ point_m = [0.5, 0.5, 0.5], normal = [1e200, 0.0, 1e200] }",
+            "region[0] (a).keep_below[0].normal = [1e200, 0, 1e200]: too long",
+        ),
+        (
+            "{ point_m = [0.5, 0.5, 0.5], normal = [0.0, 0.0, 1e-170] }",
+            "region[0] (a).keep_below[0].normal = [0, 0, 1e-170]: too short",
+        ),
+        ("{ point_m = [0.5, 0.5, -inf], normal = [0.0, 0.0, 1.0] }", "region[0] (a).keep_below[0].point_m[2] = -inf"),
+        ("{ point_m = [0.5, 0.5, 0.5] }", "missing field `normal`"),
+        ("{ point_m = [0.5, 0.5, 0.5], normal = [0.0, 0.0, 1.0], colour = 1 }", "t.toml:16: unknown field `colour`"),
+        // the plane keeps nothing of the box: its normal is the wrong way round
+        (
+            "{ point_m = [0.5, 0.5, 1.0], normal = [0.0, 0.0, -1.0] }",
+            "region[0] (a).keep_below: the planes leave none of the shape's 8000 lattice points",
+        ),
+    ];
+    for (plane, want) in cases {
+        let f = d.path().join("t.toml");
+        let body = gas_case(3, "plane", &unit_box("a", 3, &format!("keep_below = [\n  {plane}\n]")));
+        std::fs::write(&f, &body).unwrap();
+        let o = std::process::Command::new(bin).arg("check").arg(&f).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{plane}: {err}");
+        assert_eq!(err.lines().count(), 1, "{plane}: one line: {err}");
+        assert!(err.contains(want), "{plane}: want `{want}` in: {err}");
+        assert!(!err.contains("panick"), "{err}");
+    }
+}
+
+/// Regions that meet along a plane: a box kept below an inclined plane and the same box kept
+/// above it (the normal reversed) are two regions with no `subtract` that together fill the
+/// box, each point once; moving the upper one's plane down a spacing (by `--set` into the
+/// plane) makes them overlap, refused; a box that subtracts the clipped box loses only the
+/// points under the plane.
+#[test]
+fn keep_below_regions_meet_along_their_plane() {
+    let (p, n) = ([0.5, 0.5, 0.5123], [1.0, 2.0, 3.0]);
+    let below = cells_under(p, n);
+    let neg = n.map(|c| -c);
+    let two = format!(
+        "{}{}",
+        unit_box("low", 3, &format!("keep_below = [{{ point_m = {p:?}, normal = {n:?} }}]")),
+        unit_box("high", 3, &format!("keep_below = [{{ point_m = {p:?}, normal = {neg:?} }}]"))
+    );
+    let text = gas_case(3, "plane", &two);
+    let c = case::parse(&text, "t.toml", &[], Some("t")).expect("case parses");
+    let init = blastsph::setup::particles(&c).expect("two regions along a plane are no overlap");
+    assert_eq!(init.counts, [below, 8000 - below]);
+    // the upper region's plane a spacing lower: the two share a band of points
+    let lower = "region.high.keep_below.0.point_m=[0.5, 0.5, 0.4623]".to_string();
+    let c = case::parse(&text, "t.toml", &[lower], Some("t")).expect("case parses");
+    let err = blastsph::setup::particles(&c).expect_err("overlap").to_string();
+    assert!(err.contains("region[0] (low) overlaps region[1] (high)") && !err.contains('\n'), "{err}");
+    // the upper region raised a spacing instead: a gap between them, no overlap
+    let raised = "region.high.keep_below.0.point_m=[0.5, 0.5, 0.5623]".to_string();
+    let c = case::parse(&text, "t.toml", &[raised], Some("t")).expect("case parses");
+    let init = blastsph::setup::particles(&c).expect("a gap is no overlap");
+    assert_eq!(init.counts, [below, 8000 - cells_under([0.5, 0.5, 0.5623], n)]);
+    // subtract: the whole box less the clipped box is the part above the plane
+    let cut = format!(
+        "{}{}",
+        unit_box("host", 3, "subtract = [\"cut\"]"),
+        unit_box("cut", 3, &format!("keep_below = [{{ point_m = {p:?}, normal = {n:?} }}]"))
+    );
+    let c = case::parse(&gas_case(3, "plane", &cut), "t.toml", &[], Some("t")).expect("case parses");
+    let init = blastsph::setup::particles(&c).expect("particles");
+    assert_eq!(init.counts, [8000 - below, below], "subtract removes only the clipped shape's points");
+}

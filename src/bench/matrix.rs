@@ -119,6 +119,9 @@ pub(super) fn plan(o: &BenchOptions, cases: &[CaseFile]) -> Result<(Vec<Planned>
                                 *b as f64 * kd,
                                 match r.shape {
                                     Shape::Polygon => ", a polygon: its edge cuts the refined lattice elsewhere",
+                                    _ if !r.keep_below.is_empty() => {
+                                        ", clipped by keep_below: a plane cuts the refined lattice elsewhere"
+                                    }
                                     _ => "",
                                 }
                             )

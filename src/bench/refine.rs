@@ -34,7 +34,10 @@ pub(super) fn num(x: f64) -> String {
 ///   (a safety limit, not a physical time) for k > 1;
 /// - `boundary.wall_spacing_m` and `boundary.r0_m` / k where given (their defaults follow the
 ///   finest spacing by themselves);
-/// - everything else stays: gauges, walls, charges, the detonation point, the analysis.
+/// - everything else stays: gauges, walls, charges, the detonation point, the analysis, and a
+///   region's `keep_below` planes (a plane is a place, not a count of spacings: the refined
+///   lattice is clipped by the same planes, and an inclined one cuts it in a finer staircase, so
+///   its count is k^dim times the coarse one only where the plane lies on cell faces of both).
 ///
 /// k = 1 gives no overrides. Regions are named by index, so any region name works.
 pub fn refinement_sets(case: &Case, k: f64) -> Result<Vec<String>> {

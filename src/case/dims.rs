@@ -40,6 +40,32 @@ pub(super) fn round_shape(v: &mut Checker, at: &At, label: &str, r: &RegionCfg, 
     }
 }
 
+/// A region's `keep_below` planes: `point_m` (m) and `normal` of `d` components each, finite,
+/// the point within [`X_MAX`]; a normal that cannot be normalised, n̂ = n/|n| with
+/// |n|² = Σ n_a², is refused: the zero vector, and one whose |n|² overflows or underflows.
+pub(super) fn clip_planes(v: &mut Checker, at: &At, r: &RegionCfg, d: usize) -> Result<()> {
+    v.any(at, "keep_below");
+    for (k, c) in r.keep_below.iter().enumerate() {
+        let pa = at.nested("keep_below", k);
+        v.vec(&pa, "point_m", &c.point_m, d, Range::abs(X_MAX))?;
+        v.vec(&pa, "normal", &c.normal, d, Range::FINITE)?;
+        // |n|² as ClipPlane::signed_distance forms it
+        let len2: f64 = c.normal.iter().map(|x| x * x).sum();
+        let why = if c.normal.iter().all(|x| *x == 0.0) {
+            "a zero vector has no direction (the normal points out of the kept side)"
+        } else if !len2.is_finite() {
+            "too long to normalise (its squared length overflows)"
+        } else if !len2.is_normal() {
+            "too short to normalise (its squared length underflows)"
+        } else {
+            continue;
+        };
+        let shown: Vec<String> = c.normal.iter().map(|x| super::validate::num_text(*x)).collect();
+        return Err(input(format!("{}.normal = [{}]: {why}", pa.label(), shown.join(", "))));
+    }
+    Ok(())
+}
+
 /// A 3D wall: an axis-aligned rectangle (`from_m`, `to_m` opposite corners in a plane x, y or z =
 /// const), or with `edge_m` a parallelogram.
 pub(super) fn plane_wall(v: &mut Checker, k: usize, w: &WallCfg) -> Result<()> {

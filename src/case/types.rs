@@ -622,6 +622,42 @@ pub struct RegionCfg {
     /// Regions whose shape is cut out of this one.
     #[serde(default)]
     pub subtract: Vec<String>,
+    /// Half-spaces that clip the region's shape (any shape, any dimension): a point x belongs
+    /// to the region only where (x − point_m)·n̂ ≤ 0 for every plane, n̂ = normal/|normal|
+    /// (the normal points out of the kept side). See [`ClipPlane`].
+    #[serde(default)]
+    pub keep_below: Vec<ClipPlane>,
+}
+
+/// One plane of a region's `keep_below`: the region keeps the closed half-space
+/// (x − point_m)·n̂ ≤ 0 (m), n̂ = normal/|normal|, so the normal points out of the kept side
+/// (up, out of the ground, for a soil surface). A point on the plane is kept. In 1D the plane is
+/// a point; in 2D a line; in axisymmetric geometry a line of the r–z half plane, so the surface
+/// it cuts is a cone about the axis (a plane z = const when the normal is along z, a cylinder
+/// r = const when it is along r).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClipPlane {
+    /// A point of the plane (m), `dim` components.
+    pub point_m: Vec<f64>,
+    /// The plane's normal, pointing out of the kept side (`dim` components, any length but
+    /// zero: it is normalised).
+    pub normal: Vec<f64>,
+}
+
+impl ClipPlane {
+    /// The signed distance (m) of `p` from the plane along the unit normal,
+    /// s = (p − point_m)·n̂ with n̂ = normal/|normal|: s ≤ 0 on the kept side. The sum runs over
+    /// the plane's own components (`dim` of them after validation).
+    pub fn signed_distance(&self, p: &[f64]) -> f64 {
+        let len = self.normal.iter().map(|c| c * c).sum::<f64>().sqrt();
+        self.point_m.iter().zip(&self.normal).zip(p).map(|((q, n), x)| (x - q) * (n / len)).sum()
+    }
+
+    /// Is `p` on the kept side, s ≤ 0 ([`ClipPlane::signed_distance`])?
+    pub fn keeps(&self, p: &[f64]) -> bool {
+        self.signed_distance(p) <= 0.0
+    }
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]

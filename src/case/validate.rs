@@ -125,6 +125,14 @@ impl At {
     pub fn entry(table: &str, k: usize, name: &str) -> At {
         At { path: table.to_string(), label: format!("{table}[{k}] ({})", shown(name)) }
     }
+    /// Entry `k` of an array of tables `key` inside this table (a region's `keep_below[k]`).
+    pub(super) fn nested(&self, key: &str, k: usize) -> At {
+        At { path: self.path(key), label: format!("{}[{k}]", self.key(key)) }
+    }
+    /// The label in messages (`region[0] (soil).keep_below[1]`).
+    pub(super) fn label(&self) -> &str {
+        &self.label
+    }
     fn key(&self, key: &str) -> String {
         if self.label.is_empty() { key.to_string() } else { format!("{}.{key}", self.label) }
     }
@@ -135,7 +143,7 @@ impl At {
 
 /// A number as messages write it (a bound, or the value refused): 0.25, 1000, 1e15 — never the
 /// 301 digits of 1e300.
-fn num_text(x: f64) -> String {
+pub(super) fn num_text(x: f64) -> String {
     if x != 0.0 && (x.abs() >= 1e5 || x.abs() < 1e-3) { format!("{x:e}") } else { format!("{x}") }
 }
 
@@ -648,6 +656,7 @@ impl Case {
                     )));
                 }
             }
+            super::dims::clip_planes(v, &at, r, d)?;
             v.any(&at, "subtract");
             for s in &r.subtract {
                 if !self.regions.iter().any(|q| &q.name == s) || s == &r.name {
