@@ -1164,21 +1164,17 @@ fn a_routine_with_one_array_per_component_is_mapped_by_the_components_names() {
     let old = "\"pair_j\", \"dwdx\", \"mass\", \"rho\", \"vx\", \"itype\",";
     assert!(mt.contains(old), "{mt}");
     let with = |names: &str| mt.replace(old, names);
-    std::fs::write(&m, with("\"pair_j\", \"mass\", \"dwdx_1\", \"dwdx_2\", \"rho\", \"vx_1\", \"vx_2\", \"itype\","))
-        .unwrap();
-    build(&m, &d.join("build")).expect("the split-array variant builds");
-    let out = d.join("dual");
-    let lg = d.join("build");
-    let o = blastsph(&[
-        "dual",
-        "cases/hard/soil_spall.toml",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--steps",
-        "20",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    // the manifest's names, built into d/<build>, then the soil spall's dual run over `steps`
+    let dual_of = |names: &str, build_dir: &str, steps: &str| {
+        std::fs::write(&m, with(names)).unwrap();
+        let lg = d.join(build_dir);
+        build(&m, &lg).expect("the split-array variant builds");
+        let out = d.join(format!("dual_{build_dir}"));
+        let a = ["dual", "cases/hard/soil_spall.toml", "--legacy", lg.to_str().unwrap(), "--steps", steps];
+        (blastsph(&[&a[..], &["--out", out.to_str().unwrap()]].concat()), out)
+    };
+    let (o, out) =
+        dual_of("\"pair_j\", \"mass\", \"dwdx_1\", \"dwdx_2\", \"rho\", \"vx_1\", \"vx_2\", \"itype\",", "build", "20");
     let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert_eq!(o.status.code(), Some(0), "{so}{se}");
     let (_, rows) = report_rows(&out.join("dual_report.json"));
@@ -1187,21 +1183,11 @@ fn a_routine_with_one_array_per_component_is_mapped_by_the_components_names() {
         assert!(r["compared"].as_u64().unwrap() > 0 && r["max_ulp"].as_u64() == Some(0), "{r}");
     }
     // the components with the y's and x's swapped: the shear and rotation rates differ
-    std::fs::write(&m, with("\"pair_j\", \"mass\", \"dwdx_2\", \"dwdx_1\", \"rho\", \"vx_1\", \"vx_2\", \"itype\","))
-        .unwrap();
-    build(&m, &d.join("swapped")).expect("the swapped variant builds");
-    let out = d.join("dual_swapped");
-    let lg = d.join("swapped");
-    let o = blastsph(&[
-        "dual",
-        "cases/hard/soil_spall.toml",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--steps",
+    let (o, _) = dual_of(
+        "\"pair_j\", \"mass\", \"dwdx_2\", \"dwdx_1\", \"rho\", \"vx_1\", \"vx_2\", \"itype\",",
+        "swapped",
         "5",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    );
     assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stdout));
     // refused: a third component in 2D; a vector beside its own component
     for (names, want) in [
