@@ -896,13 +896,16 @@ mod tests {
         assert!(deposit(3, 10, 0.0, 0.1, 0.0, exact).is_some_and(|l| l.contains("(41^3)")));
     }
 
+    /// A case of `cases/` with `--set` overrides.
+    fn shipped_case(name: &str, sets: &[&str]) -> Case {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(name);
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        crate::case::load(&path, &sets).unwrap()
+    }
+
     #[test]
     fn a_late_crater_in_a_soil_with_a_tension_cut_off_warns_of_the_viscosity() {
-        let load = |name: &str, sets: &[&str]| {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(name);
-            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-            warnings(&crate::case::load(&path, &sets).unwrap())
-        };
+        let load = |name: &str, sets: &[&str]| warnings(&shipped_case(name, sets));
         let late = load("surface_loose_tnt1kg_rz_final.toml", &[]);
         assert!(late.iter().any(|l| l.contains("held back by the artificial viscosity")), "{late:?}");
         // the thesis's scenes (1 ms) do not warn; nor a late run without the cut-off
@@ -916,11 +919,7 @@ mod tests {
     /// same scene ended before it, and the plane-strain original, do not.
     #[test]
     fn an_rz_wall_whose_reflection_converges_on_the_axis_in_the_run_warns() {
-        let load = |name: &str, sets: &[&str]| {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(name);
-            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-            wall_reflection_warning(&crate::case::load(&path, &sets).unwrap())
-        };
+        let load = |name: &str, sets: &[&str]| wall_reflection_warning(&shipped_case(name, sets));
         // the wall at r = 0.5 m, loose sand's P wave √(C² + 4G/3ρ0): back on the axis at 0.68 ms
         let w = load("surface_loose_tnt6_rz.toml", &[]);
         assert!(

@@ -169,8 +169,8 @@ pub fn gather(name: &str, vec: bool, per_pair: bool, c: &mut Ctx, p: &Particles,
             // as the vector holds (particles, or pairs for dwdx)
             let (base, k) = vector_component(n).expect("a component");
             let src: &[f64] = match base {
-                "x" => &p.x,
-                "vx" => &p.v,
+                "x" => &p.x[..dim * nt],
+                "vx" => &p.v[..dim * nt],
                 "dvxdt" => w.acc.get(c.slots.acc_range(dim * nt)).unwrap_or(&[]),
                 _ => &w.dwdx,
             };

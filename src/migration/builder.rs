@@ -668,10 +668,7 @@ fn locate_global(m: &Manifest, routine: &str, g: &manifest::Global, texts: &Glob
             where_.join(" nor ")
         )));
     };
-    let from = match &site {
-        shim::Site::Include(i) => format!("include '{i}'"),
-        shim::Site::Module(n) => format!("module {n}"),
-    };
+    let from = site.to_string();
     let decl = match declaration(text, var) {
         Decl::Undeclared => common_extents(text, var).map_or(Decl::Undeclared, Decl::Array),
         d => d,
@@ -983,10 +980,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                     cty.trim_end_matches(" *"),
                     dummy,
                     a.term.name,
-                    match a.term.kind {
-                        Kind::Real => "double precision",
-                        Kind::Int => "a default integer",
-                    },
+                    a.term.kind.described(),
                     hint
                 )));
             }
@@ -1018,17 +1012,11 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             .collect();
         let mut globals = Vec::new();
         let ri = routines.len();
+        let bound = r.bindings();
         for g in &r.globals {
-            let k = r.bindings().iter().position(|t| t.name == g.term.name).expect("a global is bound");
+            let k = bound.iter().position(|t| t.name == g.term.name).expect("a global is bound");
             let (site, allocatable) = locate_global(&m, &r.name, g, &global_texts)?;
-            globals.push(GlobalInfo {
-                name: g.term.name.to_string(),
-                var: g.var.clone(),
-                from: match &site {
-                    shim::Site::Include(i) => format!("include '{i}'"),
-                    shim::Site::Module(n) => format!("module {n}"),
-                },
-            });
+            globals.push(GlobalInfo { name: g.term.name.to_string(), var: g.var.clone(), from: site.to_string() });
             copies.push((
                 r.name.clone(),
                 g.term.name,
@@ -1057,21 +1045,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     // the globals' copy routines: fixed form first (the include files of old codes), else free
     let mut extra_objs: Vec<PathBuf> = Vec::new();
     if !copies.is_empty() {
-        let gsrc = obj.join("bs9_gcopy.f90");
-        std::fs::write(&gsrc, shim::gcopy_source()).map_err(|e| SphError::Io(format!("{}: {e}", gsrc.display())))?;
-        let gobj = obj.join("bs9_gcopy.o");
-        let (ok, _, se) = log.run(
-            Command::new("gfortran")
-                .arg("-c")
-                .args(&free)
-                .arg(format!("-J{}", obj.join("mod").display()))
-                .arg("-o")
-                .arg(&gobj)
-                .arg(&gsrc),
-        )?;
-        if !ok {
-            return Err(fail(format!("the generated copy module does not compile: {}", first_error(&se))));
-        }
+        let gobj = compile_generated(&mut log, &obj, "bs9_gcopy", &shim::gcopy_source(), &free)?
+            .map_err(|e| fail(format!("the generated copy module does not compile: {e}")))?;
         extra_objs.push(gobj);
         let items: Vec<shim::GlobalCopy> = copies.iter().map(|(_, _, c)| c.clone()).collect();
         // which attempt's error to report: the free form's when every include is a free-form file
@@ -1112,15 +1087,12 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             errors.push(match which {
                 Some(q) => {
                     let (rname, vname, c) = &copies[q];
-                    let from = match &c.site {
-                        shim::Site::Include(i) => format!("include '{i}'"),
-                        shim::Site::Module(n) => format!("module {n}"),
-                    };
-                    let kind = match c.kind {
-                        Kind::Real => "double precision",
-                        Kind::Int => "a default integer",
-                    };
-                    format!("routine {rname}: global `{}` (\"{vname}\", {kind}) from {from}: {e}", c.var)
+                    format!(
+                        "routine {rname}: global `{}` (\"{vname}\", {}) from {}: {e}",
+                        c.var,
+                        c.kind.described(),
+                        c.site
+                    )
                 }
                 None => e,
             });
@@ -1133,23 +1105,10 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     }
 
     // the shims
-    let shim_src = obj.join("blastsph_shims.f90");
-    std::fs::write(&shim_src, shim::source(&m.routines, sizes, &m.path.display().to_string()))
-        .map_err(|e| SphError::Io(format!("{}: {e}", shim_src.display())))?;
-    let shim_obj = obj.join("blastsph_shims.o");
     let shim_flags: Vec<String> = free.clone();
-    let (ok, _, se) = log.run(
-        Command::new("gfortran")
-            .arg("-c")
-            .args(&shim_flags)
-            .arg(format!("-J{}", obj.join("mod").display()))
-            .arg("-o")
-            .arg(&shim_obj)
-            .arg(&shim_src),
-    )?;
-    if !ok {
-        return Err(fail(format!("the generated shims do not compile: {}", first_error(&se))));
-    }
+    let shim_text = shim::source(&m.routines, sizes, &m.path.display().to_string());
+    let shim_obj = compile_generated(&mut log, &obj, "blastsph_shims", &shim_text, &shim_flags)?
+        .map_err(|e| fail(format!("the generated shims do not compile: {e}")))?;
 
     // the library
     let lib = out.join(LIBRARY);
@@ -1216,6 +1175,31 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())
         .map_err(|e| SphError::Io(format!("{}: {e}", jp.display())))?;
     Ok(info)
+}
+
+/// Writes the generated free-form source `text` to `obj/<name>.f90` and compiles it with
+/// `flags` into `obj/<name>.o` (its module files into `obj/mod`): the object, or gfortran's
+/// first error.
+fn compile_generated(
+    log: &mut Log,
+    obj: &Path,
+    name: &str,
+    text: &str,
+    flags: &[String],
+) -> Result<std::result::Result<PathBuf, String>> {
+    let src = obj.join(format!("{name}.f90"));
+    std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
+    let o = obj.join(format!("{name}.o"));
+    let (ok, _, se) = log.run(
+        Command::new("gfortran")
+            .arg("-c")
+            .args(flags)
+            .arg(format!("-J{}", obj.join("mod").display()))
+            .arg("-o")
+            .arg(&o)
+            .arg(&src),
+    )?;
+    Ok(if ok { Ok(o) } else { Err(first_error(&se)) })
 }
 
 /// Compiles and runs a program that includes the user's parameter file and prints the three sizes.

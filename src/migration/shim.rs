@@ -318,6 +318,16 @@ pub enum Site {
     Module(String),
 }
 
+/// As messages and build.json name it: `include 'common.inc'`, `module particles`.
+impl std::fmt::Display for Site {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Site::Include(i) => write!(f, "include '{i}'"),
+            Site::Module(n) => write!(f, "module {n}"),
+        }
+    }
+}
+
 /// One generated copy routine: between the shim's buffer of a binding and the global variable.
 #[derive(Debug, Clone)]
 pub struct GlobalCopy {

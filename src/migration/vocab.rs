@@ -22,6 +22,14 @@ pub enum Kind {
 }
 
 impl Kind {
+    /// How messages name it: `double precision`, `a default integer`.
+    pub fn described(self) -> &'static str {
+        match self {
+            Kind::Real => "double precision",
+            Kind::Int => "a default integer",
+        }
+    }
+
     /// The C type gfortran's `-fc-prototypes-external` prints for it.
     pub fn c_type(self) -> &'static str {
         match self {
