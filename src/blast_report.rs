@@ -606,13 +606,21 @@ pub fn report(
                 points: vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)],
             });
         }
+        let uneven = matches!(&map, Some(Ok(m)) if uneven_ground(m).is_some());
         plot::lines_with_refs(
             &dir.join("crater_profile.png"),
-            &format!(
-                "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {:.1} cm wide)",
-                case.name(),
-                100.0 * c_end.column_m
-            ),
+            &if uneven {
+                format!(
+                    "{}: ground surface revolved (the highest at each distance); the ground is not level: read crater_map.png",
+                    case.name()
+                )
+            } else {
+                format!(
+                    "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {:.1} cm wide)",
+                    case.name(),
+                    100.0 * c_end.column_m
+                )
+            },
             if case.dim == 3 || case.axisymmetric() {
                 "distance from the charge's axis (m; drawn on both sides: the crater revolved about the axis)"
             } else {
@@ -850,6 +858,23 @@ pub fn report(
     }))
 }
 
+/// Why the crater of revolution misreads a 3D crater whose original ground is not level about
+/// the charge (its relief within twice the crater's edge, [`SurfaceMap::ground_relief_m`], above
+/// one cell), if it does.
+fn uneven_ground(m: &SurfaceMap) -> Option<String> {
+    (!m.ground_is_level()).then(|| {
+        format!(
+            "the original ground is not level about the charge: its height varies by {} cm {}; the crater revolved about the charge's axis (the headline diameter and depth, crater_profile.png) takes the highest original ground at each distance from the axis, so it misreads the crater where the ground falls away: measure it by the surface (crater_map.png) and the sections",
+            cm1(m.ground_relief_m),
+            if m.radius_max_m > 0.0 {
+                format!("within {} cm of the axis (twice the crater's edge)", cm1(2.0 * m.radius_max_m))
+            } else {
+                "over the scene".to_string()
+            }
+        )
+    })
+}
+
 /// The report's text (crater, cavity, thesis comparisons, gauges), printed; returns the crater's
 /// JSON, the thesis growth and the thesis gauges.
 fn print_text(
@@ -969,6 +994,13 @@ fn print_text(
                 cm1(wmax)
             );
         }
+    }
+    // 3D: ground that is not level about the charge (a slope, a step): the crater of revolution
+    // takes the highest original ground at each distance from the axis
+    if let Some(Ok(m)) = map
+        && let Some(why) = uneven_ground(m)
+    {
+        println!("note: {why}");
     }
     if let Some(th) = &case.analysis.thesis_crater_m
         && th.len() == 2

@@ -97,6 +97,12 @@ pub struct SurfaceMap {
     pub radius_max_m: f64,
     /// Highest rise of the surface above the original (m; a mound over a contained charge).
     pub mound_height_m: f64,
+    /// Relief of the original ground about the charge (m): the highest less the lowest original
+    /// height of the cells whose centres lie within twice the crater's outer edge of the axis
+    /// (`radius_max_m`; without a crater, of every cell). Zero on level ground; above a cell's
+    /// side the ground is not level (a slope, a step), and the crater of revolution, which takes
+    /// the highest original ground at each distance from the axis, misreads it.
+    pub ground_relief_m: f64,
     /// Why there is no apparent crater (or no map), when there is none.
     pub note: Option<String>,
     /// Cell centres (m): x of the columns, y of the rows; cell (i, j) is entry i + nx j below.
@@ -116,6 +122,15 @@ pub struct SurfaceMap {
     /// The crater's cells.
     #[serde(skip)]
     pub crater_cells: Vec<bool>,
+}
+
+impl SurfaceMap {
+    /// True when the original ground about the charge is level to within one cell
+    /// ([`SurfaceMap::ground_relief_m`] ≤ Δs): then the crater of revolution about the charge's
+    /// axis reads the crater; on a slope or a step it does not.
+    pub fn ground_is_level(&self) -> bool {
+        self.ground_relief_m <= self.cell_m
+    }
 }
 
 #[derive(Debug, Clone, Default, Serialize)]
@@ -801,6 +816,14 @@ pub fn surface_map(
         })
         .collect();
     let change: Vec<f64> = (0..nx * ny).map(|k| if s0[k].is_finite() { -drop[k] } else { f64::NAN }).collect();
+    let r_max = edges.iter().cloned().fold(0.0, f64::max);
+    let (g_lo, g_hi) = (0..nx * ny)
+        .filter(|&k| s0[k].is_finite())
+        .filter(|&k| {
+            let q = centre(k);
+            !crater || (q[0] - ax.0).hypot(q[1] - ax.1) <= 2.0 * r_max
+        })
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| (a.min(s0[k]), b.max(s0[k])));
     Ok(SurfaceMap {
         cell_m: ds,
         cells: nc,
@@ -811,8 +834,9 @@ pub fn surface_map(
         plan_area_m2: area,
         equivalent_diameter_m: 2.0 * (area / std::f64::consts::PI).sqrt(),
         radius_min_m: if crater { edges.iter().cloned().fold(f64::INFINITY, f64::min) } else { 0.0 },
-        radius_max_m: edges.iter().cloned().fold(0.0, f64::max),
+        radius_max_m: r_max,
         mound_height_m: drop.iter().map(|d| -d).fold(0.0, f64::max),
+        ground_relief_m: if g_hi >= g_lo { g_hi - g_lo } else { 0.0 },
         note: (!crater).then(|| cracks.clone().unwrap_or_else(|| no_crater(ds))),
         x_m: (0..nx).map(|i| lo[0] + (i as f64 + 0.5) * ds).collect(),
         y_m: (0..ny).map(|j| lo[1] + (j as f64 + 0.5) * ds).collect(),
@@ -1632,6 +1656,26 @@ mod tests {
         let alone = map(0, &[]);
         assert!((alone.plan_area_m2 - 0.25 * c.plan_area_m2).abs() < 0.1 * c.plan_area_m2, "{alone:?}");
         assert_eq!(alone.radius_min_m, 0.0);
+    }
+
+    #[test]
+    fn the_relief_of_the_original_ground_about_the_charge_is_measured() {
+        // the same bowl (semi-axes 15 cm, 10 cm deep) in level ground and in ground whose top
+        // falls 30 cm per metre along +x beyond x = 0.1 m (a crest and a slope face)
+        let ds = 0.01;
+        let bowl = |p: [f64; 3]| p[0].hypot(p[1]).powi(2) / 0.0225 + ((p[2] - 0.4) / 0.1).powi(2) < 1.0;
+        let slope = |p: [f64; 3]| p[2] > 0.4 - 0.3 * (p[0] - 0.1).max(0.0);
+        let level =
+            surface_map((0.0, 0.0), ds, &[], &block3(ds, -30, 40, &|_| false), &block3(ds, -30, 40, &bowl), &[])
+                .unwrap();
+        assert!(level.note.is_none() && level.ground_relief_m < 1e-12, "{level:?}");
+        let s0 = block3(ds, -30, 40, &slope);
+        let s1 = block3(ds, -30, 40, &|p| slope(p) || bowl(p));
+        let sloped = surface_map((0.0, 0.0), ds, &[], &s0, &s1, &[]).unwrap();
+        // within twice the edge (about 30 cm) of the axis the top falls from x = 0.1 to 0.3 m:
+        // about 6 cm, a few cells (the lattice's staircase within a cell of it)
+        assert!((sloped.ground_relief_m - 0.06).abs() <= ds, "relief {}", sloped.ground_relief_m);
+        assert!(level.ground_is_level() && !sloped.ground_is_level());
     }
 
     #[test]
