@@ -536,7 +536,8 @@ fn a_nan_from_a_legacy_routine_is_traced_to_the_routine_that_writes_it() {
 }
 
 /// A set-up routine whose particles are not the ones the case describes is said once (the run
-/// takes the routine's; only maxn was checked).
+/// takes the routine's; only maxn was checked): another count, or the same count in another
+/// state (mass, volume, energy, momentum or centre of a material).
 #[test]
 fn a_setup_routine_of_another_particle_count_is_warned_of() {
     let d = scratch("setup_count");
@@ -556,6 +557,20 @@ fn a_setup_routine_of_another_particle_count_is_warned_of() {
     let se = String::from_utf8_lossy(&other.stderr);
     assert_eq!(other.status.code(), Some(0), "{se}");
     assert!(se.contains("warning: legacy input made 400 particles, the case describes 380"), "{se}");
+    // the same count in another state: the case's right state is Sod's ρ = 0.125 (the routine
+    // keeps 0.25), or its e is 2.0 (the routine's 1.795): the integrals name what differs
+    assert!(!String::from_utf8_lossy(&same.stderr).contains("not the state the case describes"));
+    for (set, what) in
+        [("region.right.rho_kgm3=0.125", "gas: volume Σm/ρ"), ("region.right.e_jkg=2.0", "gas: internal energy Σme")]
+    {
+        let o = run(d.join(set).to_str().unwrap(), &["--set", set]);
+        let se = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{se}");
+        let line =
+            se.lines().find(|l| l.contains("not the state the case describes")).unwrap_or_else(|| panic!("{se}"));
+        assert!(line.starts_with("warning: legacy input's particles") && line.contains(what), "{line}");
+        assert!(!line.contains("particles against the case's"), "{line}");
+    }
 }
 
 /// The strength routines of a thesis-style soil code (tests/legacy_strength/: a plane-strain
