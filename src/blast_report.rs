@@ -563,11 +563,14 @@ pub fn report(
         if zref.iter().any(|p| p.1.is_finite()) {
             refs.push(Reference { label: "thesis: depth (cm)".into(), points: zref });
         }
+        // 3D on ground that is not level: the growth is the crater of revolution's (its title says so)
+        let uneven = matches!(&map, Some(Ok(m)) if uneven_ground(m).is_some());
         plot::lines_with_refs(
             &dir.join("crater_growth.png"),
             &format!(
-                "{}: apparent crater{}{}",
+                "{}: apparent crater{}{}{}",
                 case.name(),
+                if uneven { " revolved (the ground is not level: crater_map.png)" } else { "" },
                 if ejecta_apart { " (ejecta: ejecta_height.png)" } else { " and ejecta" },
                 if refs.is_empty() { "" } else { " (thesis values as triangles)" }
             ),
@@ -606,7 +609,6 @@ pub fn report(
                 points: vec![(x0, y0), (x1, y0), (x0, y1), (x1, y1)],
             });
         }
-        let uneven = matches!(&map, Some(Ok(m)) if uneven_ground(m).is_some());
         plot::lines_with_refs(
             &dir.join("crater_profile.png"),
             &if uneven {

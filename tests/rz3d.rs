@@ -620,6 +620,17 @@ fn slope_3d_case_is_the_clipped_box_and_runs() {
     assert_eq!(s["status"], "ok", "{s}");
     assert!(s["steps"].as_u64().unwrap() >= 3, "{}", s["steps"]);
     assert_eq!(s["particles"].as_u64(), Some(33 * columns as u64));
+    // the report says the crater of revolution misreads ground that is not level: the map's
+    // relief of the original ground within twice the crater's edge of the axis (at 3 µs the
+    // charge's pit, its edge a few spacings out, reaches over the crest line onto the face: 3 Δx
+    // of fall measured) is more than a cell
+    let o = std::process::Command::new(bin).arg("report").arg(&out).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.lines().any(|l| l.starts_with("note: the original ground is not level about the charge")), "{text}");
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let relief = r["crater"]["surface"]["ground_relief_m"].as_f64().unwrap_or_else(|| panic!("{}", r["crater"]));
+    assert!(relief > 1.5 * dx, "relief {relief}");
 
     // without its mass_kg the half charge holds 3.4 % more than its half cylinder: check warns;
     // clipped by a plane (one above it all, which keeps every particle) it does not
