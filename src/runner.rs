@@ -551,7 +551,7 @@ impl Loop {
                 self.det_frames.iter().filter(|g| g.time < f.time * (1.0 - 1e-12)).collect();
             frames.push(&f);
             let frames: Vec<crate::output::Frame> = frames.into_iter().cloned().collect();
-            if let Ok((v, _)) = analysis::verify::measure(&sim.case, &frames) {
+            if let Ok((v, _)) = analysis::verify::measure(&sim.case, &frames, &sim.x_init) {
                 summary["verification"] = v;
             }
         }

@@ -283,6 +283,58 @@ fn sedov_rz_coarse_point_deposit() {
     sedov_checks(&s, "sedov RZ 50²", 0.03, 0.05);
 }
 
+/// A point blast whose shock reaches the edge of its gas (the RZ case at 50² run to 0.3 s: the
+/// exact radius 0.64 m against a 0.5 m quarter disc) is said so, not passed as a Sedov blast:
+/// `check` warns before the run (naming the side, and the last time the blast stays clear of it),
+/// and the verification carries the warning (`report` prints it as a WARNING line). Run to
+/// 0.1 s it carries none; fewer than 20 spacings to the shock (12 at 0.005 s) is warned of too.
+#[test]
+fn a_point_blast_that_leaves_its_gas_is_warned_of() {
+    let bin = env!("CARGO_BIN_EXE_blastsph");
+    let check = |extra: &[String]| {
+        let mut c = std::process::Command::new(bin);
+        c.arg("check").arg(case("sedov_rz"));
+        for s in extra {
+            c.args(["--set", s]);
+        }
+        let o = c.output().unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr)
+    };
+    let mut late = sedov_rz_sets(0.01);
+    late.push("time.end_s=0.3".into());
+    let text = check(&late);
+    let w = text.lines().find(|l| l.contains("reaches within the kernel's reach")).unwrap_or_else(|| panic!("{text}"));
+    // R(0.3 s) = 1.0328 (0.09)^(1/5) = 0.6381 m; the ambient's last ring at r = 0.495 m; clear
+    // of it (R + 2h0 = 0.495 m) up to t = 0.3 (0.475/0.6381)^(5/2) = 0.1435 s
+    assert!(w.starts_with("warning: ") && w.contains("side +x") && w.contains("R = 6.380"), "{w}");
+    assert!(w.contains("end by 1.435e-1 s"), "{w}");
+    assert!(!check(&sedov_rz_sets(0.01)).contains("warning:"), "the case as it is warns");
+    let mut early = sedov_rz_sets(0.01);
+    early.push("time.end_s=0.005".into());
+    let text = check(&early);
+    assert!(
+        text.contains("warning: a point blast 1") && text.contains("spacings from its centre at the end"),
+        "{text}"
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let opts = RunOptions { out: Some(dir.path().join("run")), sets: late, quiet: true, ..Default::default() };
+    let r = run(&case("sedov_rz"), &opts).expect("run");
+    let s = &r.summary;
+    let w = s["verification"]["warning"].as_str().unwrap_or_else(|| panic!("{}", s["verification"]));
+    assert!(w.contains("side +x"), "{w}");
+    assert!((num(s, "edge_m") - 0.495).abs() < 1e-9, "{}", s["verification"]);
+    // report: the warning as a WARNING line, and the balance said to be the half space's
+    let o = std::process::Command::new(bin).arg("report").arg(&r.dir).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("WARNING: the point blast's exact shock radius")), "{text}");
+    assert!(text.contains("the modelled part, 1/2 of the blast"), "{text}");
+    let s = run_case("sedov_rz", &sedov_rz_sets(0.01));
+    assert!(s["verification"]["warning"].is_null(), "{}", s["verification"]);
+}
+
 /// The RZ point blast at the default viscosity (β = 10, in place of the case file's β = 2), 100²
 /// rings, t = 0.1 s, 12 s. The hot ring sits beside the mirror at z = 0 with its h grown to 4 h0 and
 /// reaches particles whose own h is h0; with the mirror band at κ h_i their images were missing,

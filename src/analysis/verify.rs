@@ -144,6 +144,60 @@ fn sedov_at_end(case: &Case) -> Option<(Setup, Sedov, f64)> {
     Some((s, sd, r))
 }
 
+/// The particles' nearest edge from a point blast's centre, at t = 0: over the bounding box of
+/// the initial positions `pos(i)` (n particles), the least distance from the centre to a side,
+/// leaving out the sides within two spacings of the centre (a symmetry plane through it, the
+/// axis of an RZ run: their images carry the blast on). The distance (m) and the side named
+/// (`+x`, `-z`, ...); None when every side is such a plane.
+fn nearest_edge(s: &Setup, n: usize, pos: &dyn Fn(usize) -> [f64; 3]) -> Option<(f64, String)> {
+    if n == 0 {
+        return None;
+    }
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for i in 0..n {
+        let q = pos(i);
+        for k in 0..s.dim {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    let axis = ["x", "y", "z"];
+    (0..s.dim)
+        .flat_map(|k| [(hi[k] - s.centre[k], format!("+{}", axis[k])), (s.centre[k] - lo[k], format!("-{}", axis[k]))])
+        .filter(|(d, _)| d.is_finite() && *d > 2.0 * s.dx)
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+/// A point blast whose exact shock radius at time `t` comes within the kernel's reach (κ h0, h0
+/// = `h_over_dx` Δx) of the particles' nearest edge (at t = 0, [`nearest_edge`]): the shock
+/// then leaves the gas (or has left it) into the void beyond, and the measures no longer
+/// compare with the Sedov solution, whose gas is unbounded. One line naming the radius, the
+/// edge and the last time the blast stays clear of it; None otherwise or for no Sedov case.
+pub(crate) fn sedov_edge_warning(case: &Case, t: f64, n: usize, pos: &dyn Fn(usize) -> [f64; 3]) -> Option<String> {
+    if case.analysis.kind != AnalysisKind::Sedov {
+        return None;
+    }
+    let s = setup_of(case).ok()?;
+    let sd = Sedov::new(s.j, s.gamma)?;
+    let r = sd.radius(s.energy, s.rho0, t);
+    let (edge, side) = nearest_edge(&s, n, pos)?;
+    let reach = case.sph.kernel.support() * case.sph.h_over_dx * s.dx;
+    if !(r.is_finite() && r + reach > edge) {
+        return None;
+    }
+    // R ∝ t^(2/(j+2)): the time at which R = edge − κ h0
+    let clear = edge - reach;
+    let t_ok = if clear > 0.0 {
+        format!("{:.3e} s", t * (clear / r).powf(0.5 * (f64::from(s.j) + 2.0)))
+    } else {
+        "none".into()
+    };
+    Some(format!(
+        "the point blast's exact shock radius at t = {t:.4e} s, R = {r:.4e} m, reaches within the kernel's reach ({reach:.3e} m) of the particles' edge {edge:.4e} m from the centre (side {side}): the shock leaves the gas there and the measures are not the Sedov solution's; enlarge the gas or end by {t_ok}"
+    ))
+}
+
 /// What `blastsph check` says of a Sedov case before it runs: the energy, ambient density and γ
 /// the report will measure against, ξ0, and the exact shock radius at the end in metres and in
 /// spacings; None when the case is no Sedov blast or the set-up fails.
@@ -332,11 +386,12 @@ fn radial_v(s: &Setup, f: &Frame, i: usize, r: f64) -> f64 {
 }
 
 /// The measures of the last frame (and, for a detonation, of every frame), as JSON, with the
-/// profiles for the plots.
-pub fn measure(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>)> {
+/// profiles for the plots. `x0`: the particles' initial positions (`dim` values each), which a
+/// point blast's gas edge is measured on.
+pub fn measure(case: &Case, frames: &[Frame], x0: &[f64]) -> Result<(Value, Option<Profiles>)> {
     let last = frames.last().ok_or_else(|| input("no output step to measure"))?;
     match case.analysis.kind {
-        AnalysisKind::Sedov => sedov(case, last),
+        AnalysisKind::Sedov => sedov(case, last, x0),
         AnalysisKind::Noh => noh(case, last),
         AnalysisKind::Reflection => reflection(case, last),
         AnalysisKind::Detonation => detonation(case, frames),
@@ -344,8 +399,12 @@ pub fn measure(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>
     }
 }
 
-fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
+fn sedov(case: &Case, f: &Frame, x0: &[f64]) -> Result<(Value, Option<Profiles>)> {
     let s = setup_of(case)?;
+    let d = case.dim.max(1);
+    let pos0 = |i: usize| -> [f64; 3] { std::array::from_fn(|k| if k < d { x0[d * i + k] } else { 0.0 }) };
+    let edge = nearest_edge(&s, x0.len() / d, &pos0);
+    let edge_warning = sedov_edge_warning(case, f.time, x0.len() / d, &pos0);
     let sol = Sedov::new(s.j, s.gamma).ok_or_else(|| input("sedov: no similarity solution"))?;
     let t = f.time;
     let rex = sol.radius(s.energy, s.rho0, t);
@@ -411,6 +470,8 @@ fn sedov(case: &Case, f: &Frame) -> Result<(Value, Option<Profiles>)> {
         "negative_e_count": nneg,
         "min_e": emin,
         "dx_m": s.dx,
+        "edge_m": edge.as_ref().map(|e| e.0),
+        "warning": edge_warning,
     });
     Ok((v, Some(Profiles { particles: parts, exact, xlabel: "r (m)" })))
 }
@@ -676,8 +737,25 @@ fn detonation(case: &Case, frames: &[Frame]) -> Result<(Value, Option<Profiles>)
 /// `blastsph report` for a verification case: prints the measures and writes `profiles.png`.
 #[cfg(feature = "plot")]
 pub fn report(dir: &std::path::Path, case: &Case, frames: &[Frame]) -> Result<Value> {
-    let (v, prof) = measure(case, frames)?;
-    let skip = ["history"];
+    // the initial positions: the first output (t = 0)
+    let x0: Vec<f64> = frames
+        .first()
+        .map(|f| (0..f.x.len()).flat_map(|i| [f.x[i], f.y[i], f.z[i]].into_iter().take(case.dim.max(1))).collect())
+        .unwrap_or_default();
+    let (v, prof) = measure(case, frames, &x0)?;
+    // a half, quarter or eighth of a point blast (symmetry planes through its centre): the
+    // balance printed above is the modelled part's
+    if case.analysis.kind == AnalysisKind::Sedov
+        && let Ok(s) = setup_of(case)
+    {
+        let f = mirror_factor(case, &s.centre);
+        if f > 1.0 {
+            println!(
+                "  (mass and energies above: the modelled part, 1/{f:.0} of the blast its symmetry planes complete; the measures' energy below is the whole blast's)"
+            );
+        }
+    }
+    let skip = ["history", "warning"];
     let mut line = String::new();
     if let Some(o) = v.as_object() {
         for (k, x) in o {
@@ -696,6 +774,9 @@ pub fn report(dir: &std::path::Path, case: &Case, frames: &[Frame]) -> Result<Va
         }
     }
     println!("verification ({}):\n{line}", case.analysis.kind.name());
+    if let Some(w) = v["warning"].as_str() {
+        println!("WARNING: {w}");
+    }
     let mut out = v.clone();
     if let Some(p) = prof {
         let png = dir.join("profiles.png");
