@@ -1046,7 +1046,8 @@ fn print_text(
             }
         }
     }
-    if !gauge_list.is_empty() {
+    // (a blast's shock; not a piston's elastic wave, whose peak is a plateau)
+    if !gauge_list.is_empty() && case.materials.iter().any(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. })) {
         println!(
             "gauges: the peaks rise as the spacing shrinks (the shock's front is smeared over a few smoothing lengths); arrival and impulse converge first (docs/validation.md, \"Why the peaks do not agree\")"
         );
