@@ -30,6 +30,17 @@ use crate::sim::checkpoint::{self, Blob};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Opens or creates an HDF5 file without HDF5's own file lock. HDF5 locks a file it opens with
+/// `flock` on a descriptor it opens without close-on-exec, so a child process started while the
+/// file is open (a test harness starting `blastsph`, a user's script) inherits the lock and holds
+/// it after blastsph has closed the file: the next open of the file failed with "unable to lock
+/// file, errno = 11" (seen intermittently in the parallel tests). A run directory's `run.lock` is
+/// the lock that keeps two runs apart; particles.h5 and revolved.h5 are written whole by the one
+/// process that holds it, and replaced by a rename.
+pub(crate) fn h5_file(path: &Path, mode: hdf5::file::OpenMode) -> hdf5::Result<hdf5::File> {
+    hdf5::File::with_options().with_fapl(|p| p.file_locking(false)).open_as(path, mode)
+}
+
 fn h5err(e: hdf5::Error) -> SphError {
     SphError::Io(format!("particles.h5: {e}"))
 }
@@ -114,7 +125,7 @@ impl H5Part {
     /// Creates `path` (refused when it exists: never written through a link); the XDMF sidecar
     /// goes beside it as `<stem>.xmf`.
     pub fn create(path: &Path) -> Result<H5Part> {
-        let file = hdf5::File::create_excl(path).map_err(h5err)?;
+        let file = h5_file(path, hdf5::file::OpenMode::CreateExcl).map_err(h5err)?;
         let h5_name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         Ok(H5Part {
             file,
@@ -269,7 +280,7 @@ impl H5Part {
                     path.display(),
                     e.to_string().replace(&format!("{}: ", path.display()), "")
                 );
-                hdf5::File::open_rw(path).map_err(h5err)?
+                h5_file(path, hdf5::file::OpenMode::ReadWrite).map_err(h5err)?
             }
         };
         let h5_name = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -302,7 +313,7 @@ enum Cut {
 fn cut_back(path: &Path, steps: usize) -> std::result::Result<hdf5::File, Cut> {
     let damaged =
         |e: hdf5::Error| Cut::Failed(crate::error::input(format!("{}: damaged or not HDF5 ({e})", path.display())));
-    let file = hdf5::File::open_rw(path).map_err(damaged)?;
+    let file = h5_file(path, hdf5::file::OpenMode::ReadWrite).map_err(damaged)?;
     for k in 0..steps {
         if !file.link_exists(&format!("Step#{k}")) {
             return Err(Cut::Missing(crate::error::input(format!(
@@ -400,11 +411,11 @@ fn write_views(file: &hdf5::File, step: usize, n: usize, dim: usize, stress: boo
 fn rebuild(path: &Path, written: &[StepInfo], dim: usize) -> Result<()> {
     use hdf5::types::{FloatSize, IntSize, TypeDescriptor};
     let bad = |what: String| crate::error::input(format!("{}: {what}", path.display()));
-    let src = hdf5::File::open(path).map_err(|e| bad(format!("damaged or not HDF5 ({e})")))?;
+    let src = h5_file(path, hdf5::file::OpenMode::Read).map_err(|e| bad(format!("damaged or not HDF5 ({e})")))?;
     let tmp = path.with_extension("h5.rebuild");
     remove_stale(&tmp)?;
     {
-        let dst = hdf5::File::create_excl(&tmp).map_err(h5err)?;
+        let dst = h5_file(&tmp, hdf5::file::OpenMode::CreateExcl).map_err(h5err)?;
         for (k, st) in written.iter().enumerate() {
             let name = format!("Step#{k}");
             let unreadable = |e: hdf5::Error| bad(format!("{name} cannot be read ({e})"));
@@ -537,7 +548,7 @@ pub struct Frame {
 pub(crate) fn open_steps(path: &Path) -> Result<(hdf5::File, Vec<(usize, String)>)> {
     let damaged =
         |e: hdf5::Error| crate::error::input(format!("{}: damaged or not an H5Part file ({e})", path.display()));
-    let f = hdf5::File::open(path).map_err(damaged)?;
+    let f = h5_file(path, hdf5::file::OpenMode::Read).map_err(damaged)?;
     let mut names: Vec<(usize, String)> = f
         .member_names()
         .map_err(damaged)?
@@ -632,4 +643,30 @@ pub(crate) fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
         ppv: opt("ppv")?,
         p_peak: opt("p_peak")?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A child process started while blastsph has an HDF5 file open inherits HDF5's descriptor;
+    /// with HDF5's own lock that child held the file locked after blastsph closed it, and the next
+    /// open failed ("unable to lock file, errno = 11": the parallel tests' intermittent failure).
+    /// Without the lock the file opens again, for reading and for writing, while the child lives.
+    #[test]
+    fn a_child_started_while_a_file_is_open_does_not_lock_it() {
+        let d = tempfile::tempdir().unwrap();
+        let path = d.path().join("p.h5");
+        let f = h5_file(&path, hdf5::file::OpenMode::CreateExcl).unwrap();
+        f.new_dataset::<f64>().shape(3).create("x").unwrap().write_raw(&[1.0, 2.0, 3.0]).unwrap();
+        let mut child = std::process::Command::new("sleep").arg("3").spawn().expect("sleep");
+        drop(f);
+        let r = h5_file(&path, hdf5::file::OpenMode::Read).expect("read while the child lives");
+        let x: Vec<f64> = r.dataset("x").unwrap().read_raw().unwrap();
+        assert_eq!(x, [1.0, 2.0, 3.0]);
+        drop(r);
+        h5_file(&path, hdf5::file::OpenMode::ReadWrite).expect("write while the child lives");
+        let _ = child.kill();
+        let _ = child.wait();
+    }
 }

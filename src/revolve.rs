@@ -72,7 +72,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     // revolved.h5 that refused the next one)
     let tmp = dir.join("revolved.h5.part");
     crate::output::remove_stale(&tmp)?;
-    let file = hdf5::File::create_excl(&tmp).map_err(h5err)?;
+    let file = crate::output::h5_file(&tmp, hdf5::file::OpenMode::CreateExcl).map_err(h5err)?;
     let theta = angle_deg.to_radians();
     let mut steps = Vec::new();
     // one output step at a time
