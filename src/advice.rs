@@ -129,6 +129,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         }))
         .chain(sedov_spacing_warning(case))
         .chain(charge_mass_warnings(case, p, region))
+        .chain(unit_warnings(case, p, region))
         .chain(seam_warnings(case))
         .chain(close_particle_warning(case, p, region))
         .chain(several_charges(case))
@@ -472,30 +473,7 @@ pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<S
         if longest.is_nan() || longest <= 0.0 || count == 0 {
             continue;
         }
-        let step = longest / 200.0;
-        let cnt: Vec<usize> = (0..d).map(|a| (((hi[a] - lo[a]) / step).ceil() as usize).max(1)).collect();
-        let cell: Vec<f64> = (0..d).map(|a| (hi[a] - lo[a]) / cnt[a] as f64).collect();
-        let mut vol = 0.0;
-        let mut idx = vec![0usize; d];
-        'grid: loop {
-            let mut q = [0.0; 3];
-            for a in 0..d {
-                q[a] = lo[a] + (idx[a] as f64 + 0.5) * cell[a];
-            }
-            if crate::setup::inside(case, r, &q) && !(case.axisymmetric() && q[0] < 0.0) {
-                let w: f64 = cell.iter().product();
-                vol += if case.axisymmetric() { 2.0 * std::f64::consts::PI * q[0] * w } else { w };
-            }
-            for a in 0..d {
-                idx[a] += 1;
-                if idx[a] < cnt[a] {
-                    continue 'grid;
-                }
-                idx[a] = 0;
-            }
-            break;
-        }
-        let shape_mass = rho * vol;
+        let shape_mass = rho * shape_volume(case, r, &lo, &hi);
         let dev = held / shape_mass - 1.0;
         if shape_mass > 0.0 && dev.abs() > 0.02 {
             let unit = match (d, case.axisymmetric()) {
@@ -549,6 +527,135 @@ pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
             "a 2D point blast {spacings:.0} spacings from its centre at the end, with the h cap (sph.h_max_ratio = {cap}) and no conductivity: the cap strands the deposit's heat and the shock lags more the finer the lattice (peak 0.994 of the exact radius at 33 spacings, 0.965 at 66); set [conductivity] alpha = 1 (0.990 at 66; docs/validation.md, \"Sedov–Taylor in 2D: resolution\")"
         )
     })
+}
+
+/// The volume of region `r`'s shape within its box `lo`..`hi` (m³; in RZ the volume of
+/// revolution, in 2D plane m² per metre): a midpoint sum over a grid of the box, about 200
+/// points along its longest side (its error well below 2 %); 0 for an empty box.
+fn shape_volume(case: &Case, r: usize, lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
+    let d = case.dim;
+    let longest = (0..d).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+    if longest.is_nan() || longest <= 0.0 {
+        return 0.0;
+    }
+    let step = longest / 200.0;
+    let cnt: Vec<usize> = (0..d).map(|a| (((hi[a] - lo[a]) / step).ceil() as usize).max(1)).collect();
+    let cell: Vec<f64> = (0..d).map(|a| (hi[a] - lo[a]) / cnt[a] as f64).collect();
+    let mut vol = 0.0;
+    let mut idx = vec![0usize; d];
+    'grid: loop {
+        let mut q = [0.0; 3];
+        for a in 0..d {
+            q[a] = lo[a] + (idx[a] as f64 + 0.5) * cell[a];
+        }
+        if crate::setup::inside(case, r, &q) && !(case.axisymmetric() && q[0] < 0.0) {
+            let w: f64 = cell.iter().product();
+            vol += if case.axisymmetric() { 2.0 * std::f64::consts::PI * q[0] * w } else { w };
+        }
+        for a in 0..d {
+            idx[a] += 1;
+            if idx[a] < cnt[a] {
+                continue 'grid;
+            }
+            idx[a] = 0;
+        }
+        break;
+    }
+    vol
+}
+
+/// Input that reads as a slip of units (every check a factor of about 1000 or more off what the
+/// material can be): a condensed material's (explosive, water, soil) density below 100 kg/m³
+/// (g/cm³ for kg/m³: TNT 1.63 for 1630); an explosive region's specific energy between 0 and
+/// 10⁵ J/kg (high explosives release 2–10 MJ/kg: kJ/kg for J/kg); a region whose `mass_kg` gives
+/// its particles more than 3 × or less than a third of its shape's mass at its density (g for
+/// kg: a per-particle mass 1000 × too large); a cylinder or sphere whose radius does not cut its
+/// `lo_m`/`hi_m` box at all (mm for m: the region is then the box). One line each.
+pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
+    use crate::case::{EosCfg, Shape};
+    let condensed = |e: &EosCfg| matches!(e, EosCfg::Jwl { .. } | EosCfg::Water { .. } | EosCfg::Soil { .. });
+    let mut out = Vec::new();
+    for mc in &case.materials {
+        if let Some(r0) = mc.eos.rho0()
+            && condensed(&mc.eos)
+            && r0 < 100.0
+        {
+            out.push(format!(
+                "material {}: rho0_kgm3 = {r0} kg/m³, below any {} (1000–3000 kg/m³): a density in g/cm³? (× 1000)",
+                mc.name,
+                match mc.eos {
+                    EosCfg::Jwl { .. } => "condensed explosive",
+                    EosCfg::Water { .. } => "water",
+                    _ => "soil",
+                }
+            ));
+        }
+    }
+    let (d, n) = (case.dim, p.nreal.min(region.len()));
+    for (r, rc) in case.regions.iter().enumerate() {
+        let Some(m) = case.material_index(&rc.material) else { continue };
+        let mc = &case.materials[m];
+        if let Some(rho) = rc.rho_kgm3
+            && condensed(&mc.eos)
+            && rho < 100.0
+            && mc.eos.rho0().is_none_or(|r0| r0 >= 100.0)
+        {
+            out.push(format!(
+                "region {} ({}): rho_kgm3 = {rho} kg/m³, below any condensed material's (1000–3000 kg/m³): a density in g/cm³? (× 1000)",
+                rc.name, mc.name
+            ));
+        }
+        if let Some(e) = rc.e_jkg
+            && matches!(mc.eos, EosCfg::Jwl { .. })
+            && e > 0.0
+            && e < 1e5
+        {
+            out.push(format!(
+                "region {} ({}): e_jkg = {e} J/kg, while high explosives release 2–10 MJ/kg (TNT 4.29e6 J/kg): an energy in kJ/kg? (× 1000)",
+                rc.name, mc.name
+            ));
+        }
+        if matches!(rc.shape, Shape::Cylinder | Shape::Sphere)
+            && let (Some(lo), Some(hi), Some(c), Some(rad)) = (&rc.lo_m, &rc.hi_m, &rc.center_m, rc.radius_m)
+        {
+            // every corner of the clip box (in the plane of the round section) within the radius
+            let axes = if rc.shape == Shape::Cylinder { 2 } else { d };
+            let corners_in = (0..1usize << axes).all(|k| {
+                (0..axes).map(|a| (if k >> a & 1 == 1 { hi[a] } else { lo[a] } - c[a]).powi(2)).sum::<f64>() < rad * rad
+            });
+            if corners_in {
+                out.push(format!(
+                    "region {}: its radius_m = {rad} m does not cut its lo_m/hi_m box (every corner lies within it): the region is the box, not a {}; a radius in mm? (÷ 1000)",
+                    rc.name,
+                    if rc.shape == Shape::Cylinder { "cylinder" } else { "sphere" }
+                ));
+            }
+        }
+        if let Some(mk) = rc.mass_kg
+            && rc.subtract.is_empty()
+            && rc.keep_below.is_empty()
+            && matches!(rc.shape, Shape::Box | Shape::Cylinder | Shape::Sphere)
+            && let Some((lo, hi)) = crate::setup::region_box(case, r)
+        {
+            let rho = rc.rho_kgm3.or(mc.eos.rho0()).unwrap_or(0.0);
+            let (held, count) =
+                (0..n).filter(|&i| region[i] as usize == r).fold((0.0, 0usize), |(s, c), i| (s + p.mass[i], c + 1));
+            let shape_mass = rho * shape_volume(case, r, &lo, &hi);
+            let ratio = held / shape_mass;
+            if count > 0 && shape_mass > 0.0 && !(1.0 / 3.0..=3.0).contains(&ratio) {
+                let unit = match (d, case.axisymmetric()) {
+                    (1, _) => "kg/m²",
+                    (2, false) => "kg/m",
+                    _ => "kg",
+                };
+                out.push(format!(
+                    "region {} ({}): mass_kg = {mk} kg per particle gives its {count} particles {held:.4e} {unit}, {ratio:.3e} × its shape's {shape_mass:.4e} {unit} at {rho} kg/m³: mass_kg is each particle's mass, in kg",
+                    rc.name, mc.name
+                ));
+            }
+        }
+    }
+    out
 }
 
 /// A point blast (`[analysis] kind = "sedov"`) fewer than 20 spacings from its centre at the

@@ -637,3 +637,35 @@ fn run_inline(d: &std::path::Path, text: &str) -> std::path::PathBuf {
     ok(&blastsph(&["run", case.to_str().unwrap(), "--quiet", "--out", dir.to_str().unwrap()]));
     dir
 }
+
+/// Slips of units that make a case run as another scene (a docs-only engineer's mistakes: each
+/// passed `check` silently; three then ended the run at its first steps with advice to lower the
+/// CFL, one made a square prism of the cylinder): `check` names each with its likely unit, and
+/// the case as shipped names none of them.
+#[test]
+fn slips_of_units_are_named_by_check() {
+    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
+    let check = |set: Option<&str>| {
+        let mut a = vec!["check", case.to_str().unwrap()];
+        if let Some(s) = set {
+            a.extend(["--set", s]);
+        }
+        let o = blastsph(&a);
+        ok(&o);
+        text(&o.stdout) + &text(&o.stderr)
+    };
+    let plain = check(None);
+    for hint in ["g/cm³", "kJ/kg", "in mm", "mass_kg is each particle's mass, in kg"] {
+        assert!(!plain.contains(hint), "{hint} in the shipped case: {plain}");
+    }
+    for (set, want) in [
+        ("material.tnt.eos.rho0_kgm3=1.63", "warning: material tnt: rho0_kgm3 = 1.63 kg/m³"),
+        ("region.charge.e_jkg=4290", "warning: region charge (tnt): e_jkg = 4290 J/kg"),
+        ("region.charge.radius_m=46", "warning: region charge: its radius_m = 46 m does not cut its lo_m/hi_m box"),
+        ("region.charge.mass_kg=2.4", "warning: region charge (tnt): mass_kg = 2.4 kg per particle"),
+    ] {
+        let t = check(Some(set));
+        let line = t.lines().find(|l| l.starts_with(want)).unwrap_or_else(|| panic!("{set}: {t}"));
+        assert!(line.contains('?') || line.contains("in kg"), "{line}");
+    }
+}
