@@ -844,6 +844,13 @@ pub fn report(
     if let (Some(Ok(m)), Some(c)) = (&map, crater_json.as_object_mut()) {
         c.insert("surface".into(), serde_json::to_value(m).unwrap_or(Value::Null));
     }
+    if let Some((scaled, line)) = scaled_crater(&charge, &crater_json, map.as_ref().and_then(|m| m.as_ref().ok()))
+        && let Some(c) = crater_json.as_object_mut()
+    {
+        println!("{line}");
+        c.insert("charge_mass_kg".into(), json!(charge.mass_kg));
+        c.insert("scaled_radius_m_per_kg_cbrt".into(), json!(scaled));
+    }
     println!("plots in {}: {}", dir.display(), written.iter().chain(&snaps).cloned().collect::<Vec<_>>().join(", "));
     Ok(json!({
         "crater": crater_json,
@@ -858,6 +865,36 @@ pub fn report(
         "plots": written,
         "snapshots": snaps,
     }))
+}
+
+/// The crater's radius scaled by the charge, R/W^⅓ (m/kg^⅓), and the report's line for it: for
+/// a charge whose blast spreads in 3D (RZ, 3D; not a plane-strain line charge) and a crater with
+/// a diameter. R is half the crater's diameter at the original ground level: in 3D the surface
+/// map's equivalent diameter 2√(A/π) (the revolved headline reads the crater's narrowest
+/// direction), else the headline's. W is the whole scene's explosive (kg; the modelled part times
+/// its symmetry planes' copies), whatever the explosive: TNT data want its TNT equivalence.
+fn scaled_crater(charge: &Charge, crater: &Value, map: Option<&SurfaceMap>) -> Option<(f64, String)> {
+    if charge.dim != 3 || !(charge.mass_kg > 0.0) || !crater["note"].is_null() {
+        return None;
+    }
+    let (d, from) = match map {
+        Some(m) if m.note.is_none() && m.equivalent_diameter_m > 0.0 => {
+            (m.equivalent_diameter_m, "the surface map's equivalent diameter")
+        }
+        _ => (crater["diameter_m"].as_f64()?, "the headline diameter"),
+    };
+    if !(d > 0.0) {
+        return None;
+    }
+    let scaled = 0.5 * d / charge.mass_kg.cbrt();
+    Some((
+        scaled,
+        format!(
+            "crater scaled by the charge: R/W^(1/3) = {scaled:.3} m/kg^(1/3) (R = {} cm, half {from}; W = {:.4} kg of explosive in the whole scene); a crater grows until its flow stops: compare a final crater only (docs/validation.md, \"Crater scaling against surface-burst data\")",
+            cm1(0.5 * d),
+            charge.mass_kg
+        ),
+    ))
 }
 
 /// Why the crater of revolution misreads a 3D crater whose original ground is not level about

@@ -428,6 +428,15 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
     let a = scaled.iter().find(|g| g["gauge"].as_str().unwrap_or("").starts_with("A ")).expect("gauge A");
     let z = a["scaled_distance"].as_f64().unwrap();
     assert!((z - 0.15 / 0.952f64.cbrt()).abs() < 2e-4, "scaled distance of A: {z}");
+    // the crater scaled by the whole charge: R/W^(1/3), R half the surface map's equivalent
+    // diameter (in report.json's crater, and printed)
+    let c = &rep["crater"];
+    let w = c["charge_mass_kg"].as_f64().unwrap_or_else(|| panic!("{c}"));
+    assert!((w - 4.0 * 12.0 * 1630.0 * 0.023f64.powi(3)).abs() < 1e-9, "charge {w}");
+    let dq = c["surface"]["equivalent_diameter_m"].as_f64().unwrap();
+    let sc = c["scaled_radius_m_per_kg_cbrt"].as_f64().unwrap();
+    assert!(dq > 0.0 && (sc - 0.5 * dq / w.cbrt()).abs() < 1e-12, "R/W^(1/3) {sc} from D {dq}, W {w}");
+    assert!(so.contains(&format!("R/W^(1/3) = {sc:.3} m/kg^(1/3)")), "{so}");
     // every plot the report wrote is one a later report or a resume removes by name
     for e in std::fs::read_dir(&r).unwrap().filter_map(|e| e.ok()) {
         let n = e.file_name().to_string_lossy().into_owned();
