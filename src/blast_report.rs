@@ -874,7 +874,7 @@ pub fn report(
 /// direction), else the headline's. W is the whole scene's explosive (kg; the modelled part times
 /// its symmetry planes' copies), whatever the explosive: TNT data want its TNT equivalence.
 fn scaled_crater(charge: &Charge, crater: &Value, map: Option<&SurfaceMap>) -> Option<(f64, String)> {
-    if charge.dim != 3 || !(charge.mass_kg > 0.0) || !crater["note"].is_null() {
+    if charge.dim != 3 || charge.mass_kg.is_nan() || charge.mass_kg <= 0.0 || !crater["note"].is_null() {
         return None;
     }
     let (d, from) = match map {
@@ -883,7 +883,7 @@ fn scaled_crater(charge: &Charge, crater: &Value, map: Option<&SurfaceMap>) -> O
         }
         _ => (crater["diameter_m"].as_f64()?, "the headline diameter"),
     };
-    if !(d > 0.0) {
+    if d.is_nan() || d <= 0.0 {
         return None;
     }
     let scaled = 0.5 * d / charge.mass_kg.cbrt();
