@@ -516,7 +516,19 @@ pub fn report(
         )?;
         written.push("bubble_growth.png".into());
         if let Some((t, r)) = bubble.last() {
-            println!("detonation products at t = {}: equivalent radius {:.1} cm", tu.text(*t), 100.0 * r);
+            // products vented into a void: isolated particles keep their density, the radius
+            // stops growing (output.md, bubble_growth.png)
+            let vented = crater && ok_hist.last().is_some_and(|(_, c)| c.note.is_none());
+            println!(
+                "detonation products at t = {}: equivalent radius {:.1} cm{}",
+                tu.text(*t),
+                100.0 * r,
+                if vented {
+                    " (Σm/ρ of their particles: once they vent through the crater their density stops changing and the radius stops growing; read bubble_growth.png up to the venting only, docs/output.md)"
+                } else {
+                    ""
+                }
+            );
         }
     }
     if crater && !ok_hist.is_empty() {
