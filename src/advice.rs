@@ -130,6 +130,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(sedov_spacing_warning(case))
         .chain(charge_mass_warnings(case, p, region))
         .chain(unit_warnings(case, p, region))
+        .chain(charge_image_warnings(case, p, region))
         .chain(seam_warnings(case))
         .chain(close_particle_warning(case, p, region))
         .chain(several_charges(case))
@@ -654,6 +655,59 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
                 ));
             }
         }
+    }
+    out
+}
+
+/// An explosive region beside a symmetry plane (an axis-aligned `mirror` wall; not the axis of
+/// an RZ run) that it does not abut, within five of its own sizes of it: the plane's image of the
+/// charge is a second charge, so the scene holds 2^k charges (k such planes) — what a quarter
+/// model of one charge off its planes' intersection silently became (a docs-only engineer's
+/// 0.5 kg quarter centred 0.1 m off both planes ran as four charges, 2 kg). One line per region,
+/// naming the planes, the gap and the scene's charges; a charge that abuts its planes (a half,
+/// quarter or octant of one charge) or straddles one is not named here.
+pub fn charge_image_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
+    let n = p.nreal.min(region.len());
+    let axis = ["x", "y", "z"];
+    let mut out = Vec::new();
+    for (r, rc) in case.regions.iter().enumerate() {
+        let Some(m) = case.material_index(&rc.material) else { continue };
+        if !matches!(case.materials[m].eos, EosCfg::Jwl { .. }) {
+            continue;
+        }
+        let Some((lo, hi)) = crate::setup::region_box(case, r) else { continue };
+        let size = (0..case.dim).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
+        let mut near: Vec<(usize, f64, f64)> = Vec::new();
+        for (k, c) in case.axis_mirrors() {
+            if k == 0 && case.axisymmetric() {
+                continue;
+            }
+            let gap = if lo[k] >= c {
+                lo[k] - c
+            } else if hi[k] <= c {
+                c - hi[k]
+            } else {
+                continue;
+            };
+            if gap > 0.5 * rc.spacing_m && gap < 5.0 * size && !near.iter().any(|q| q.0 == k && q.1 == c) {
+                near.push((k, c, gap));
+            }
+        }
+        if near.is_empty() {
+            continue;
+        }
+        let held: f64 = (0..n).filter(|&i| region[i] as usize == r).map(|i| p.mass[i]).sum();
+        let copies = 1usize << near.len();
+        let planes: Vec<String> =
+            near.iter().map(|(k, c, g)| format!("{} = {c} m ({:.3} m from it)", axis[*k], g)).collect();
+        out.push(format!(
+            "region {} (explosive) does not abut the symmetry plane{} {}: each plane's image of it is another charge, so the scene holds {copies} charges ({:.4} kg in all, {:.4} kg each); a half or quarter model of one charge puts the charge's centre on its planes",
+            rc.name,
+            if near.len() == 1 { "" } else { "s" },
+            planes.join(" and "),
+            held * copies as f64,
+            held
+        ));
     }
     out
 }

@@ -678,3 +678,33 @@ fn slips_of_units_are_named_by_check() {
         assert!(line.contains('?') || line.contains("in kg"), "{line}");
     }
 }
+
+/// A quarter model whose charge is off its symmetry planes' intersection (a docs-only engineer's
+/// 0.5 kg charge centred 0.1 m off both planes ran as four charges, 2 kg, with no word): `check`
+/// says the planes' images make more charges, and how many; the shipped quarter (the charge on
+/// the planes) says nothing of it.
+#[test]
+fn a_charge_beside_its_symmetry_planes_is_said_to_be_several() {
+    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
+    let check = |sets: &[&str]| {
+        let mut a = vec!["check", case.to_str().unwrap()];
+        for s in sets {
+            a.extend(["--set", s]);
+        }
+        let o = blastsph(&a);
+        ok(&o);
+        text(&o.stdout) + &text(&o.stderr)
+    };
+    assert!(!check(&[]).contains("does not abut the symmetry plane"));
+    let t = check(&[
+        "region.charge.center_m=[0.1, 0.1, 0.46]",
+        "region.charge.lo_m=[0.0, 0.0, 0.0]",
+        "region.charge.hi_m=[0.552, 0.552, 0.552]",
+        "detonation.point_m=[0.1, 0.1, 0.506]",
+    ]);
+    let line = t.lines().find(|l| l.contains("does not abut the symmetry plane")).unwrap_or_else(|| panic!("{t}"));
+    // the whole cylinder (radius 4 spacings of 11.5 mm) 0.1 - 0.046 = 0.054 m off x = 0 and y = 0
+    assert!(line.starts_with("warning: region charge (explosive)"), "{line}");
+    assert!(line.contains("x = 0 m (0.054 m from it) and y = 0 m (0.054 m from it)"), "{line}");
+    assert!(line.contains("the scene holds 4 charges"), "{line}");
+}
