@@ -708,3 +708,27 @@ fn a_charge_beside_its_symmetry_planes_is_said_to_be_several() {
     assert!(line.contains("x = 0 m (0.054 m from it) and y = 0 m (0.054 m from it)"), "{line}");
     assert!(line.contains("the scene holds 4 charges"), "{line}");
 }
+
+/// Two refusals a docs-only engineer found unclear now say what is allowed: a point gauge
+/// outside the particles names the range it may lie in (the extent and the kernel's reach
+/// beyond it, added up), and an end time whose outputs run into the millions asks whether the
+/// end time was meant in seconds.
+#[test]
+fn refusals_of_a_gauge_outside_and_of_an_end_in_milliseconds_say_what_is_meant() {
+    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
+    let refused = |sets: &[&str]| {
+        let mut a = vec!["check", case.to_str().unwrap()];
+        for s in sets {
+            a.extend(["--set", s]);
+        }
+        let o = blastsph(&a);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+        assert_eq!(text(&o.stderr).lines().count(), 1, "{}", text(&o.stderr));
+        text(&o.stderr)
+    };
+    // the quarter's particles span 0.00575 .. 0.54625 m along y (spacing 11.5 mm), the reach 2h
+    let e = refused(&["gauge.G2.kind=point", "gauge.G2.point_m=[0.2, -0.2, 0.4]"]);
+    assert!(e.contains("on axis 1 (y): a point gauge may lie from -0.017250 to 0.569250 m"), "{e}");
+    let e = refused(&["time.end_s=300"]);
+    assert!(e.contains("is time.end_s = 3e2 s meant (seconds, not ms or µs)?"), "{e}");
+}

@@ -125,8 +125,12 @@ pub fn check(case: &Case, init: &Initial) -> Result<()> {
                 let reach = kappa * hmax;
                 if let Some(a) = (0..d).find(|&a| g.point_m[a] < lo[a] - reach || g.point_m[a] > hi[a] + reach) {
                     return Err(input(format!(
-                        "{key}: outside the particles' extent on axis {a} ({:.6} .. {:.6} m, with the kernel's reach {reach:.3e} m)",
-                        lo[a], hi[a]
+                        "{key}: outside the particles' extent on axis {a} ({}): a point gauge may lie from {:.6} to {:.6} m (the particles' {:.6} .. {:.6} m and the kernel's reach {reach:.3e} m beyond)",
+                        ["x", "y", "z"][a],
+                        lo[a] - reach,
+                        hi[a] + reach,
+                        lo[a],
+                        hi[a]
                     )));
                 }
             }

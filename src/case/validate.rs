@@ -287,9 +287,10 @@ impl Case {
         v.num(&at, "output_interval_s", t.output_interval_s, Range::within(0.0, T_MAX))?;
         if t.output_interval_s > 0.0 && t.end_s / t.output_interval_s > MAX_OUTPUTS {
             return Err(input(format!(
-                "time.output_interval_s = {:e}: the run would write {:.3e} outputs (end_s / output_interval_s; at most {MAX_OUTPUTS:e})",
+                "time.output_interval_s = {:e}: the run would write {:.3e} outputs (end_s / output_interval_s; at most {MAX_OUTPUTS:e}): is time.end_s = {:e} s meant (seconds, not ms or µs)?",
                 t.output_interval_s,
-                t.end_s / t.output_interval_s
+                t.end_s / t.output_interval_s,
+                t.end_s
             )));
         }
         v.int(&at, "max_steps", i64::try_from(t.max_steps).unwrap_or(i64::MAX), 1, i64::MAX)?;
