@@ -352,7 +352,7 @@ fn short_number(v: f64, zero: f64, plain: std::ops::Range<f64>, decimals: usize,
         "0".into()
     } else if plain.contains(&a) {
         let s = format!("{v:.decimals$}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
     } else {
         format!("{v:.exp$e}")
     }
@@ -365,9 +365,12 @@ fn axis_label(v: &f64) -> String {
     short_number(*v, 1e-12, 1e-3..1e7, 6, 2)
 }
 
-/// A tick on the data of a log axis: three decimals at most, a power of ten outside 10⁻²…10⁴.
+/// A tick on the data of a log axis: three significant digits (366, 51.9, 0.172; a docs-only
+/// engineer read "365.868" and "159.546" on peaks.png's axis), a power of ten outside 10⁻²…10⁴.
 fn tick_label(v: f64) -> String {
-    short_number(v, 0.0, 1e-2..1e4, 3, 0)
+    let a = v.abs();
+    let decimals = if a > 0.0 && a.is_finite() { (2 - a.log10().floor() as i64).clamp(0, 4) as usize } else { 3 };
+    short_number(v, 0.0, 1e-2..1e4, decimals, 0)
 }
 
 /// What a particle map colours by.
@@ -724,5 +727,11 @@ mod tests {
             ["0", "200", "0.3", "-0.3", "0.05"]
         );
         assert_eq!(l(2.5e-5), "2.50e-5");
+        let t = super::tick_label;
+        assert_eq!(
+            [t(365.868), t(51.912), t(0.172), t(0.0123), t(1000.0), t(0.01), t(2.0)],
+            ["366", "51.9", "0.172", "0.0123", "1000", "0.01", "2"]
+        );
+        assert_eq!(t(4.2e5), "4e5");
     }
 }
