@@ -647,23 +647,30 @@ fn run_inline(d: &std::path::Path, text: &str) -> std::path::PathBuf {
     dir
 }
 
+/// `blastsph check` of the shipped 3D quarter compact charge with `--set` overrides.
+fn check_quarter(sets: &[&str]) -> Output {
+    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
+    let mut a = vec!["check", case.to_str().unwrap()];
+    for s in sets {
+        a.extend(["--set", s]);
+    }
+    blastsph(&a)
+}
+
+/// Its output, the check passed (exit 0): stdout and stderr together.
+fn checked_quarter(sets: &[&str]) -> String {
+    let o = check_quarter(sets);
+    ok(&o);
+    text(&o.stdout) + &text(&o.stderr)
+}
+
 /// Slips of units that make a case run as another scene (a docs-only engineer's mistakes: each
 /// passed `check` silently; three then ended the run at its first steps with advice to lower the
 /// CFL, one made a square prism of the cylinder): `check` names each with its likely unit, and
 /// the case as shipped names none of them.
 #[test]
 fn slips_of_units_are_named_by_check() {
-    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
-    let check = |set: Option<&str>| {
-        let mut a = vec!["check", case.to_str().unwrap()];
-        if let Some(s) = set {
-            a.extend(["--set", s]);
-        }
-        let o = blastsph(&a);
-        ok(&o);
-        text(&o.stdout) + &text(&o.stderr)
-    };
-    let plain = check(None);
+    let plain = checked_quarter(&[]);
     for hint in ["g/cm³", "kJ/kg", "in mm", "mass_kg is each particle's mass, in kg"] {
         assert!(!plain.contains(hint), "{hint} in the shipped case: {plain}");
     }
@@ -673,7 +680,7 @@ fn slips_of_units_are_named_by_check() {
         ("region.charge.radius_m=46", "warning: region charge: its radius_m = 46 m does not cut its lo_m/hi_m box"),
         ("region.charge.mass_kg=2.4", "warning: region charge (tnt): mass_kg = 2.4 kg per particle"),
     ] {
-        let t = check(Some(set));
+        let t = checked_quarter(&[set]);
         let line = t.lines().find(|l| l.starts_with(want)).unwrap_or_else(|| panic!("{set}: {t}"));
         assert!(line.contains('?') || line.contains("in kg"), "{line}");
     }
@@ -685,18 +692,8 @@ fn slips_of_units_are_named_by_check() {
 /// the planes) says nothing of it.
 #[test]
 fn a_charge_beside_its_symmetry_planes_is_said_to_be_several() {
-    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
-    let check = |sets: &[&str]| {
-        let mut a = vec!["check", case.to_str().unwrap()];
-        for s in sets {
-            a.extend(["--set", s]);
-        }
-        let o = blastsph(&a);
-        ok(&o);
-        text(&o.stdout) + &text(&o.stderr)
-    };
-    assert!(!check(&[]).contains("does not abut the symmetry plane"));
-    let t = check(&[
+    assert!(!checked_quarter(&[]).contains("does not abut the symmetry plane"));
+    let t = checked_quarter(&[
         "region.charge.center_m=[0.1, 0.1, 0.46]",
         "region.charge.lo_m=[0.0, 0.0, 0.0]",
         "region.charge.hi_m=[0.552, 0.552, 0.552]",
@@ -715,13 +712,8 @@ fn a_charge_beside_its_symmetry_planes_is_said_to_be_several() {
 /// end time was meant in seconds.
 #[test]
 fn refusals_of_a_gauge_outside_and_of_an_end_in_milliseconds_say_what_is_meant() {
-    let case = common::root().join("cases/surface_loose_tnt1kg_3d.toml");
     let refused = |sets: &[&str]| {
-        let mut a = vec!["check", case.to_str().unwrap()];
-        for s in sets {
-            a.extend(["--set", s]);
-        }
-        let o = blastsph(&a);
+        let o = check_quarter(sets);
         assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
         assert_eq!(text(&o.stderr).lines().count(), 1, "{}", text(&o.stderr));
         text(&o.stderr)
