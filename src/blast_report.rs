@@ -1138,8 +1138,14 @@ fn history_json(hist: &[(f64, std::result::Result<Crater, String>)]) -> Vec<Valu
         .collect()
 }
 
+/// A peak's label on peaks.png: four significant digits in MPa (365.9, 51.91, 0.1234; the
+/// peaks are not converged beyond that), "-" when there is none.
 fn tick(p: f64) -> String {
-    if p.is_finite() { format!("{p:.3} MPa") } else { "-".into() }
+    if !p.is_finite() {
+        return "-".into();
+    }
+    let decimals = if p.abs() > 0.0 { (3 - p.abs().log10().floor() as i64).clamp(0, 6) as usize } else { 0 };
+    format!("{p:.decimals$} MPa")
 }
 
 fn fmt_cm(v: Option<f64>) -> String {
@@ -1349,6 +1355,15 @@ fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
 #[cfg(test)]
 mod tests {
     use super::TimeUnit;
+
+    #[test]
+    fn peak_labels_have_four_significant_digits() {
+        let t = super::tick;
+        assert_eq!(
+            [t(365.868), t(51.912), t(1234.5), t(0.12345), t(f64::NAN)],
+            ["365.9 MPa", "51.91 MPa", "1234 MPa", "0.1235 MPa", "-"]
+        );
+    }
 
     #[test]
     fn report_times_are_in_the_unit_of_the_run_length() {
