@@ -451,7 +451,7 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
 /// longest side (its error well below the 2 %).
 pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
     use crate::case::{EosCfg, Shape};
-    let (d, n) = (case.dim, p.nreal.min(region.len()));
+    let d = case.dim;
     let mut out = Vec::new();
     for (r, rc) in case.regions.iter().enumerate() {
         let Some(m) = case.material_index(&rc.material) else { continue };
@@ -466,12 +466,8 @@ pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<S
         }
         let Some((lo, hi)) = crate::setup::region_box(case, r) else { continue };
         let rho = rc.rho_kgm3.or(mc.eos.rho0()).unwrap_or(1.0);
-        let (held, count) =
-            (0..n).filter(|&i| region[i] as usize == r).fold((0.0, 0usize), |(s, c), i| (s + p.mass[i], c + 1));
-        // the shape's volume: a midpoint sum over a grid of its box, about 200 points along its
-        // longest side
-        let longest = (0..d).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-        if longest.is_nan() || longest <= 0.0 || count == 0 {
+        let (held, count) = region_mass(p, region, r);
+        if count == 0 {
             continue;
         }
         let shape_mass = rho * shape_volume(case, r, &lo, &hi);
@@ -528,6 +524,14 @@ pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
             "a 2D point blast {spacings:.0} spacings from its centre at the end, with the h cap (sph.h_max_ratio = {cap}) and no conductivity: the cap strands the deposit's heat and the shock lags more the finer the lattice (peak 0.994 of the exact radius at 33 spacings, 0.965 at 66); set [conductivity] alpha = 1 (0.990 at 66; docs/validation.md, \"Sedov–Taylor in 2D: resolution\")"
         )
     })
+}
+
+/// The mass region `r`'s real particles hold at the start (kg; per metre in 2D plane) and their
+/// count.
+fn region_mass(p: &Particles, region: &[u32], r: usize) -> (f64, usize) {
+    (0..p.nreal.min(region.len()))
+        .filter(|&i| region[i] as usize == r)
+        .fold((0.0, 0usize), |(s, c), i| (s + p.mass[i], c + 1))
 }
 
 /// The volume of region `r`'s shape within its box `lo`..`hi` (m³; in RZ the volume of
@@ -592,7 +596,7 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
             ));
         }
     }
-    let (d, n) = (case.dim, p.nreal.min(region.len()));
+    let d = case.dim;
     for (r, rc) in case.regions.iter().enumerate() {
         let Some(m) = case.material_index(&rc.material) else { continue };
         let mc = &case.materials[m];
@@ -639,8 +643,7 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
             && let Some((lo, hi)) = crate::setup::region_box(case, r)
         {
             let rho = rc.rho_kgm3.or(mc.eos.rho0()).unwrap_or(0.0);
-            let (held, count) =
-                (0..n).filter(|&i| region[i] as usize == r).fold((0.0, 0usize), |(s, c), i| (s + p.mass[i], c + 1));
+            let (held, count) = region_mass(p, region, r);
             let shape_mass = rho * shape_volume(case, r, &lo, &hi);
             let ratio = held / shape_mass;
             if count > 0 && shape_mass > 0.0 && !(1.0 / 3.0..=3.0).contains(&ratio) {
@@ -667,7 +670,6 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
 /// naming the planes, the gap and the scene's charges; a charge that abuts its planes (a half,
 /// quarter or octant of one charge) or straddles one is not named here.
 pub fn charge_image_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
-    let n = p.nreal.min(region.len());
     let axis = ["x", "y", "z"];
     let mut out = Vec::new();
     for (r, rc) in case.regions.iter().enumerate() {
@@ -696,7 +698,7 @@ pub fn charge_image_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<
         if near.is_empty() {
             continue;
         }
-        let held: f64 = (0..n).filter(|&i| region[i] as usize == r).map(|i| p.mass[i]).sum();
+        let held = region_mass(p, region, r).0;
         let copies = 1usize << near.len();
         let planes: Vec<String> =
             near.iter().map(|(k, c, g)| format!("{} = {c} m ({:.3} m from it)", axis[*k], g)).collect();

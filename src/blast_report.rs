@@ -1144,7 +1144,7 @@ fn tick(p: f64) -> String {
     if !p.is_finite() {
         return "-".into();
     }
-    let decimals = if p.abs() > 0.0 { (3 - p.abs().log10().floor() as i64).clamp(0, 6) as usize } else { 0 };
+    let decimals = if p == 0.0 { 0 } else { plot::decimals_for(p, 4, 6) };
     format!("{p:.decimals$} MPa")
 }
 

@@ -35,8 +35,8 @@ use std::path::{Path, PathBuf};
 /// file is open (a test harness starting `blastsph`, a user's script) inherits the lock and holds
 /// it after blastsph has closed the file: the next open of the file failed with "unable to lock
 /// file, errno = 11" (seen intermittently in the parallel tests). A run directory's `run.lock` is
-/// the lock that keeps two runs apart; particles.h5 and revolved.h5 are written whole by the one
-/// process that holds it, and replaced by a rename.
+/// the lock that keeps two runs apart: only the process that holds it writes particles.h5 or
+/// revolved.h5 (the latter under a temporary name, then renamed).
 pub(crate) fn h5_file(path: &Path, mode: hdf5::file::OpenMode) -> hdf5::Result<hdf5::File> {
     hdf5::File::with_options().with_fapl(|p| p.file_locking(false)).open_as(path, mode)
 }

@@ -368,9 +368,14 @@ fn axis_label(v: &f64) -> String {
 /// A tick on the data of a log axis: three significant digits (366, 51.9, 0.172; a docs-only
 /// engineer read "365.868" and "159.546" on peaks.png's axis), a power of ten outside 10⁻²…10⁴.
 fn tick_label(v: f64) -> String {
+    short_number(v, 0.0, 1e-2..1e4, decimals_for(v, 3, 4), 0)
+}
+
+/// The decimals that print `v` to `digits` significant digits in fixed notation (at most `max`;
+/// `max` for 0 or a value that is not finite).
+pub(crate) fn decimals_for(v: f64, digits: i64, max: i64) -> usize {
     let a = v.abs();
-    let decimals = if a > 0.0 && a.is_finite() { (2 - a.log10().floor() as i64).clamp(0, 4) as usize } else { 3 };
-    short_number(v, 0.0, 1e-2..1e4, decimals, 0)
+    if a > 0.0 && a.is_finite() { (digits - 1 - a.log10().floor() as i64).clamp(0, max) as usize } else { max as usize }
 }
 
 /// What a particle map colours by.

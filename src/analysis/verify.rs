@@ -179,9 +179,13 @@ pub(crate) fn sedov_edge_warning(case: &Case, t: f64, n: usize, pos: &dyn Fn(usi
         return None;
     }
     let s = setup_of(case).ok()?;
-    let sd = Sedov::new(s.j, s.gamma)?;
-    let r = sd.radius(s.energy, s.rho0, t);
-    let (edge, side) = nearest_edge(&s, n, pos)?;
+    let r = Sedov::new(s.j, s.gamma)?.radius(s.energy, s.rho0, t);
+    edge_warning(case, &s, t, r, nearest_edge(&s, n, pos).as_ref())
+}
+
+/// [`sedov_edge_warning`] for a set-up, its exact radius `r` at `t` and its nearest edge.
+fn edge_warning(case: &Case, s: &Setup, t: f64, r: f64, edge: Option<&(f64, String)>) -> Option<String> {
+    let (edge, side) = (edge?.0, &edge?.1);
     let reach = case.sph.kernel.support() * case.sph.h_over_dx * s.dx;
     if !(r.is_finite() && r + reach > edge) {
         return None;
@@ -404,10 +408,10 @@ fn sedov(case: &Case, f: &Frame, x0: &[f64]) -> Result<(Value, Option<Profiles>)
     let d = case.dim.max(1);
     let pos0 = |i: usize| -> [f64; 3] { std::array::from_fn(|k| if k < d { x0[d * i + k] } else { 0.0 }) };
     let edge = nearest_edge(&s, x0.len() / d, &pos0);
-    let edge_warning = sedov_edge_warning(case, f.time, x0.len() / d, &pos0);
     let sol = Sedov::new(s.j, s.gamma).ok_or_else(|| input("sedov: no similarity solution"))?;
     let t = f.time;
     let rex = sol.radius(s.energy, s.rho0, t);
+    let edge_warning = edge_warning(case, &s, t, rex, edge.as_ref());
     let jump = sol.jump();
     let n = f.x.len();
     let r: Vec<f64> = (0..n).map(|i| radius(&s, f, i)).collect();
