@@ -11,7 +11,8 @@
 //! The rule for commands: `blastsph ARGS` and `cargo run --release -- ARGS` run the binary built
 //! for this test. A command that installs system packages (`scripts/setup`, `apt-get`), needs
 //! ParaView (`pvpython`), builds or tests this crate (`cargo build`, `cargo test`: the test runs
-//! inside them), or changes folder after a clone (`git clone`, `cd`) is skipped. Any other command
+//! inside them), gets the source (`git clone`, `cd`) or sets the shell's `PATH` (`export`) is
+//! skipped. Any other command
 //! fails the test, so a doc cannot hold a command this test silently ignores. Every `run` gets
 //! `--end-time` of at most [`RUN_END_CAP_S`] (the doc's own when shorter), every `dual` at most
 //! [`DUAL_STEPS_CAP`] steps, and `validate` and `bench` run only with `--dry-run`.
@@ -433,6 +434,7 @@ fn plan(cmd: &str) -> Plan {
         Some("scripts/setup" | "apt-get" | "sudo") => return Plan::Skip("installs system packages"),
         Some("pvpython") => return Plan::Skip("needs ParaView"),
         Some("git" | "cd") => return Plan::Skip("gets the source"),
+        Some("export") => return Plan::Skip("sets the shell's PATH: the test runs the built binary by its path"),
         _ => panic!("`{cmd}`: a command this test does not know; add a rule for it"),
     };
     Plan::Run(shorten(args))
@@ -521,4 +523,67 @@ fn readme_commands_run() {
 #[test]
 fn tutorial_commands_run() {
     run_doc_commands("docs/tutorial.md");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command-line reference against the binary's own help.
+
+fn help(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).arg("--help").output().expect("cannot start blastsph");
+    assert!(out.status.success(), "blastsph {} --help failed", args.join(" "));
+    String::from_utf8(out.stdout).expect("help is UTF-8")
+}
+
+/// The sub-commands a help text lists under `Commands:` (without `help`).
+fn help_commands(text: &str) -> Vec<String> {
+    text.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+        .filter(|c| c != "help")
+        .collect()
+}
+
+/// The long flags a help text lists under `Options:` (without `--help` and `--version`).
+fn help_flags(text: &str) -> Vec<String> {
+    text.lines()
+        .skip_while(|l| !l.starts_with("Options:"))
+        .filter_map(|l| l.split_whitespace().find(|w| w.starts_with("--")).map(|w| w.trim_end_matches(',').to_string()))
+        .filter(|f| f != "--help" && f != "--version")
+        .collect()
+}
+
+#[test]
+fn cli_reference_covers_every_command_and_flag() {
+    let cli = read(&root().join("docs/reference/cli.md"));
+    // the section of each command: from its heading to the next `## `
+    let section = |cmd: &str| -> String {
+        let head = format!("## `blastsph {cmd}`");
+        let i = cli.find(&head).unwrap_or_else(|| panic!("docs/reference/cli.md has no section \"{head}\""));
+        let rest = &cli[i + head.len()..];
+        rest[..rest.find("\n## ").unwrap_or(rest.len())].to_string()
+    };
+    let mut missing = Vec::new();
+    let top = help_commands(&help(&[]));
+    assert!(top.len() >= 8, "blastsph --help lists only {top:?}");
+    for cmd in &top {
+        let sec = section(cmd);
+        let subs = help_commands(&help(&[cmd]));
+        let mut helps = vec![(cmd.clone(), help(&[cmd]))];
+        for s in &subs {
+            helps.push((format!("{cmd} {s}"), help(&[cmd, s])));
+        }
+        for (name, text) in helps {
+            if name != *cmd && !sec.contains(&format!("blastsph {name}")) {
+                missing.push(format!("`blastsph {name}` is not described in the section of `{cmd}`"));
+            }
+            for f in help_flags(&text) {
+                if !sec.contains(&format!("`{f}")) && !sec.contains(&format!(" {f}")) {
+                    missing.push(format!("`blastsph {name}` flag {f}"));
+                }
+            }
+        }
+    }
+    assert!(missing.is_empty(), "docs/reference/cli.md misses:\n{}", missing.join("\n"));
 }
