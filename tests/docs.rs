@@ -10,7 +10,7 @@
 //!
 //! The rule for commands: `blastsph ARGS` and `cargo run --release -- ARGS` run the binary built
 //! for this test. A command that installs system packages (`scripts/setup`, `apt-get`), needs
-//! ParaView (`pvpython`), builds or tests this crate (`cargo build`, `cargo test`: the test runs
+//! ParaView (`pvpython`, `xvfb-run`), builds or tests this crate (`cargo build`, `cargo test`: the test runs
 //! inside them), gets the source (`git clone`, `cd`) or sets the shell's `PATH` (`export`) is
 //! skipped. Any other command
 //! fails the test, so a doc cannot hold a command this test silently ignores. Every `run` gets
@@ -432,7 +432,7 @@ fn plan(cmd: &str) -> Plan {
             return Plan::Skip("builds or tests this crate");
         }
         Some("scripts/setup" | "apt-get" | "sudo") => return Plan::Skip("installs system packages"),
-        Some("pvpython") => return Plan::Skip("needs ParaView"),
+        Some("pvpython" | "xvfb-run") => return Plan::Skip("needs ParaView"),
         Some("git" | "cd") => return Plan::Skip("gets the source"),
         Some("export") => return Plan::Skip("sets the shell's PATH: the test runs the built binary by its path"),
         _ => panic!("`{cmd}`: a command this test does not know; add a rule for it"),
