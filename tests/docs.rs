@@ -182,7 +182,7 @@ fn sentence_splitter_counts_what_a_reader_sees() {
     );
     assert_eq!(sentences("One two three. Four five six seven!").len(), 2);
     assert_eq!(words("a = b, `c` — 3.5 m"), 5);
-    let long = format!("{}.", vec!["word"; 61].join(" "));
+    let long = format!("{}.", ["word"; 61].join(" "));
     assert_eq!(long_sentences(&long, 60).len(), 1);
     assert_eq!(long_sentences(&long, 61).len(), 0);
 }
@@ -616,11 +616,11 @@ fn cli_reference_covers_every_command_and_flag() {
     let top = help_commands(&help(&[]));
     assert!(top.len() >= 8, "blastsph --help lists only {top:?}");
     for cmd in &top {
-        let sec = section(cmd);
-        let subs = help_commands(&help(&[cmd]));
-        let mut helps = vec![(cmd.clone(), help(&[cmd]))];
+        let sec = section(cmd.as_str());
+        let subs = help_commands(&help(&[cmd.as_str()]));
+        let mut helps = vec![(cmd.clone(), help(&[cmd.as_str()]))];
         for s in &subs {
-            helps.push((format!("{cmd} {s}"), help(&[cmd, s])));
+            helps.push((format!("{cmd} {s}"), help(&[cmd.as_str(), s.as_str()])));
         }
         for (name, text) in helps {
             if name != *cmd && !sec.contains(&format!("blastsph {name}")) {
