@@ -380,10 +380,11 @@ fn every_relative_link_resolves() {
                 bad.push(format!("{}: ({t}) names no file", rel(&f)));
                 continue;
             }
-            if let Some(a) = anchor {
-                if target.is_file() && !anchors(&read(&target)).iter().any(|h| h == a) {
-                    bad.push(format!("{}: ({t}) names no heading of {}", rel(&f), rel(&target)));
-                }
+            if let Some(a) = anchor
+                && target.is_file()
+                && !anchors(&read(&target)).iter().any(|h| h == a)
+            {
+                bad.push(format!("{}: ({t}) names no heading of {}", rel(&f), rel(&target)));
             }
         }
     }
