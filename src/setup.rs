@@ -69,7 +69,7 @@ pub fn material_table(case: &Case) -> MatTable {
                 }
                 let beta = case.detonation.as_ref().is_some_and(|d| d.mode == BurnMode::Programmed && d.beta_burn);
                 if beta {
-                    let jwl = crate::analysis::cj::Jwl {
+                    let jwl = crate::modules::detonation::cj::Jwl {
                         rho0: *rho0_kgm3,
                         a: *a_pa,
                         b: *b_pa,
@@ -78,7 +78,7 @@ pub fn material_table(case: &Case) -> MatTable {
                         omega: *omega,
                         e0,
                     };
-                    if let Some(s) = crate::analysis::cj::cj(&jwl) {
+                    if let Some(s) = crate::modules::detonation::cj::cj(&jwl) {
                         col[SPH_MP_ETA_CJ as usize - 1] = s.rho / rho0_kgm3;
                     }
                 }

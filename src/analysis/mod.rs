@@ -2,8 +2,7 @@
 //! the verification problems (Riemann, Sedov–Taylor, Noh and wall reflection, the CJ detonation
 //! and its Taylor wave).
 
-#[cfg(feature = "io")]
-pub mod cj;
+pub use crate::modules::detonation::cj;
 pub mod crater;
 pub mod noh;
 pub mod riemann;

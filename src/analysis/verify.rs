@@ -28,7 +28,7 @@
 //!   jets — their count and the largest r over the exact radius (0 when there are none);
 //! - e < 0: the count of particles with negative specific internal energy, and the smallest e.
 
-use crate::analysis::cj::{Jwl, TaylorWave};
+use crate::modules::detonation::cj::{Jwl, TaylorWave};
 use crate::analysis::noh::{Noh, reflect};
 use crate::analysis::sedov::Sedov;
 use crate::case::{AnalysisKind, Case, EosCfg, WallKind};

@@ -5,6 +5,7 @@
 //! un-burns: λ_i ← max(λ_i, λ_p, min(1, (1 − ρ0/ρ_i)/(1 − 1/η_CJ))). The instantaneous burn needs no
 //! routine. Fortran twin: `sph_detonation.f90`. Tier: 0 ULP (a maximum is exact).
 
+pub mod cj;
 mod ffi;
 #[cfg(test)]
 mod parity;
