@@ -585,7 +585,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         } => {
             progress_every(pe)?;
             threads(th)?;
-            let o = crate::restart::ResumeOptions {
+            let o = crate::runner::restart::ResumeOptions {
                 end_time,
                 allow_changed,
                 quiet,
@@ -594,7 +594,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 stop_after_step: None,
             };
             stop_on_signals()?;
-            let r = on_pool(|| crate::restart::resume(&dir, &o))?;
+            let r = on_pool(|| crate::runner::restart::resume(&dir, &o))?;
             finished(&r, "wall in all");
             Ok(0)
         }

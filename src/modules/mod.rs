@@ -21,6 +21,7 @@
 mod par;
 pub mod param;
 mod stage;
+pub mod ulp;
 #[cfg(test)]
 pub(crate) mod testkit;
 

@@ -410,28 +410,7 @@ fn height_text(v: f64) -> String {
 /// median so a stretched particle does not cover its neighbours. (A 3D section's frame carries
 /// ρ V^⅔ as its mass, so that this is V^⅓.)
 fn sides(f: &Frame, rz: bool) -> Vec<f64> {
-    sides_of(&f.x, &f.mass, &f.rho, rz)
-}
-
-/// [`sides`] from the positions' first coordinate (r in RZ), masses and densities.
-pub(crate) fn sides_of(x: &[f64], mass: &[f64], rho: &[f64], rz: bool) -> Vec<f64> {
-    let area = |i: usize| {
-        let a = mass[i] / rho[i];
-        if rz { a / (2.0 * std::f64::consts::PI * x[i].abs()) } else { a }
-    };
-    let mut s: Vec<f64> = (0..x.len()).map(|i| if rho[i] > 0.0 { area(i).sqrt() } else { 0.0 }).collect();
-    let mut sorted: Vec<f64> = s.iter().copied().filter(|v| v.is_finite()).collect();
-    sorted.sort_by(|a, b| a.total_cmp(b));
-    let med = sorted.get(sorted.len() / 2).copied().unwrap_or(0.01);
-    for v in s.iter_mut() {
-        if !v.is_finite() {
-            *v = med;
-        }
-        // 15 % larger than the particle's own area, so neighbours overlap instead of leaving
-        // hairline gaps between rounded pixel edges
-        *v = 1.15 * v.min(2.0 * med);
-    }
-    s
+    crate::analysis::sides_of(&f.x, &f.mass, &f.rho, rz)
 }
 
 /// Scaled distance of a gauge at `r` m from the charge: R/√(W/L) in plane strain (W/L in kg per

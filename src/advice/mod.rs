@@ -124,7 +124,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(deposit_warning(case, p))
         .chain(analysis_warning(case, p))
         .chain(stranded_deposit_warning(case))
-        .chain(crate::analysis::verify::sedov_edge_warning(case, case.time.end_s, p.nreal, &|i| {
+        .chain(crate::analysis::sedov_edge::sedov_edge_warning(case, case.time.end_s, p.nreal, &|i| {
             std::array::from_fn(|k| if k < case.dim { p.x[case.dim * i + k] } else { 0.0 })
         }))
         .chain(sedov_spacing_warning(case))
@@ -510,14 +510,14 @@ pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<S
 /// shock should carry, and the more so the finer the lattice: the case file's blast peaks at
 /// 0.994 of the exact radius at 104² (33 spacings) and 0.965 at 208² (66); with the conductivity
 /// (which leaves the cap out) 0.991 and 0.990 (docs/validation.md, "Sedov–Taylor in 2D: resolution").
-/// The radius and Δx are the report's (`verify::sedov_end_radius`: its energy, ambient density
+/// The radius and Δx are the report's (`sedov_edge::sedov_end_radius`: its energy, ambient density
 /// and finest spacing).
 pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
     if case.dim != 2 || case.geometry == Geometry::Axisymmetric || case.conductivity.alpha > 0.0 {
         return None;
     }
     let cap = case.sph.h_max_ratio?;
-    let (r, dx) = crate::analysis::verify::sedov_end_radius(case)?;
+    let (r, dx) = crate::analysis::sedov_edge::sedov_end_radius(case)?;
     let spacings = r / dx;
     (spacings.is_finite() && spacings > 50.0).then(|| {
         format!(
@@ -719,7 +719,7 @@ pub fn charge_image_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<
 /// check's 3D octant at 14 spacings: peak 0.976, half-jump 1.068 of the exact radius, particles
 /// up to 1.33 R ahead; the docs' figures are at 25 spacings or more). One line, or None.
 pub fn sedov_spacing_warning(case: &Case) -> Option<String> {
-    let (r, dx) = crate::analysis::verify::sedov_end_radius(case)?;
+    let (r, dx) = crate::analysis::sedov_edge::sedov_end_radius(case)?;
     let spacings = r / dx;
     (spacings.is_finite() && spacings < 20.0).then(|| {
         format!(
