@@ -18,11 +18,13 @@
 
 mod dims;
 pub mod geometry;
+mod material;
 mod sets;
 pub mod size;
 mod types;
 pub mod validate;
 
+pub use material::*;
 pub use sets::{apply_sets, apply_sets_by};
 pub use types::*;
 
