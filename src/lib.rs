@@ -7,8 +7,9 @@
 //!
 //! ## Layers
 //!
-//! Each module imports only from its own layer and the layers above it in this table, and no two
-//! modules import each other, directly or through others (`tests/layers.rs` reads this table).
+//! The layers are listed from the bottom up. A module imports only from its own layer and the
+//! layers listed before it, and no two modules import each other, directly or through others
+//! (`tests/layers.rs` reads this table).
 //!
 //! | layer | modules |
 //! |---|---|

@@ -436,7 +436,7 @@ fn unit_noise(region: usize, point: usize, axis: usize) -> f64 {
 
 /// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and
 /// end-node flags (an end that is the start of another wall is not counted twice); 3D walls
-/// ([`plane_walls`]); in axisymmetric geometry the axis r = 0 as a mirror (reflective ghosts),
+/// (`plane_walls`); in axisymmetric geometry the axis r = 0 as a mirror (reflective ghosts),
 /// after the case's walls, when mirrors are wanted.
 pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segments {
     let d = case.dim;

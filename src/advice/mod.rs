@@ -355,7 +355,7 @@ pub fn ignored_keys(case: &Case) -> Vec<String> {
 
 /// Each region cut out of a box region (`subtract`) whose flat faces do not lie on that box's
 /// cell faces (lo + k Δx of the box's lattice, to 10⁻⁴ of a spacing per spacing, as
-/// [`crate::setup::cells`] counts): one line each. The box keeps its lattice points outside the
+/// `crate::setup::cells` counts): one line each. The box keeps its lattice points outside the
 /// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
 /// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
 /// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's

@@ -14,6 +14,7 @@ pub mod verify;
 /// The side of each particle's square on a map (m), from the positions' first coordinate (r in
 /// RZ), masses and densities: √(m/ρ) in 2D, √(m/(2π r ρ)) axisymmetric, capped at twice the
 /// median (the maps of `blast_report` and the verification report).
+#[cfg(feature = "plot")]
 pub(crate) fn sides_of(x: &[f64], mass: &[f64], rho: &[f64], rz: bool) -> Vec<f64> {
     let area = |i: usize| {
         let a = mass[i] / rho[i];

@@ -6,7 +6,9 @@ use crate::analysis::sedov::Sedov;
 use crate::case::{AnalysisKind, Case, EosCfg, WallKind};
 use crate::error::Result;
 
-/// What the problem needs from the case and its initial particles.
+/// What the problem needs from the case and its initial particles (the ambient state is read
+/// by the measures of `verify`, which need `io`).
+#[cfg_attr(not(feature = "io"), allow(dead_code))]
 pub(crate) struct Setup {
     pub(crate) dim: usize,
     /// Geometry of the blast: 1 planar, 2 cylindrical, 3 spherical (3D, or 2D axisymmetric).
@@ -127,6 +129,7 @@ pub(crate) fn edge_warning(case: &Case, s: &Setup, t: f64, r: f64, edge: Option<
 /// What `blastsph check` says of a Sedov case before it runs: the energy, ambient density and γ
 /// the report will measure against, ξ0, and the exact shock radius at the end in metres and in
 /// spacings; None when the case is no Sedov blast or the set-up fails.
+#[cfg(feature = "cli")]
 pub(crate) fn sedov_check_line(case: &Case) -> Option<String> {
     let (s, sd, r) = sedov_at_end(case)?;
     let (geo, unit) = match (s.j, case.axisymmetric()) {

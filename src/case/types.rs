@@ -685,7 +685,7 @@ pub struct AnalysisCfg {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThesisGauge {
-    /// Gauge name (as in [[gauge]]).
+    /// Gauge name (as in `[[gauge]]`).
     pub gauge: String,
     /// Time of the peak (s).
     pub peak_time_s: Option<f64>,

@@ -1,4 +1,6 @@
 //! The command line (docs/design.md): `run`, `dual`, `check`, `report`.
+// The doc comments below are clap's help texts, which name placeholders as <case name>.
+#![allow(rustdoc::invalid_html_tags)]
 
 use crate::case;
 use crate::error::{IoAt, Result, SphError, input};

@@ -3,7 +3,7 @@
 //! A *module* is one physics or numerics routine family: a folder `src/modules/<module>/` with its
 //! parameters and argument types (`mod.rs`), its Rust twin (`rust.rs`), the safe wrapper of its
 //! Fortran twin `fortran/src/sph_<module>.f90` (`ffi.rs`, the only `unsafe`), and its parity test
-//! (`parity.rs`). It is registered by one line of [`registry!`] below.
+//! (`parity.rs`). It is registered by one line of `registry!` below.
 //!
 //! Two values make a module:
 //! - each routine's **argument list**, a struct written once, that implements [`Twin`]: the same

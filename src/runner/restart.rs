@@ -1,7 +1,7 @@
 //! Checkpoints and `blastsph resume` (docs/output.md "Checkpoints and resume").
 //!
 //! A checkpoint (`checkpoint.bin`, replaced atomically each time) holds the solver's state
-//! ([`Sim::save_state`]), the run loop's ([`Loop`]: output schedule, peaks, gauge records,
+//! ([`Sim::save_state`]), the run loop's (`Loop`: output schedule, peaks, gauge records,
 //! energies at t = 0), what particles.h5 and gauges.csv held when it was written, and a header
 //! (JSON) naming the binary and the case that wrote it. Resuming rebuilds the simulation from the
 //! run directory's case.toml exactly as the run built it, puts the state back, cuts particles.h5
