@@ -740,7 +740,7 @@ fn legacy(cmd: LegacyCmd) -> Result<i32> {
 }
 
 /// What a finished `run` or `resume` prints: its line, and a warning when its energy balance is
-/// off (src/report.rs `energy_warning`).
+/// off (src/report/mod.rs `energy_warning`).
 fn finished(r: &runner::RunResult, wall: &str) {
     println!("{}", finished_line(&r.summary, wall, &r.dir));
     if let Some(w) = crate::report::energy_warning(&r.summary) {

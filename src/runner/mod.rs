@@ -389,7 +389,7 @@ impl Loop {
                     pb.update(self.sim.nstep, self.sim.t, dt);
                 }
                 Err(SphError::Unstable(msg)) => {
-                    // the diagnostic names the likely fix (src/advice.rs)
+                    // the diagnostic names the likely fix (src/advice/)
                     let mut hint = crate::advice::hint(&self.sim.case, &msg);
                     if !self.sim.plan.legacy.is_null() {
                         hint = format!(
