@@ -1,4 +1,4 @@
-//! The dual run (DESIGN.md "Dual run"): at every step every stage runs both implementations on
+//! The dual run (docs/design.md, the dual run): at every step every stage runs both implementations on
 //! identical inputs; every field the stage declares as written is compared; the run continues
 //! with the Fortran result so differences never compound.
 //!
@@ -14,6 +14,7 @@
 //!
 //! No stage needs a relative tolerance: no summation order differs.
 
+pub use crate::modules::ulp::ulp_diff;
 use crate::modules::{Backend, Counterpart, Stage};
 use crate::state::{Array, Clock, Field, Particles, Per, Snap, Work};
 use serde::Serialize;
@@ -23,21 +24,6 @@ use std::collections::BTreeMap;
 /// that broke) stays visible in the row's largest difference, where `f64::max` would drop it.
 pub(crate) fn sticky_max(m: f64, v: f64) -> f64 {
     if m.is_nan() || v.is_nan() { f64::NAN } else { m.max(v) }
-}
-
-/// Distance in units in the last place between two doubles (0 for +0 and −0).
-pub fn ulp_diff(a: f64, b: f64) -> u64 {
-    if a == b {
-        return 0;
-    }
-    if a.is_nan() || b.is_nan() {
-        return u64::MAX;
-    }
-    let key = |x: f64| -> i64 {
-        let bits = x.to_bits() as i64;
-        if bits < 0 { i64::MIN.wrapping_sub(bits) } else { bits }
-    };
-    (key(a) as i128 - key(b) as i128).unsigned_abs().min(u64::MAX as u128) as u64
 }
 
 /// A ULP distance as the table prints it: "NaN" where a side was NaN, and in powers of ten above

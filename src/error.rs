@@ -46,3 +46,15 @@ pub fn input<S: Into<String>>(s: S) -> SphError {
 }
 
 pub type Result<T> = std::result::Result<T, SphError>;
+
+/// An I/O failure as the run's error (exit status 1), named by what failed: a path or a file's
+/// name. `std::fs::rename(&tmp, path).io_at(path.display())` reads "PATH: the OS's message".
+pub trait IoAt<T> {
+    fn io_at(self, what: impl std::fmt::Display) -> Result<T>;
+}
+
+impl<T, E: std::fmt::Display> IoAt<T> for std::result::Result<T, E> {
+    fn io_at(self, what: impl std::fmt::Display) -> Result<T> {
+        self.map_err(|e| SphError::Io(format!("{what}: {e}")))
+    }
+}

@@ -18,7 +18,7 @@
 //! with strength): 1D xx; 2D xx, yy, zz, xy; 3D all six.
 
 use crate::case::{GaugeCfg, GaugeKind, KernelKind};
-use crate::error::{Result, SphError};
+use crate::error::{IoAt, Result, SphError};
 use crate::modules::param::NSTR;
 use crate::sim::Sim;
 use crate::sim::checkpoint::{Blob, Item};
@@ -301,8 +301,8 @@ impl Gauges {
     /// Flushes gauges.csv to the disk (before a checkpoint records its length).
     pub fn sync(&mut self) -> Result<()> {
         if let Some(f) = self.file.as_mut() {
-            f.flush().map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
-            f.get_ref().sync_all().map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+            f.flush().io_at("gauges.csv")?;
+            f.get_ref().sync_all().io_at("gauges.csv")?;
         }
         Ok(())
     }

@@ -4,6 +4,24 @@
 //! mix; the dual run ([`dual`]) checks each Rust routine against its Fortran twin, step by step.
 //!
 //! Physics and equation numbers: `docs/theory.md` (thesis numbering). Case format: `docs/cases.md`.
+//!
+//! ## Layers
+//!
+//! The layers are listed from the bottom up. A module imports only from its own layer and the
+//! layers listed before it, and no two modules import each other, directly or through others
+//! (`tests/layers.rs` reads this table).
+//!
+//! | layer | modules |
+//! |---|---|
+//! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `dual` |
+//! | bridge | `migration` |
+//! | run | `casedir`, `rundir`, `progress`, `output`, `analysis`, `advice`, `gauges`, `runner` |
+//! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench` |
+//! | cli | `cli` |
+//!
+//! The core (the modules and their twins, the particle state, the case, the set-up, the solver
+//! and the dual run) builds alone: `cargo build --no-default-features --lib`. Analysis computes
+//! and never draws; the plots are the post layer's.
 #![deny(unsafe_code)]
 // The Rust twins index arrays in loops written as the Fortran writes them (same order of
 // operations, for bit-for-bit parity); iterator rewrites would obscure that correspondence.
@@ -34,13 +52,13 @@ pub mod presets;
 pub mod progress;
 #[cfg(feature = "plot")]
 pub mod report;
-#[cfg(feature = "io")]
-pub mod restart;
 #[cfg(feature = "plot")]
 pub mod revolve;
 pub mod rundir;
 #[cfg(feature = "io")]
 pub mod runner;
+#[cfg(feature = "io")]
+pub use runner::restart;
 pub mod setup;
 pub mod sim;
 pub mod state;

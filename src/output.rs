@@ -1,4 +1,4 @@
-//! Run-directory output (DESIGN.md contracts): `particles.h5` in the H5Part layout that ParaView
+//! Run-directory output (docs/output.md): `particles.h5` in the H5Part layout that ParaView
 //! opens directly (groups `Step#N` of equal-length 1D datasets and a float64 `TimeValue`
 //! attribute), and its XDMF sidecar `particles.xmf` (`File > Open particles.xmf` in ParaView, or
 //! `OpenDataFile` in pvpython).
@@ -11,7 +11,7 @@
 //!   velocity and shear-stress components) is declared with fill value 0 and never written:
 //!   HDF5 allocates no chunk for it, so it costs a few hundred bytes of header and no data, and
 //!   reads back as zeros. They stay because ParaView's H5PartReader takes its points from its
-//!   coordinate arrays `x`, `y`, `z`, and the DESIGN.md contract names `z` (0 in 2D) and `vz`;
+//!   coordinate arrays `x`, `y`, `z`, and the output contract (docs/output.md) names `z` (0 in 2D) and `vz`;
 //! - `/xdmf/Step#N/{xyz, vxyz, stress}` are (N, 3) and (N, 9) HDF5 virtual datasets over the 1D
 //!   columns (no data of their own): ParaView's Xdmf3 reader builds points and vectors only from
 //!   such arrays.
@@ -23,7 +23,7 @@
 //! does not spend its time rewriting it (the text grows with the frames: rewritten after every
 //! one, 10 000 frames of the shock tube took 394 s; now 21 s, docs/output.md).
 
-use crate::error::{Result, SphError};
+use crate::error::{IoAt, Result, SphError};
 use crate::modules::param::NSTR;
 use crate::sim::Sim;
 use crate::sim::checkpoint::{self, Blob};
@@ -413,7 +413,7 @@ fn rebuild(path: &Path, written: &[StepInfo], dim: usize) -> Result<()> {
     let bad = |what: String| crate::error::input(format!("{}: {what}", path.display()));
     let src = h5_file(path, hdf5::file::OpenMode::Read).map_err(|e| bad(format!("damaged or not HDF5 ({e})")))?;
     let tmp = path.with_extension("h5.rebuild");
-    remove_stale(&tmp)?;
+    crate::rundir::remove_stale(&tmp)?;
     {
         let dst = h5_file(&tmp, hdf5::file::OpenMode::CreateExcl).map_err(h5err)?;
         for (k, st) in written.iter().enumerate() {
@@ -448,7 +448,7 @@ fn rebuild(path: &Path, written: &[StepInfo], dim: usize) -> Result<()> {
         dst.flush().map_err(h5err)?;
     }
     drop(src);
-    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
+    std::fs::rename(&tmp, path).io_at(path.display())
 }
 
 /// A float64 dataset item.
@@ -557,15 +557,6 @@ pub(crate) fn open_steps(path: &Path) -> Result<(hdf5::File, Vec<(usize, String)
         .collect();
     names.sort();
     Ok((f, names))
-}
-
-/// Removes a temporary file a killed writer may have left (none is no error).
-pub(crate) fn remove_stale(tmp: &Path) -> Result<()> {
-    match std::fs::remove_file(tmp) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(SphError::Io(format!("{}: {e}", tmp.display()))),
-    }
 }
 
 /// Reads the groups of a particles.h5, in step order.

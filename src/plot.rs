@@ -1,6 +1,6 @@
 //! PNG plots (plotters): profile panels, time series, particle snapshots.
 
-use crate::error::{Result, SphError};
+use crate::error::{IoAt, Result, SphError};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
@@ -717,7 +717,7 @@ pub fn animate(path: &Path, maps: &[MapSpec], delay_ms: u32) -> Result<()> {
             root.present().map_err(perr)?;
         }
     }
-    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))?;
+    std::fs::rename(&tmp, path).io_at(path.display())?;
     Ok(())
 }
 

@@ -9,7 +9,7 @@
 //! ParaView's XDMF readers take: `xyz` and `vxyz` (M, 3), the scalars (M)) and `revolved.xmf`
 //! (a temporal collection of polyvertex grids) goes beside the run's own files.
 
-use crate::error::{Result, SphError, input};
+use crate::error::{IoAt, Result, SphError, input};
 use crate::output::{Frame, read_group};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -71,7 +71,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     // written under a temporary name, renamed when complete (a revolve that was killed left a
     // revolved.h5 that refused the next one)
     let tmp = dir.join("revolved.h5.part");
-    crate::output::remove_stale(&tmp)?;
+    crate::rundir::remove_stale(&tmp)?;
     let file = crate::output::h5_file(&tmp, hdf5::file::OpenMode::CreateExcl).map_err(h5err)?;
     let theta = angle_deg.to_radians();
     let mut steps = Vec::new();
@@ -83,7 +83,7 @@ pub fn revolve(dir: &Path, sectors: usize, angle_deg: f64) -> Result<PathBuf> {
     }
     file.flush().map_err(h5err)?;
     drop(file);
-    std::fs::rename(&tmp, &h5).map_err(|e| SphError::Io(format!("{}: {e}", h5.display())))?;
+    std::fs::rename(&tmp, &h5).io_at(h5.display())?;
     crate::rundir::write_atomic(&xmf, xdmf("revolved.h5", &steps).as_bytes())?;
     Ok(xmf)
 }

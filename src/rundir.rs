@@ -12,7 +12,7 @@
 //! - The default folder `runs/<name>` takes the case's name sanitised: letters, digits, `-`,
 //!   `_` and inner `.` kept, everything else `_` (so "../../x" and "/tmp/x" stay inside `runs/`).
 
-use crate::error::{Result, SphError, input};
+use crate::error::{IoAt, Result, SphError, input};
 use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
 
@@ -147,7 +147,7 @@ pub fn is_report_plot(name: &str) -> bool {
 /// the run as it was.
 pub fn remove_revolved(dir: &Path) -> Result<()> {
     for name in ["revolved.h5", "revolved.h5.part", "revolved.xmf", "revolved.xmf.tmp"] {
-        crate::output::remove_stale(&dir.join(name))?;
+        remove_stale(&dir.join(name))?;
     }
     Ok(())
 }
@@ -163,7 +163,7 @@ pub fn remove_report(dir: &Path) -> Result<()> {
         let base = name.strip_suffix(".tmp").unwrap_or(&name);
         let ft = e.file_type().map_err(|e| io(dir, e))?;
         if ft.is_file() && (base == "report.json" || is_report_plot(base)) {
-            std::fs::remove_file(e.path()).map_err(|e| SphError::Io(format!("{name}: {e}")))?;
+            std::fs::remove_file(e.path()).io_at(name)?;
         }
     }
     Ok(())
@@ -271,7 +271,7 @@ pub fn create_new(path: &Path) -> Result<File> {
     let mut o = OpenOptions::new();
     o.write(true).create_new(true);
     nofollow(&mut o);
-    o.open(path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
+    o.open(path).io_at(path.display())
 }
 
 /// Opens an existing file to append to, refusing a link.
@@ -311,12 +311,9 @@ pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn std::io::Write)
     }
     let f = create_new(&tmp)?;
     let mut bw = std::io::BufWriter::with_capacity(1 << 20, f);
-    fill(&mut bw)
-        .and_then(|_| bw.flush())
-        .and_then(|_| bw.get_ref().sync_all())
-        .map_err(|e| SphError::Io(format!("{}: {e}", tmp.display())))?;
+    fill(&mut bw).and_then(|_| bw.flush()).and_then(|_| bw.get_ref().sync_all()).io_at(tmp.display())?;
     drop(bw);
-    std::fs::rename(&tmp, path).map_err(|e| SphError::Io(format!("{}: {e}", path.display())))
+    std::fs::rename(&tmp, path).io_at(path.display())
 }
 
 /// Refuses a run directory given to `report` or `resume` that is not one: missing, not a folder,
@@ -340,4 +337,20 @@ pub fn check_existing(dir: &Path, what: &str) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Removes a temporary file a killed writer may have left (none is no error).
+pub(crate) fn remove_stale(tmp: &Path) -> Result<()> {
+    match std::fs::remove_file(tmp) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(SphError::Io(format!("{}: {e}", tmp.display()))),
+    }
+}
+
+/// The SHA-256 digest of `bytes` in lower-case hexadecimal (the case files' fingerprints).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    let d = Sha256::digest(bytes);
+    d.iter().map(|b| format!("{b:02x}")).collect()
 }

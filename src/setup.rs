@@ -69,7 +69,7 @@ pub fn material_table(case: &Case) -> MatTable {
                 }
                 let beta = case.detonation.as_ref().is_some_and(|d| d.mode == BurnMode::Programmed && d.beta_burn);
                 if beta {
-                    let jwl = crate::analysis::cj::Jwl {
+                    let jwl = crate::modules::detonation::cj::Jwl {
                         rho0: *rho0_kgm3,
                         a: *a_pa,
                         b: *b_pa,
@@ -78,7 +78,7 @@ pub fn material_table(case: &Case) -> MatTable {
                         omega: *omega,
                         e0,
                     };
-                    if let Some(s) = crate::analysis::cj::cj(&jwl) {
+                    if let Some(s) = crate::modules::detonation::cj::cj(&jwl) {
                         col[SPH_MP_ETA_CJ as usize - 1] = s.rho / rho0_kgm3;
                     }
                 }
@@ -436,7 +436,7 @@ fn unit_noise(region: usize, point: usize, axis: usize) -> f64 {
 
 /// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and
 /// end-node flags (an end that is the start of another wall is not counted twice); 3D walls
-/// ([`plane_walls`]); in axisymmetric geometry the axis r = 0 as a mirror (reflective ghosts),
+/// (`plane_walls`); in axisymmetric geometry the axis r = 0 as a mirror (reflective ghosts),
 /// after the case's walls, when mirrors are wanted.
 pub fn segments(case: &Case, x: &[f64], keep: impl Fn(WallKind) -> bool) -> Segments {
     let d = case.dim;

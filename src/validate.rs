@@ -1,14 +1,14 @@
 //! `blastsph validate`: runs every thesis scene of `cases/`, measures each (as `blastsph report`
-//! does) and writes the comparison with the thesis (THESIS.md §9) and the checks of the trends
+//! does) and writes the comparison with the thesis (docs/validation.md, "Thesis scenes") and the checks of the trends
 //! the thesis draws, as Markdown (`validation.md`) and JSON (`validation.json`) in DIR.
 
-use crate::error::{Result, SphError};
+use crate::error::{IoAt, Result, SphError};
 use crate::runner::{self, RunOptions};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The thesis scenes, in the order of THESIS.md §8.
+/// The thesis scenes, in the order of docs/validation.md, "Thesis scenes".
 pub const SCENES: [&str; 13] = [
     "underwater_box",
     "buried_c4",
@@ -74,11 +74,10 @@ pub fn validate(cases_dir: &Path, out: &Path, opts: &RunOptions, only: &[String]
             }
         )));
     }
-    std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    std::fs::create_dir_all(out).io_at(out.display())?;
     // the folder is validate's from now on (a validation stopped half-way can be run again into
     // it): validation.md says so until the results replace it
-    std::fs::write(out.join("validation.md"), "(validation running)\n")
-        .map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
+    std::fs::write(out.join("validation.md"), "(validation running)\n").io_at(out.display())?;
     let mut scenes = Vec::new();
     for name in SCENES {
         if !only.is_empty() && !only.iter().any(|o| o == name) {
@@ -244,7 +243,7 @@ fn markdown(scenes: &[Scene]) -> String {
     s
 }
 
-/// The trends the thesis draws (THESIS.md §9), each checked: (trend, holds, detail).
+/// The trends the thesis draws (docs/validation.md, "Thesis scenes"), each checked: (trend, holds, detail).
 fn trends(scenes: &[Scene]) -> Vec<(String, bool, String)> {
     let get = |n: &str| scenes.iter().find(|s| s.name == n);
     let mut out = Vec::new();

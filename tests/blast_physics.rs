@@ -175,7 +175,10 @@ fn strength_rates_give_2g_times_deviatoric_strain_rate() {
     let c = n / 2;
     let exy = eps[NSTR * c + 3];
     assert!((exy - 0.5 * gd).abs() < 0.05 * gd, "eps_xy = {exy}");
-    assert!((dtau[NSTR * c + 3] - 2.0 * g * exy).abs() <= 1e-12 * (2.0 * g * exy).abs(), "2G, not G (THESIS.md s.4)");
+    assert!(
+        (dtau[NSTR * c + 3] - 2.0 * g * exy).abs() <= 1e-12 * (2.0 * g * exy).abs(),
+        "2G, not G (docs/theory.md §7)"
+    );
     assert!(dtau[NSTR * c].abs() < 1e-6 * g * gd, "no normal stress rate in pure shear");
 }
 

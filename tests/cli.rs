@@ -1,4 +1,4 @@
-//! The command line as users and tools meet it (DESIGN.md "Contracts"): the built binary, bad
+//! The command line as users and tools meet it (docs/design.md): the built binary, bad
 //! input refused with one line and exit status 2, `check`'s plan, the run directory's files
 //! (H5Part layout, summary.json keys) and `report`.
 
@@ -253,7 +253,7 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     drop(first);
     drop(f);
 
-    // summary.json: the keys of DESIGN.md
+    // summary.json: the keys of docs/output.md
     let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
         .expect("summary.json is JSON");
     assert_eq!(s["case"], "shock_tube");

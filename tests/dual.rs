@@ -1,4 +1,4 @@
-//! The dual run end to end (DESIGN.md "Dual run"): `blastsph dual` over the shock tube and over a
+//! The dual run end to end (docs/design.md, the dual run): `blastsph dual` over the shock tube and over a
 //! small synthetic case in which every module is active, the structure of `dual_report.json`,
 //! how a divergence is reported (module, field, step, particle), the free-running mode, and
 //! thread-count independence of the Rust twins (bitwise-identical `particles.h5`).

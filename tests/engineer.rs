@@ -1,4 +1,4 @@
-//! What a blast engineer meets (issue 15): help on every argument, progress in a log file while
+//! What a blast engineer meets: help on every argument, progress in a log file while
 //! a run goes, material presets equal to the constants typed out, a run directory that reruns
 //! the same run, `--set` errors that name the override, cases found by name, gauges of both
 //! kinds, and a crater that is measured from the soil or refused with a reason.

@@ -5,7 +5,7 @@
 //! equations of state against hand-written formulas and finite differences; one solver step.
 //!
 //! Nothing here compares Fortran with the Rust twins (that is the dual run's job): every
-//! expected value is computed independently, from the equations of THESIS.md.
+//! expected value is computed independently, from the equations of docs/theory.md.
 
 // Particle arrays are parallel (x, rho, v, ... indexed by particle), as in the crate itself.
 #![allow(clippy::needless_range_loop)]
@@ -439,7 +439,7 @@ impl Mat {
     }
 }
 
-// THESIS.md §5 constants
+// the thesis's TNT constants (docs/theory.md §8)
 const TNT: [f64; 7] = [1630.0, 3.712e11, 3.21e9, 4.15, 0.95, 0.30, 6930.0];
 const WATER: [f64; 7] = [1000.0, 2.19e9, 9.224e9, 8.767e9, 0.4934, 1.3937, 1480.0];
 const LOOSE_SAND: [f64; 4] = [1450.0, 1440.0, 1.6, 0.11];
@@ -493,7 +493,10 @@ fn eos_jwl_tnt_constant_volume_burn() {
     let m = tnt();
     let p = m.p(rho0, e0);
     assert!(rel(p, want) < 1e-13, "JWL p = {p:e}, formula {want:e}");
-    assert!(rel(p, 8.376e9) < 5e-3, "JWL TNT at eta = 1, e = e0: p = {p:e} Pa, expected about 8.376e9 (THESIS.md §5)");
+    assert!(
+        rel(p, 8.376e9) < 5e-3,
+        "JWL TNT at eta = 1, e = e0: p = {p:e} Pa, expected about 8.376e9 (the thesis's TNT set)"
+    );
     // other densities, with the formula written out again
     for eta in [0.2, 0.5, 0.9, 1.3] {
         for e in [0.0, 1e6, 4.29e6] {

@@ -1,4 +1,4 @@
-//! A fuzzer of the built binary (issue 14): proptest mutates case files (values replaced by
+//! A fuzzer of the built binary: proptest mutates case files (values replaced by
 //! hostile ones, numbers scaled by powers of ten, keys renamed, lines deleted, copied or cut)
 //! and command lines (flags with good and bad values, junk words), runs `blastsph check` or a
 //! short `blastsph run` under a time and memory limit, and asserts what every input must get:

@@ -1,4 +1,4 @@
-//! Hostile input (issue 14): a corpus of bad case files, bad values, bad command lines, unusable
+//! Hostile input: a corpus of bad case files, bad values, bad command lines, unusable
 //! `--out` paths and damaged run directories, each given to the built binary. Every one must be
 //! refused before it costs anything: exit status 2, exactly one line on stderr (starting with
 //! `error:`), nothing that says a panic, within a time limit. And the run-directory rules: no write

@@ -117,7 +117,7 @@ fn the_ledger_attributes_each_difference_to_its_item() {
     for item in ["-virtual_pairs", "-xsph_velocity", "-quintic_gradient"] {
         assert_eq!(get(item)["particles_differing"], 0, "{item}: {so}");
     }
-    // the case's own error: the book code's sound speed lowers its L1(rho) (REFERENCES.md 0.01553)
+    // the case's own error: the book code's sound speed lowers its L1(rho) (0.01553, measured with the book code's own program)
     let l1 = |run: &str| get(run)["l1"][0].as_f64().unwrap();
     assert!((l1("profile") - 0.01553).abs() < 2e-4, "{so}");
     assert!(l1("-sound_speed") > l1("profile"), "{so}");

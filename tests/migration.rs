@@ -327,7 +327,7 @@ fn the_fixtures_own_program_runs_the_shock_tube() {
         }
     }
     let l1 = num / den;
-    println!("fixture program: L1(rho) over [-0.4, 0.4] = {l1:.6} (REFERENCES.md: the book code 0.01553)");
+    println!("fixture program: L1(rho) over [-0.4, 0.4] = {l1:.6} (the book code's own program: 0.01553)");
     assert!(l1 < 0.02, "L1(rho) = {l1}");
     // the shocked gas moves at about u* = 0.673 m/s
     let mid: Vec<f64> = (0..n).filter(|&i| x[i] > 0.0 && x[i] < 0.2).map(|i| v[i]).collect();

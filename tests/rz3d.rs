@@ -1,4 +1,4 @@
-//! Axisymmetric (RZ) and 3D geometry (issue 13): the dual run of the compact-charge cases at 0 ULP
+//! Axisymmetric (RZ) and 3D geometry: the dual run of the compact-charge cases at 0 ULP
 //! in every module it compares (the geometry module's hoop terms in RZ, the 3D walls as planes),
 //! and the ring masses of an RZ case. The Sedov–Taylor blasts in RZ and 3D are in tests/verify.rs.
 

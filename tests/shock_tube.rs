@@ -1,4 +1,4 @@
-//! The shock tube (Liu & Liu's book run, REFERENCES.md): the exact Riemann solver against the
+//! The shock tube (Liu & Liu's book run, docs/validation.md): the exact Riemann solver against the
 //! published numbers, and the SPH run (all modules in Fortran) against the exact solution.
 //!
 //! `cargo test --release -- --ignored shock_tube_convergence` runs the resolution study of
@@ -19,7 +19,7 @@ fn book_problem() -> Riemann {
 }
 
 fn close(what: &str, got: f64, want: f64, tol: f64) {
-    assert!((got - want).abs() <= tol, "{what} = {got:.7}, REFERENCES.md gives {want} (tolerance {tol:e})");
+    assert!((got - want).abs() <= tol, "{what} = {got:.7}, the exact solution gives {want} (tolerance {tol:e})");
 }
 
 #[test]
@@ -32,7 +32,7 @@ fn exact_solver_reproduces_the_book_problem() {
     close("rho*R", rr, 0.457328, 1e-5);
     close("shock speed", rs.right_shock_speed(), 1.48474, 1e-5);
 
-    // the wave positions at t = 0.2 s (REFERENCES.md, 4 decimals): shock 0.2970, contact 0.1346,
+    // the wave positions at t = 0.2 s (the exact solution, 4 decimals): shock 0.2970, contact 0.1346,
     // rarefaction from −0.2366 to −0.0751
     let t = 0.2;
     let cl = (1.4_f64 * 1.0 / 1.0).sqrt();
@@ -185,7 +185,7 @@ fn shock_tube_book_run_against_exact_solution() {
     check_book_run(&run);
 }
 
-/// The option that beats the book code's own L1(ρ) = 0.0155 at its resolution (REFERENCES.md):
+/// The option that beats the book code's own L1(ρ) = 0.0155 at its resolution (docs/validation.md, shock tube):
 /// the Morris–Monaghan viscosity switch at its authors' parameters (α_min = 0.1, ℓ = 0.2), on the
 /// book's run (the case's parity preset; the default stays without the switch). Measured
 /// (docs/validation.md): 0.01469 against 0.01616 without it; asserted below 0.0155, and below

@@ -8,7 +8,7 @@
 //! ```
 //!
 //! Every bound below is the measured value of docs/validation.md with a stated margin, or the
-//! issue's own acceptance bound where that is tighter.
+//! acceptance bound the project set where that is tighter (called "required" below).
 
 use blastsph::runner::{RunOptions, run};
 use serde_json::Value;
@@ -106,7 +106,7 @@ fn wall_reflection_1d_reflected_state() {
 fn sedov_2d_coarse_point_deposit() {
     // PySPH's set-up at 3/4 of its resolution (78²): the energy in the four central particles, at
     // the default lattice jitter of gas dynamics. Measured (docs/validation.md): R_peak 1.009,
-    // R_half 1.058 (γ = 1.4). Asserted: the peak within the issue's 2 %, no particle running ahead
+    // R_half 1.058 (γ = 1.4). Asserted: the peak within the required 2 %, no particle running ahead
     // of the front, no e < 0, no clumping; and the front sharp: the half-jump threshold within
     // two spacings of the peak (at 25 spacings from the centre a spacing is 4 % of the radius, so
     // the threshold is no measure of the radius to 3 % here; it was 1.036 on the exact lattice,
@@ -129,11 +129,11 @@ fn sedov_2d_coarse_point_deposit() {
     }
 }
 
-/// The issue's "0.85 of the jump at 10⁴ particles in 2D with the best documented option": PySPH's
+/// The required "0.85 of the jump at 10⁴ particles in 2D with the best documented option": PySPH's
 /// set-up at γ = 5/3 (104², t = 0.1 s, `cases/verify/sedov_2d_g53.toml`) with β = 2 and the
 /// Morris–Monaghan switch, at the default lattice jitter. Measured (docs/validation.md): binned
 /// peak 0.856 of the jump, 1.00 of the exact Δx window, densest particle 1.46 × the exact peak,
-/// R_peak 0.987, no particle ahead. Asserted: ≥ 0.85 of the jump, the issue's 2 % on the peak
+/// R_peak 0.987, no particle ahead. Asserted: ≥ 0.85 of the jump, the required 2 % on the peak
 /// radius, no jets, no clump at twice the exact peak, no e < 0.
 #[test]
 fn sedov_2d_best_option_reaches_the_jump() {
@@ -213,7 +213,7 @@ fn sedov_1d_sets(n: u32) -> Vec<String> {
 /// Sedov–Taylor planar from a point deposit, both γ, at 401 and 801 particles, as the case files
 /// set it up (the artificial conductivity on, hence no h cap). Measured (docs/validation.md,
 /// "Sedov–Taylor in 1D"): R_peak 0.994 / 0.998 and R_half 1.007 / 1.006 (γ = 1.4), L1(ρ)/ρ₂ 2.6 % →
-/// 2.2 %; asserted: both radii within the issue's 2 %, the L1 error falling with resolution, no
+/// 2.2 %; asserted: both radii within the required 2 %, the L1 error falling with resolution, no
 /// e < 0, no clumping, energy within 0.2 %. Without the conductivity the default h cap strands the
 /// deposit: the shock lags, and more so at the finer resolution (printed, and asserted below 0.9).
 #[test]
@@ -255,7 +255,7 @@ fn sedov_rz_sets(dx: f64) -> Vec<String> {
 }
 
 /// The checks every Sedov run of this file makes: the two shock-radius measures within `tol_peak`
-/// and `tol_half` of the exact, no e < 0, no clumping (the issue's bound: no particle above twice
+/// and `tol_half` of the exact, no e < 0, no clumping (the required bound: no particle above twice
 /// the exact peak density), and the total energy conserved within 0.2 %.
 fn sedov_checks(s: &Value, what: &str, tol_peak: f64, tol_half: f64) {
     let (rp, rh, cl) = (num(s, "shock_radius_peak_ratio"), num(s, "shock_radius_half_ratio"), num(s, "clumping"));
@@ -274,7 +274,7 @@ fn sedov_checks(s: &Value, what: &str, tol_peak: f64, tol_half: f64) {
 
 /// Sedov–Taylor spherical in RZ, 50 × 50 rings (half the case's resolution), t = 0.1 s. Measured
 /// (docs/validation.md): R_peak 1.008, R_half 1.040, energy 0.5 → 0.49961 J; asserted: peak within
-/// 3 % (the issue's bound), threshold within 5 % (measured + 1 %), energy within 0.2 %.
+/// 3 % (the required bound), threshold within 5 % (measured + 1 %), energy within 0.2 %.
 #[test]
 fn sedov_rz_coarse_point_deposit() {
     let s = run_case("sedov_rz", &sedov_rz_sets(0.01));
@@ -352,7 +352,7 @@ fn sedov_rz_default_viscosity_mirror_band() {
 /// Sedov–Taylor spherical in 3D, the octant with three symmetry planes at 16³ (dx = 1/32 m; the
 /// shock at 13 spacings from the centre), t = 0.1 s, 5 s. Measured: R_peak 0.990, R_half 1.092
 /// (the front is smeared over 3–4 spacings at this resolution: the mid-rise lies ahead; 1.040 at
-/// 30³, docs/validation.md), energy 0.125 → 0.124958 J; asserted: peak within 3 % (the issue's
+/// 30³, docs/validation.md), energy 0.125 → 0.124958 J; asserted: peak within 3 % (the required
 /// bound), threshold within 10 %, energy within 0.2 %.
 #[test]
 fn sedov_3d_coarse_octant() {
@@ -555,7 +555,7 @@ fn tnt_slab_converges_to_cj_at_every_resolution() {
 
 /// docs/validation.md, "Sedov–Taylor": PySPH's set-up (104², t = 0.1), both γ, defaults (the
 /// lattice jitter of gas dynamics). Measured: R_peak 0.994 / 0.988, R_half 1.033 / 1.028, no
-/// particle ahead. Asserted: the peak within the issue's 2 %, the threshold within two spacings
+/// particle ahead. Asserted: the peak within the required 2 %, the threshold within two spacings
 /// of the peak (the front's width: 1.2 spacings, 3.6 % of the radius here), no jets, no e < 0,
 /// no clump at twice the exact peak.
 #[test]

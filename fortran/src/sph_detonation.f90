@@ -1,5 +1,5 @@
 !-----------------------------------------------------------------------
-!  sph_detonation: lighting of the charge (THESIS.md s.5 decision).
+!  sph_detonation: lighting of the charge (docs/theory.md s.9).
 !  Instantaneous (constant-volume) burn needs no routine: the JWL
 !  products start at rho0, e0.  Programmed burn: the front leaves the
 !  lighting point xdet at the detonation speed D; particle i lights at

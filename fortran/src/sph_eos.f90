@@ -30,7 +30,8 @@ module sph_eos
 
 contains
 
-  pure subroutine eos_point(itype, par, rho, e, lam, p, c)
+  ! (not pure: an unknown material type stops the program with a message)
+  subroutine eos_point(itype, par, rho, e, lam, p, c)
     integer(c_int), intent(in) :: itype
     real(c_double), intent(in) :: par(npar), rho, e, lam
     real(c_double), intent(out) :: p, c
@@ -122,6 +123,10 @@ contains
       dpdr = ((1.0d0 - 0.5d0*gam*mu)*dph - 0.5d0*gam*ph)/rho0 + gam*e
       dpde = gam*rho
       c2 = dpdr + p/(rho*rho)*dpde
+    case (eos_none)
+      ! no equation of state: p = 0 before the floor, c = 0
+    case default
+      error stop 'sph_eos: unknown material type (mtype is not an eos_* code)'
     end select
     p = max(p, par(mp_pmin))
     c = sqrt(max(c2, 1.0d-4*cref*cref))

@@ -1,6 +1,6 @@
 !-----------------------------------------------------------------------
 !  sph_force: internal force (Liu's int_force, thesis 4-33..4-38 with
-!  the sign decision of THESIS.md s.2), sigma = -p delta + tau:
+!  the sign as docs/theory.md s.5 states it), sigma = -p delta + tau:
 !     dv_i^a/dt = sum_j m_j (sig_i^ab/rho_i^2 + sig_j^ab/rho_j^2) dW_ij/dx_i^b
 !     de_i/dt   = 1/2 sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2) (v_i - v_j).grad_i W_ij
 !  or, with eform = 1 (the asymmetric form, each particle its own p dV work):

@@ -1,6 +1,6 @@
 !-----------------------------------------------------------------------
 !  sph_penalty: interface force between materials (thesis 4-53, 4-54,
-!  decision of THESIS.md s.6).  For a pair whose materials are in
+!  docs/theory.md s.10).  For a pair whose materials are in
 !  different penalty groups:
 !     pe = (h_i + h_j) / (2 r_ij);  while pe > 1 (repulsive):
 !     PB_ij = Pbar (pe^n1 - pe^n2) x_ij / r_ij^2

@@ -1,6 +1,6 @@
 !-----------------------------------------------------------------------
 !  sph_strength: soil strength (thesis 4-29..4-32, decisions of
-!  THESIS.md s.4).
+!  docs/theory.md s.7).
 !   velocity gradient  L_i^ab = sum_j (m_j/rho_j) (v_j^a - v_i^a) dW_ij/dx_i^b
 !   strain rate        epsdot = (L + L^T)/2,  rotation rate R = (L - L^T)/2
 !   Jaumann rate       dtau/dt = 2G (epsdot - tr(epsdot)/3 I) + tau R^T + R tau

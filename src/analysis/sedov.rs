@@ -22,7 +22,7 @@
 //!
 //! E = σ_j ρ0 δ² (R^{j+2}/t²) ∫₀¹ (½ G U² + P/(γ − 1)) λ^{j−1} dλ,  σ_j = 2, 2π, 4π,
 //!
-//! so ξ0 = (σ_j δ² I)^{−1/(j+2)}. Our own solver; `REFERENCES.md` lists ξ0 = 1.0040 (j = 2, γ = 1.4),
+//! so ξ0 = (σ_j δ² I)^{−1/(j+2)}. Our own solver; the published similarity constants are ξ0 = 1.0040 (j = 2, γ = 1.4),
 //! 1.1538 (j = 2, γ = 5/3) and 1.0328 (j = 3, γ = 1.4), which the tests check.
 
 /// The solved similarity profile of one geometry and γ.
@@ -202,7 +202,7 @@ mod tests {
 
     #[test]
     fn shock_constants_against_references() {
-        // REFERENCES.md: 1.0040 (j = 2, γ = 1.4), 1.1538 (j = 2, 5/3), 1.0328 (j = 3, 1.4)
+        // the published similarity constants: 1.0040 (j = 2, γ = 1.4), 1.1538 (j = 2, 5/3), 1.0328 (j = 3, 1.4)
         for (j, g, want) in [(2, 1.4, 1.0040), (2, 5.0 / 3.0, 1.1538), (3, 1.4, 1.0328)] {
             let s = Sedov::new(j, g).unwrap();
             assert!((s.xi0 - want).abs() < 1.5e-4, "j = {j}, gamma = {g}: xi0 = {} against {want}", s.xi0);

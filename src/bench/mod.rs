@@ -45,7 +45,7 @@ pub use output::CSV_COLUMNS;
 pub use refine::{refine, refinement_sets};
 pub use run::{GaugePeak, Row};
 
-use crate::error::{Result, SphError};
+use crate::error::{IoAt, Result};
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -147,11 +147,10 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
     for w in &warnings {
         eprintln!("bench: warning: {w}");
     }
-    std::fs::create_dir_all(&o.out).map_err(|e| SphError::Io(format!("{}: {e}", o.out.display())))?;
+    std::fs::create_dir_all(&o.out).io_at(o.out.display())?;
     // the folder is a bench's from now on (a bench stopped half-way can be run again into it):
     // bench.json says so until the results replace it
-    std::fs::write(o.out.join("bench.json"), "{\"status\": \"running\"}\n")
-        .map_err(|e| SphError::Io(format!("{}: {e}", o.out.display())))?;
+    std::fs::write(o.out.join("bench.json"), "{\"status\": \"running\"}\n").io_at(o.out.display())?;
     // the date and the commit of the start: what was measured, not what the tree became meanwhile
     let (date, unix) = utc_now();
     let commit = commit();
@@ -213,7 +212,7 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
     let mut files = Vec::new();
     let write = |name: &str, body: &str, files: &mut Vec<PathBuf>| -> Result<()> {
         let p = o.out.join(name);
-        std::fs::write(&p, body).map_err(|e| SphError::Io(format!("{}: {e}", p.display())))?;
+        std::fs::write(&p, body).io_at(p.display())?;
         files.push(p);
         Ok(())
     };

@@ -214,125 +214,155 @@ pub(super) fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &
         let an = rs[0].analysis.as_str();
         let _ = writeln!(s, "### {c}\n");
         match an {
-            "riemann" => {
-                let w = rs.iter().find_map(|r| r.window_m);
-                let _ = writeln!(
-                    s,
-                    "L1 errors against the exact solution at the end time, over x in {}:\n",
-                    w.map_or("-".into(), |w| format!("[{}, {}] m", w[0], w[1]))
-                );
-                let _ = writeln!(
-                    s,
-                    "| k | dx (m) | particles | backend | nnps | kernel | threads | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | L1 rho | L1 v | L1 p | L1 e | status |"
-                );
-                let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-                for r in &rs {
-                    let l = r.l1;
-                    let _ = writeln!(
-                        s,
-                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                        k_tag(r.k),
-                        r.dx_m,
-                        r.particles,
-                        r.backend,
-                        r.nnps,
-                        r.kernel,
-                        r.threads,
-                        r.steps.map_or("-".into(), |x| x.to_string()),
-                        wall(r.wall_s),
-                        e3(r.particle_steps_per_s),
-                        e3(r.particle_steps_per_s_per_thread),
-                        wall(r.cpu_s),
-                        g2(r.load_avg),
-                        e4(l.map(|l| l.rho)),
-                        e4(l.map(|l| l.v)),
-                        e4(l.map(|l| l.p)),
-                        e4(l.map(|l| l.e)),
-                        status(r)
-                    );
-                }
-            }
-            _ => {
-                let _ = writeln!(
-                    s,
-                    "Crater at the end time (cm); err = |q − q_ref| / |q_ref| against the finest run of the same configuration; thesis = (q − q_thesis) / q_thesis:\n"
-                );
-                let _ = writeln!(
-                    s,
-                    "| k | dx (m) | particles | backend | nnps | kernel | threads | end (s) | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | D | depth | D err | depth err | D thesis | depth thesis | status |"
-                );
-                let _ = writeln!(
-                    s,
-                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-                );
-                for r in &rs {
-                    let _ = writeln!(
-                        s,
-                        "| {} | {:.4e} | {} | {} | {} | {} | {} | {:e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                        k_tag(r.k),
-                        r.dx_m,
-                        r.particles,
-                        r.backend,
-                        r.nnps,
-                        r.kernel,
-                        r.threads,
-                        r.end_time_s,
-                        r.steps.map_or("-".into(), |x| x.to_string()),
-                        wall(r.wall_s),
-                        e3(r.particle_steps_per_s),
-                        e3(r.particle_steps_per_s_per_thread),
-                        wall(r.cpu_s),
-                        g2(r.load_avg),
-                        cm(r.crater_diameter_m),
-                        cm(r.crater_depth_m),
-                        e3(r.err_ref.get("crater_diameter").copied()),
-                        e3(r.err_ref.get("crater_depth").copied()),
-                        g3(r.vs_thesis.get("crater_diameter").copied()),
-                        g3(r.vs_thesis.get("crater_depth").copied()),
-                        status(r)
-                    );
-                }
-                let gnames: Vec<String> =
-                    rs.iter().flat_map(|r| r.gauges.iter().map(|g| g.name.clone())).fold(Vec::new(), |mut v, g| {
-                        if !v.contains(&g) {
-                            v.push(g);
-                        }
-                        v
-                    });
-                if !gnames.is_empty() {
-                    let _ = writeln!(
-                        s,
-                        "\nGauge peaks: MPa at µs (err against the reference; thesis = relative difference of the peak, or of its time where the thesis gives only the time):\n"
-                    );
-                    let _ = writeln!(s, "| k | configuration | {} |", gnames.join(" | "));
-                    let _ = writeln!(s, "|---|---|{}", "---|".repeat(gnames.len()));
-                    for r in rs.iter().filter(|r| r.ok()) {
-                        let cells: Vec<String> = gnames
-                            .iter()
-                            .map(|g| match r.gauges.iter().find(|x| &x.name == g) {
-                                None => "-".into(),
-                                Some(x) => {
-                                    let mut c = format!("{:.1} at {:.0}", x.peak_pa / 1e6, x.peak_time_s * 1e6);
-                                    if let Some(e) = r.err_ref.get(&format!("peak_{g}")) {
-                                        c += &format!(", err {e:.2e}");
-                                    }
-                                    if let Some(t) = r.vs_thesis.get(&format!("peak_{g}")) {
-                                        c += &format!(", thesis {t:.2}");
-                                    }
-                                    if let Some(t) = r.vs_thesis.get(&format!("peak_time_{g}")) {
-                                        c += &format!(", thesis time {t:.2}");
-                                    }
-                                    c
-                                }
-                            })
-                            .collect();
-                        let _ = writeln!(s, "| {} | {} | {} |", k_tag(r.k), r.label(), cells.join(" | "));
-                    }
-                }
-            }
+            "riemann" => riemann_table(&mut s, &rs),
+            _ => crater_table(&mut s, &rs),
         }
         let _ = writeln!(s);
     }
+    orders_table(&mut s, fams);
+    let _ = writeln!(s, "\n### Pareto front (wall time against the primary error)\n");
+    for c in &cases {
+        let front: Vec<String> = rows
+            .iter()
+            .filter(|r| r.case == *c && r.pareto == Some(true))
+            .map(|r| format!("k = {} {} ({} s, {})", k_tag(r.k), r.label(), wall(r.wall_s), e3(r.primary())))
+            .collect();
+        let an = rows.iter().find(|r| r.case == *c).map_or("", |r| r.analysis.as_str());
+        let _ = writeln!(
+            s,
+            "- {c} ({}): {}",
+            primary_name(an),
+            if front.is_empty() { "-".into() } else { front.join("; ") }
+        );
+    }
+    if !warnings.is_empty() {
+        let _ = writeln!(s, "\n### Warnings\n");
+        for w in warnings {
+            let _ = writeln!(s, "- {w}");
+        }
+    }
+    s
+}
+
+/// The shock tube's table: L1 errors against the exact solution, one row per run.
+fn riemann_table(s: &mut String, rs: &[&Row]) {
+    let w = rs.iter().find_map(|r| r.window_m);
+    let _ = writeln!(
+        s,
+        "L1 errors against the exact solution at the end time, over x in {}:\n",
+        w.map_or("-".into(), |w| format!("[{}, {}] m", w[0], w[1]))
+    );
+    let _ = writeln!(
+        s,
+        "| k | dx (m) | particles | backend | nnps | kernel | threads | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | L1 rho | L1 v | L1 p | L1 e | status |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in rs {
+        let l = r.l1;
+        let _ = writeln!(
+            s,
+            "| {} | {:.4e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            k_tag(r.k),
+            r.dx_m,
+            r.particles,
+            r.backend,
+            r.nnps,
+            r.kernel,
+            r.threads,
+            r.steps.map_or("-".into(), |x| x.to_string()),
+            wall(r.wall_s),
+            e3(r.particle_steps_per_s),
+            e3(r.particle_steps_per_s_per_thread),
+            wall(r.cpu_s),
+            g2(r.load_avg),
+            e4(l.map(|l| l.rho)),
+            e4(l.map(|l| l.v)),
+            e4(l.map(|l| l.p)),
+            e4(l.map(|l| l.e)),
+            status(r)
+        );
+    }
+}
+
+/// A blast's tables: the crater at the end time, one row per run, and the gauges' peaks.
+fn crater_table(s: &mut String, rs: &[&Row]) {
+    let _ = writeln!(
+        s,
+        "Crater at the end time (cm); err = |q − q_ref| / |q_ref| against the finest run of the same configuration; thesis = (q − q_thesis) / q_thesis:\n"
+    );
+    let _ = writeln!(
+        s,
+        "| k | dx (m) | particles | backend | nnps | kernel | threads | end (s) | steps | wall (s) | particle-steps/s | per thread | cpu (s) | load | D | depth | D err | depth err | D thesis | depth thesis | status |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in rs {
+        let _ = writeln!(
+            s,
+            "| {} | {:.4e} | {} | {} | {} | {} | {} | {:e} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            k_tag(r.k),
+            r.dx_m,
+            r.particles,
+            r.backend,
+            r.nnps,
+            r.kernel,
+            r.threads,
+            r.end_time_s,
+            r.steps.map_or("-".into(), |x| x.to_string()),
+            wall(r.wall_s),
+            e3(r.particle_steps_per_s),
+            e3(r.particle_steps_per_s_per_thread),
+            wall(r.cpu_s),
+            g2(r.load_avg),
+            cm(r.crater_diameter_m),
+            cm(r.crater_depth_m),
+            e3(r.err_ref.get("crater_diameter").copied()),
+            e3(r.err_ref.get("crater_depth").copied()),
+            g3(r.vs_thesis.get("crater_diameter").copied()),
+            g3(r.vs_thesis.get("crater_depth").copied()),
+            status(r)
+        );
+    }
+    let gnames: Vec<String> =
+        rs.iter().flat_map(|r| r.gauges.iter().map(|g| g.name.clone())).fold(Vec::new(), |mut v, g| {
+            if !v.contains(&g) {
+                v.push(g);
+            }
+            v
+        });
+    if !gnames.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nGauge peaks: MPa at µs (err against the reference; thesis = relative difference of the peak, or of its time where the thesis gives only the time):\n"
+        );
+        let _ = writeln!(s, "| k | configuration | {} |", gnames.join(" | "));
+        let _ = writeln!(s, "|---|---|{}", "---|".repeat(gnames.len()));
+        for r in rs.iter().filter(|r| r.ok()) {
+            let cells: Vec<String> = gnames
+                .iter()
+                .map(|g| match r.gauges.iter().find(|x| &x.name == g) {
+                    None => "-".into(),
+                    Some(x) => {
+                        let mut c = format!("{:.1} at {:.0}", x.peak_pa / 1e6, x.peak_time_s * 1e6);
+                        if let Some(e) = r.err_ref.get(&format!("peak_{g}")) {
+                            c += &format!(", err {e:.2e}");
+                        }
+                        if let Some(t) = r.vs_thesis.get(&format!("peak_{g}")) {
+                            c += &format!(", thesis {t:.2}");
+                        }
+                        if let Some(t) = r.vs_thesis.get(&format!("peak_time_{g}")) {
+                            c += &format!(", thesis time {t:.2}");
+                        }
+                        c
+                    }
+                })
+                .collect();
+            let _ = writeln!(s, "| {} | {} | {} |", k_tag(r.k), r.label(), cells.join(" | "));
+        }
+    }
+}
+
+/// The references of each configuration and the observed orders of convergence.
+fn orders_table(s: &mut String, fams: &[Family]) {
     let _ = writeln!(
         s,
         "### References and observed orders\n\nReference of a blast = the finest run of each configuration that finished; change = |q_finest − q_second| / |q_finest| (how converged the reference is). The shock tube's reference is the exact solution. Self-convergence order p = ln(|q_k − q_rk| / |q_rk − q_r²k|) / ln r over three resolutions (r = 2: log2); for the shock tube also p = ln(E_k / E_rk) / ln r from the exact errors E. The resolutions used are in brackets.\n"
@@ -378,28 +408,6 @@ pub(super) fn tables(rows: &[Row], fams: &[Family], warnings: &[String], meta: &
             );
         }
     }
-    let _ = writeln!(s, "\n### Pareto front (wall time against the primary error)\n");
-    for c in &cases {
-        let front: Vec<String> = rows
-            .iter()
-            .filter(|r| r.case == *c && r.pareto == Some(true))
-            .map(|r| format!("k = {} {} ({} s, {})", k_tag(r.k), r.label(), wall(r.wall_s), e3(r.primary())))
-            .collect();
-        let an = rows.iter().find(|r| r.case == *c).map_or("", |r| r.analysis.as_str());
-        let _ = writeln!(
-            s,
-            "- {c} ({}): {}",
-            primary_name(an),
-            if front.is_empty() { "-".into() } else { front.join("; ") }
-        );
-    }
-    if !warnings.is_empty() {
-        let _ = writeln!(s, "\n### Warnings\n");
-        for w in warnings {
-            let _ = writeln!(s, "- {w}");
-        }
-    }
-    s
 }
 
 /// Order of quantities in the tables: L1 errors, crater, then the gauges by name.

@@ -117,7 +117,7 @@ pub fn refinement_sets(case: &Case, k: f64) -> Result<Vec<String>> {
 
 /// The case in `text` (after the `sets` overrides) refined by `k`, with every override that made
 /// it (`sets` first, then those of [`refinement_sets`]): handing these to `blastsph run --set`
-/// (or [`RunOptions::sets`]) gives the same case, and summary.json records them.
+/// (or `RunOptions::sets`) gives the same case, and summary.json records them.
 pub fn refine(text: &str, origin: &str, stem: Option<&str>, sets: &[String], k: f64) -> Result<(Case, Vec<String>)> {
     let base = case::parse(text, origin, sets, stem)?;
     let mut all = sets.to_vec();

@@ -3,7 +3,8 @@
 //! detonation point inside a charge, every gauge in the material (or at least near it) and inside
 //! `[domain]`. Errors are one line naming the key and the place.
 
-use super::types::{BurnMode, Case, EosCfg, GaugeKind};
+use super::material::EosCfg;
+use super::types::{BurnMode, Case, GaugeKind};
 use crate::error::{Result, input};
 use crate::setup::Initial;
 

@@ -2,13 +2,13 @@
 //! (`docs/cases.md` lists them all). Unknown keys are refused (`deny_unknown_fields`).
 //!
 //! What is where:
-//! - [`types`]: the tables as Rust types (serde);
-//! - [`sets`]: `--set KEY=VALUE` overrides, applied to the text;
+//! - `types`: the tables as Rust types (serde);
+//! - `sets`: `--set KEY=VALUE` overrides, applied to the text;
 //! - [`validate`]: every value checked, one place per key (finite, in its physical range, the
 //!   references between tables), with one-line errors naming the key;
 //! - [`size`]: the particle count and the memory a case needs, estimated before anything is
 //!   generated, and the limit it must stay under;
-//! - [`dims`]: what depends on the dimension and the geometry: round shapes (cylinder, sphere),
+//! - `dims`: what depends on the dimension and the geometry: round shapes (cylinder, sphere),
 //!   3D walls (planes), the axisymmetric geometry (RZ);
 //! - [`geometry`]: the checks that need the generated particles (regions behind a wall or outside
 //!   the domain, a detonation point outside every charge, a gauge outside the material).
@@ -18,11 +18,13 @@
 
 mod dims;
 pub mod geometry;
+mod material;
 mod sets;
 pub mod size;
 mod types;
 pub mod validate;
 
+pub use material::*;
 pub use sets::{apply_sets, apply_sets_by};
 pub use types::*;
 

@@ -2,6 +2,7 @@
 //! (`docs/cases.md` lists every key with its unit and default). What serde cannot check is
 //! checked in [`super::validate`]: one place per key.
 
+use super::material::MaterialCfg;
 use serde::Deserialize;
 
 #[derive(Debug, Clone, Deserialize)]
@@ -441,134 +442,6 @@ pub struct PhysicsCfg {
     pub gravity_ms2: Option<Vec<f64>>,
 }
 
-/// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
-/// the table does not give ([`crate::presets`]).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(try_from = "toml::Table")]
-pub struct MaterialCfg {
-    pub name: String,
-    /// The preset the material was built from, if any.
-    pub preset: Option<String>,
-    pub eos: EosCfg,
-    pub strength: Option<StrengthCfg>,
-    /// Pressure floor (Pa): tension cut-off of soils, cavitation of water. Absent = none.
-    pub pmin_pa: Option<f64>,
-    /// Specific internal energy at the start (J/kg) for regions of this material that give none.
-    pub e0_jkg: Option<f64>,
-    /// Materials with the same penalty group feel no penalty force between them
-    /// (default: each material its own group).
-    pub penalty_group: Option<String>,
-}
-
-/// The keys of a `[[material]]` table once its preset is merged in.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MaterialFields {
-    name: String,
-    preset: Option<String>,
-    eos: EosCfg,
-    strength: Option<StrengthCfg>,
-    pmin_pa: Option<f64>,
-    e0_jkg: Option<f64>,
-    penalty_group: Option<String>,
-}
-
-impl TryFrom<toml::Table> for MaterialCfg {
-    type Error = String;
-    fn try_from(mut t: toml::Table) -> std::result::Result<MaterialCfg, String> {
-        let name = t.get("name").and_then(|n| n.as_str()).unwrap_or("?").to_string();
-        let preset = match t.get("preset") {
-            None => None,
-            Some(toml::Value::String(p)) => Some(p.clone()),
-            Some(v) => {
-                return Err(format!(
-                    "material `{name}`: preset = {v}: must be a preset name ({})",
-                    crate::presets::names()
-                ));
-            }
-        };
-        if let Some(p) = &preset {
-            let mut base = crate::presets::get(p).ok_or_else(|| {
-                format!("material `{name}`: preset = \"{p}\": no such preset (presets: {})", crate::presets::names())
-            })?;
-            t.remove("preset");
-            crate::presets::merge(&mut base, t);
-            t = base;
-            t.insert("preset".into(), toml::Value::String(p.clone()));
-        }
-        let f = MaterialFields::deserialize(toml::Value::Table(t))
-            .map_err(|e| format!("material `{name}`: {}", e.message().replace('\n', " ")))?;
-        Ok(MaterialCfg {
-            name: f.name,
-            preset: f.preset,
-            eos: f.eos,
-            strength: f.strength,
-            pmin_pa: f.pmin_pa,
-            e0_jkg: f.e0_jkg,
-            penalty_group: f.penalty_group,
-        })
-    }
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum EosCfg {
-    /// Ideal gas p = (γ−1)ρe.
-    IdealGas { gamma: f64, rho0_kgm3: Option<f64> },
-    /// JWL (4-39); optionally the unreacted explosive's Mie–Grüneisen EOS with a linear Us–Up
-    /// Hugoniot (C, S, Γ), which carries the explosive until it burns (theory.md §9).
-    Jwl {
-        rho0_kgm3: f64,
-        a_pa: f64,
-        b_pa: f64,
-        r1: f64,
-        r2: f64,
-        omega: f64,
-        d_ms: f64,
-        unreacted_c_ms: Option<f64>,
-        unreacted_s: Option<f64>,
-        unreacted_gamma: Option<f64>,
-    },
-    /// Water polynomial (4-40, 4-41).
-    Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
-    /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
-    Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
-}
-
-impl EosCfg {
-    pub fn rho0(&self) -> Option<f64> {
-        match self {
-            EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
-            EosCfg::Jwl { rho0_kgm3, .. } | EosCfg::Water { rho0_kgm3, .. } | EosCfg::Soil { rho0_kgm3, .. } => {
-                Some(*rho0_kgm3)
-            }
-        }
-    }
-    /// Every name [`EosCfg::kind`] gives.
-    pub const KINDS: [&'static str; 4] = ["ideal_gas", "jwl", "water", "soil"];
-
-    pub fn kind(&self) -> &'static str {
-        match self {
-            EosCfg::IdealGas { .. } => "ideal_gas",
-            EosCfg::Jwl { .. } => "jwl",
-            EosCfg::Water { .. } => "water",
-            EosCfg::Soil { .. } => "soil",
-        }
-    }
-}
-
-/// Drucker–Prager strength (4-29…4-32).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct StrengthCfg {
-    /// Shear modulus G (Pa).
-    pub shear_modulus_pa: f64,
-    /// α_φ of the yield surface √J2 = 3 α_φ p + k.
-    pub alpha_phi: f64,
-    /// k of the yield surface (Pa).
-    pub cohesion_pa: f64,
-}
-
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum Shape {
@@ -808,11 +681,11 @@ pub struct AnalysisCfg {
     pub energy_j: Option<f64>,
 }
 
-/// One gauge reading reported by the thesis (THESIS.md §9).
+/// One gauge reading reported by the thesis (docs/validation.md, "Thesis scenes").
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThesisGauge {
-    /// Gauge name (as in [[gauge]]).
+    /// Gauge name (as in `[[gauge]]`).
     pub gauge: String,
     /// Time of the peak (s).
     pub peak_time_s: Option<f64>,

@@ -1,14 +1,18 @@
-//! The command line (DESIGN.md contracts): `run`, `dual`, `check`, `report`.
+//! The command line (docs/design.md): `run`, `dual`, `check`, `report`.
+// The doc comments below are clap's help texts, which name placeholders as <case name>.
+#![allow(rustdoc::invalid_html_tags)]
 
 use crate::case;
-use crate::error::{Result, SphError, input};
+use crate::error::{IoAt, Result, SphError, input};
 use crate::modules::Backend;
 use crate::runner::{self, RunOptions};
 use crate::sim::{Overrides, Sim};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+mod folders;
 mod runs;
+use folders::*;
 pub use runs::{check_text, dual_run, free_run};
 
 #[derive(Parser, Debug)]
@@ -476,7 +480,7 @@ fn stop_on_signals() -> Result<()> {
     for (sig, code) in [(SIGINT, 130), (SIGTERM, 143)] {
         signal_hook::flag::register_conditional_shutdown(sig, code, armed.clone())
             .and_then(|_| signal_hook::flag::register(sig, flag.clone()))
-            .map_err(|e| SphError::Io(format!("cannot install the signal handlers: {e}")))?;
+            .io_at("cannot install the signal handlers")?;
     }
     let (f, a) = (flag.clone(), armed);
     std::thread::Builder::new()
@@ -488,69 +492,12 @@ fn stop_on_signals() -> Result<()> {
             std::thread::sleep(std::time::Duration::from_secs_f64(SECOND_SIGNAL_S));
             a.store(true, Ordering::SeqCst);
         })
-        .map_err(|e| SphError::Io(format!("cannot start the signal watcher: {e}")))?;
+        .io_at("cannot start the signal watcher")?;
     Ok(())
 }
 
 /// Seconds after a first SIGINT or SIGTERM during which a second one is the same request.
 const SECOND_SIGNAL_S: f64 = 1.0;
-
-/// Refuses an `--out` of `bench`, `validate` or `legacy build` that cannot be a folder (a file, a
-/// link, a path under a file) before anything is computed. (Their folders are their own: what
-/// they hold is replaced.)
-fn out_folder(dir: &Path) -> Result<()> {
-    crate::rundir::inspect(dir, "--out").map(|_| ())
-}
-
-/// Refuses an `--out` of `bench` or `validate` that is not new, empty or the command's own
-/// earlier output (`marker`, the file it always writes there): a run directory or a folder of
-/// other files is not written into.
-fn own_folder(dir: &Path, marker: &str, what: &str) -> Result<()> {
-    match crate::rundir::inspect(dir, "--out")? {
-        crate::rundir::Found::Missing | crate::rundir::Found::Empty => Ok(()),
-        _ if dir.join(marker).is_file() => Ok(()),
-        crate::rundir::Found::Run { .. } => Err(input(format!(
-            "--out {}: a run directory: give {what} a new or empty folder (or one of its own, with {marker})",
-            dir.display()
-        ))),
-        crate::rundir::Found::Other(name) => Err(input(format!(
-            "--out {}: it holds `{name}`, which no {what} wrote there: give a new or empty folder (or one of its own, with {marker})",
-            dir.display()
-        ))),
-    }
-}
-
-/// Refuses an `--out` of `dual` or `legacy ledger` that holds files blastsph did not write or
-/// another of its outputs (a run's files): its own earlier report (`ours`) is replaced, a run
-/// directory is not mixed with it.
-fn report_folder(dir: &Path, ours: &[&str], what: &str) -> Result<()> {
-    match crate::rundir::inspect(dir, "--out")? {
-        crate::rundir::Found::Other(name) => Err(input(format!(
-            "--out {}: holds `{name}`, which blastsph did not write: give an empty or new folder",
-            dir.display()
-        ))),
-        // a `.tmp` of one of ours counts as it
-        crate::rundir::Found::Run { names, .. } => {
-            match names.iter().find(|n| !ours.contains(&n.strip_suffix(".tmp").unwrap_or(n))) {
-                Some(name) => Err(input(format!(
-                    "--out {}: holds another blastsph output (`{name}`): give the {what} an empty or new folder, or an earlier {what}'s",
-                    dir.display()
-                ))),
-                None => Ok(()),
-            }
-        }
-        _ => Ok(()),
-    }
-}
-
-/// Checks the --progress-every value and sets it.
-fn progress_every(s: f64) -> Result<()> {
-    if !(s.is_finite() && (0.0..=1e9).contains(&s)) {
-        return Err(input(format!("--progress-every {s}: must be 0 to 1e9 seconds")));
-    }
-    crate::progress::set_every(s);
-    Ok(())
-}
 
 fn dispatch(cli: Cli) -> Result<i32> {
     match cli.cmd {
@@ -585,7 +532,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
         } => {
             progress_every(pe)?;
             threads(th)?;
-            let o = crate::restart::ResumeOptions {
+            let o = crate::runner::restart::ResumeOptions {
                 end_time,
                 allow_changed,
                 quiet,
@@ -594,73 +541,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 stop_after_step: None,
             };
             stop_on_signals()?;
-            let r = on_pool(|| crate::restart::resume(&dir, &o))?;
+            let r = on_pool(|| crate::runner::restart::resume(&dir, &o))?;
             finished(&r, "wall in all");
             Ok(0)
         }
-        Cmd::Check { case, args, case_dir, threads: n } => {
-            threads(n)?;
-            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
-            let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
-            let est = case::size::check(&c, args.max_particles)?;
-            let ov = overrides(&args)?;
-            let sim = Sim::new(c, &ov)?;
-            print!("{}", check_text(&sim));
-            // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
-            // come at the first step)
-            if let Some(info) = ov.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
-                && est.pairs > info.max_interaction as f64
-                && sim.plan.legacy["routines"]
-                    .as_object()
-                    .is_some_and(|r| r.values().any(|v| v["status"] == "run" || v["status"] == "alone"))
-            {
-                println!(
-                    "warning: about {:.3e} neighbour pairs (the estimate below) against the legacy build's max_interaction = {} (its {}): a routine that takes the pairs is refused, or your search stops, at the first step; raise max_interaction and rebuild",
-                    est.pairs,
-                    info.max_interaction,
-                    info.include_name()
-                );
-            }
-            let (limit, from) = case::size::memory_limit();
-            println!(
-                "size (estimated before generating): at most {:.0} particles, {:.3e} neighbour pairs, {} of memory ({})",
-                est.particles,
-                est.pairs,
-                case::size::bytes_text(est.bytes),
-                match args.max_particles {
-                    Some(m) => format!("limit: --max-particles {m}"),
-                    None => format!("limit: {} of memory, {from}", case::size::bytes_text(limit)),
-                }
-            );
-            Ok(0)
-        }
-        Cmd::Validate { out, cases, only, args, threads: th, quiet } => {
-            let cases = crate::casedir::folder(cases.as_deref())?;
-            own_folder(&out, "validation.md", "validate")?;
-            threads(th)?;
-            for o in &only {
-                if !crate::validate::SCENES.contains(&o.as_str()) {
-                    return Err(input(format!(
-                        "--only {o}: not a thesis scene ({})",
-                        crate::validate::SCENES.join(", ")
-                    )));
-                }
-            }
-            // the scenes' folders are the validation's own: each run replaces its last
-            let opts = RunOptions {
-                out: None,
-                sets: args.sets.clone(),
-                ov: overrides(&args)?,
-                quiet,
-                threads: th,
-                force: true,
-                ..Default::default()
-            };
-            let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
-            println!("{md}");
-            println!("written: {}", out.join("validation.md").display());
-            Ok(0)
-        }
+        Cmd::Check { case, args, case_dir, threads: n } => check(case, args, case_dir, n),
+        Cmd::Validate { out, cases, only, args, threads: th, quiet } => validate(out, cases, only, args, th, quiet),
         Cmd::Bench { args } => {
             let o = crate::bench::BenchOptions::from_args(&args)?;
             if !o.dry_run {
@@ -675,61 +561,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
-        Cmd::Legacy { cmd: LegacyCmd::Build { manifest, out } } => {
-            let out = out.unwrap_or_else(|| {
-                let stem = std::path::absolute(&manifest)
-                    .ok()
-                    .and_then(|p| p.parent().and_then(|d| d.file_name()).map(|n| n.to_string_lossy().into_owned()))
-                    .unwrap_or_else(|| "build".into());
-                PathBuf::from("runs").join(format!("legacy_{stem}"))
-            });
-            out_folder(&out)?;
-            let info = crate::migration::build(&manifest, &out)?;
-            for w in &info.warnings {
-                eprintln!("warning: {w}");
-            }
-            println!(
-                "built {}: {} routines ({}), dim {}, maxn {}, max_interaction {}",
-                out.join(&info.library).display(),
-                info.routines.len(),
-                info.routines.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", "),
-                info.dim,
-                info.maxn,
-                info.max_interaction
-            );
-            match &info.program {
-                Some(p) => println!("the legacy program: {}", out.join(p).display()),
-                None => println!("no legacy program: {}", info.program_note.as_deref().unwrap_or("-")),
-            }
-            println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
-            Ok(0)
-        }
-        Cmd::Legacy { cmd: LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir, threads: n } } => {
-            threads(n)?;
-            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
-            let la = LegacyArgs { legacy: Some(legacy.clone()), compat };
-            let c = case::load(&case, &la.sets(&sets)?)?;
-            let dir = out
-                .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
-            report_folder(&dir, &["ledger.json"], "ledger")?;
-            crate::rundir::prepare(&dir, false)?;
-            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
-            print!("{text}");
-            let same = rows.first().is_some_and(|r| r.particles_differing == 0);
-            println!(
-                "{}; each row against the profile run; {}",
-                if same {
-                    "your routines and the profile's Rust twins end in the same state, bit for bit".to_string()
-                } else {
-                    format!(
-                        "your routines end {} particles away from the profile's Rust twins",
-                        rows[0].particles_differing
-                    )
-                },
-                dir.join("ledger.json").display()
-            );
-            Ok(0)
-        }
+        Cmd::Legacy { cmd } => legacy(cmd),
         Cmd::Revolve { dir, sectors, angle } => {
             crate::rundir::check_existing(&dir, "revolve")?;
             let xmf = crate::revolve::revolve(&dir, sectors, angle)?;
@@ -775,8 +607,140 @@ fn dispatch(cli: Cli) -> Result<i32> {
     }
 }
 
+/// `blastsph check CASE`: the plan, the warnings and the size estimate of a case.
+fn check(case: PathBuf, args: CaseArgs, case_dir: Option<PathBuf>, n: Option<usize>) -> Result<i32> {
+    threads(n)?;
+    let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
+    let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
+    let est = case::size::check(&c, args.max_particles)?;
+    let ov = overrides(&args)?;
+    let sim = Sim::new(c, &ov)?;
+    print!("{}", check_text(&sim));
+    // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
+    // come at the first step)
+    if let Some(info) = ov.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
+        && est.pairs > info.max_interaction as f64
+        && sim.plan.legacy["routines"]
+            .as_object()
+            .is_some_and(|r| r.values().any(|v| v["status"] == "run" || v["status"] == "alone"))
+    {
+        println!(
+            "warning: about {:.3e} neighbour pairs (the estimate below) against the legacy build's max_interaction = {} (its {}): a routine that takes the pairs is refused, or your search stops, at the first step; raise max_interaction and rebuild",
+            est.pairs,
+            info.max_interaction,
+            info.include_name()
+        );
+    }
+    let (limit, from) = case::size::memory_limit();
+    println!(
+        "size (estimated before generating): at most {:.0} particles, {:.3e} neighbour pairs, {} of memory ({})",
+        est.particles,
+        est.pairs,
+        case::size::bytes_text(est.bytes),
+        match args.max_particles {
+            Some(m) => format!("limit: --max-particles {m}"),
+            None => format!("limit: {} of memory, {from}", case::size::bytes_text(limit)),
+        }
+    );
+    Ok(0)
+}
+
+/// `blastsph validate`: the thesis scenes run and compared with the thesis.
+fn validate(
+    out: PathBuf,
+    cases: Option<PathBuf>,
+    only: Vec<String>,
+    args: CaseArgs,
+    th: Option<usize>,
+    quiet: bool,
+) -> Result<i32> {
+    let cases = crate::casedir::folder(cases.as_deref())?;
+    own_folder(&out, "validation.md", "validate")?;
+    threads(th)?;
+    for o in &only {
+        if !crate::validate::SCENES.contains(&o.as_str()) {
+            return Err(input(format!("--only {o}: not a thesis scene ({})", crate::validate::SCENES.join(", "))));
+        }
+    }
+    // the scenes' folders are the validation's own: each run replaces its last
+    let opts = RunOptions {
+        out: None,
+        sets: args.sets.clone(),
+        ov: overrides(&args)?,
+        quiet,
+        threads: th,
+        force: true,
+        ..Default::default()
+    };
+    let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
+    println!("{md}");
+    println!("written: {}", out.join("validation.md").display());
+    Ok(0)
+}
+
+/// `blastsph legacy build` and `blastsph legacy ledger`.
+fn legacy(cmd: LegacyCmd) -> Result<i32> {
+    match cmd {
+        LegacyCmd::Build { manifest, out } => {
+            let out = out.unwrap_or_else(|| {
+                let stem = std::path::absolute(&manifest)
+                    .ok()
+                    .and_then(|p| p.parent().and_then(|d| d.file_name()).map(|n| n.to_string_lossy().into_owned()))
+                    .unwrap_or_else(|| "build".into());
+                PathBuf::from("runs").join(format!("legacy_{stem}"))
+            });
+            out_folder(&out)?;
+            let info = crate::migration::build(&manifest, &out)?;
+            for w in &info.warnings {
+                eprintln!("warning: {w}");
+            }
+            println!(
+                "built {}: {} routines ({}), dim {}, maxn {}, max_interaction {}",
+                out.join(&info.library).display(),
+                info.routines.len(),
+                info.routines.iter().map(|r| r.name.as_str()).collect::<Vec<_>>().join(", "),
+                info.dim,
+                info.maxn,
+                info.max_interaction
+            );
+            match &info.program {
+                Some(p) => println!("the legacy program: {}", out.join(p).display()),
+                None => println!("no legacy program: {}", info.program_note.as_deref().unwrap_or("-")),
+            }
+            println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
+            Ok(0)
+        }
+        LegacyCmd::Ledger { case, legacy, compat, out, sets, case_dir, threads: n } => {
+            threads(n)?;
+            let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
+            let la = LegacyArgs { legacy: Some(legacy.clone()), compat };
+            let c = case::load(&case, &la.sets(&sets)?)?;
+            let dir = out
+                .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
+            report_folder(&dir, &["ledger.json"], "ledger")?;
+            crate::rundir::prepare(&dir, false)?;
+            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
+            print!("{text}");
+            let same = rows.first().is_some_and(|r| r.particles_differing == 0);
+            println!(
+                "{}; each row against the profile run; {}",
+                if same {
+                    "your routines and the profile's Rust twins end in the same state, bit for bit".to_string()
+                } else {
+                    format!(
+                        "your routines end {} particles away from the profile's Rust twins",
+                        rows[0].particles_differing
+                    )
+                },
+                dir.join("ledger.json").display()
+            );
+            Ok(0)
+        }
+    }
+}
+
 /// What a finished `run` or `resume` prints: its line, and a warning when its energy balance is
-/// off (src/report.rs `energy_warning`).
+/// off (src/report/mod.rs `energy_warning`).
 fn finished(r: &runner::RunResult, wall: &str) {
     println!("{}", finished_line(&r.summary, wall, &r.dir));
     if let Some(w) = crate::report::energy_warning(&r.summary) {

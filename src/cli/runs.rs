@@ -77,7 +77,7 @@ pub fn check_text(sim: &Sim) -> String {
         if c.sph.jitter > 0.0 { format!(", lattice jittered by {:e} dx", c.sph.jitter) } else { String::new() },
         det
     );
-    if let Some(l) = crate::analysis::verify::sedov_check_line(c) {
+    if let Some(l) = crate::analysis::sedov_edge::sedov_check_line(c) {
         s += &format!("{l}\n");
     }
     for w in crate::advice::all(c, &sim.p, &sim.region).into_iter().chain(sim.plan.legacy_warnings()) {

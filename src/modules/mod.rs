@@ -1,9 +1,9 @@
-//! The modules (DESIGN.md "The module interface").
+//! The modules (docs/design.md, the module interface).
 //!
 //! A *module* is one physics or numerics routine family: a folder `src/modules/<module>/` with its
 //! parameters and argument types (`mod.rs`), its Rust twin (`rust.rs`), the safe wrapper of its
 //! Fortran twin `fortran/src/sph_<module>.f90` (`ffi.rs`, the only `unsafe`), and its parity test
-//! (`parity.rs`). It is registered by one line of [`registry!`] below.
+//! (`parity.rs`). It is registered by one line of `registry!` below.
 //!
 //! Two values make a module:
 //! - each routine's **argument list**, a struct written once, that implements [`Twin`]: the same
@@ -23,11 +23,12 @@ pub mod param;
 mod stage;
 #[cfg(test)]
 pub(crate) mod testkit;
+pub mod ulp;
 
 pub(crate) mod ffi_util;
 pub(crate) use par::{
-    CHUNK, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, grow, ipow, par_rows, par_rows2,
-    serial,
+    CHUNK, Sums, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, grow, ipow, par_rows,
+    par_rows2, serial,
 };
 pub(crate) use stage::as_its_normal_stage;
 pub use stage::{Backend, Contribution, Counterpart, InputWrite, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};

@@ -122,7 +122,7 @@ pub(crate) fn gather_signed<const D: usize, const W: usize>(
     acc: &mut [f64],
     e: &mut [f64],
 ) {
-    gather_signed_max::<D, W, false>(pl, terms, W, mass, scale, acc, e, &mut [], (&[], 0));
+    gather_signed_max::<D, W, false>(pl, terms, W, mass, scale, Sums { acc, e, mx: &mut [] }, (&[], 0));
 }
 
 /// [`gather_signed`] with W = D + 1 whose energy term is completed by a per-particle factor of
@@ -138,7 +138,15 @@ pub(crate) fn gather_signed_own<const D: usize, const W: usize>(
     e: &mut [f64],
 ) {
     assert!(W == D + 1, "a per-particle energy factor needs one energy column");
-    gather_signed_max::<D, W, true>(pl, terms, W, mass, None, acc, e, &mut [], (own, stride));
+    gather_signed_max::<D, W, true>(pl, terms, W, mass, None, Sums { acc, e, mx: &mut [] }, (own, stride));
+}
+
+/// What a gather writes per particle: the D-vector sums `acc`, the energy sums `e` (one per
+/// particle when W > D) and the maxima `mx` (one per particle, or empty).
+pub(crate) struct Sums<'a> {
+    pub acc: &'a mut [f64],
+    pub e: &'a mut [f64],
+    pub mx: &'a mut [f64],
 }
 
 /// [`gather_signed`] over pair rows of `s` ≥ W values (the terms first); when s > W and `mx` is
@@ -146,18 +154,16 @@ pub(crate) fn gather_signed_own<const D: usize, const W: usize>(
 /// replaces m: a maximum, whatever the order). OWN: the energy term times the receiving end's
 /// `own.0[own.1 a]` ([`gather_signed_own`]); a const, so that the other gathers' loops carry no
 /// test for it.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn gather_signed_max<const D: usize, const W: usize, const OWN: bool>(
     pl: &nnps::PairList,
     terms: &[f64],
     s: usize,
     mass: &[f64],
     scale: Option<f64>,
-    acc: &mut [f64],
-    e: &mut [f64],
-    mx: &mut [f64],
+    out: Sums,
     own: (&[f64], usize),
 ) {
+    let Sums { acc, e, mx } = out;
     assert!(s >= W, "pair rows of {s} values, fewer than the {W} terms");
     let with_max = s > W && !mx.is_empty();
     let body = |a: usize, acc: &mut [f64], e: &mut [f64], mx: &mut [f64]| {

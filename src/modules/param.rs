@@ -13,6 +13,8 @@ pub use consts::{
     SPH_MP_UNR_S, SPH_NPAR, SPH_NSTR, SPH_SKF_CUBIC, SPH_SKF_GAUSS, SPH_SKF_QUINTIC, SPH_SKF_WENDLAND,
 };
 
+include!(concat!(env!("OUT_DIR"), "/table.rs"));
+
 /// Rows of the material table.
 pub const NPAR: usize = SPH_NPAR as usize;
 /// Stored deviatoric stress components: xx, yy, zz, xy, xz, yz.

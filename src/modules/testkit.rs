@@ -13,7 +13,7 @@ use super::nnps::{self, PairList};
 use super::param::{MatTable, NPAR, NSTR, SPH_MP_ALPHA_PHI, SPH_MP_COHESION, SPH_MP_PMIN, SPH_MP_SHEAR};
 use super::{Backend, Twin, kernel};
 use crate::case::KernelKind;
-use crate::dual::ulp_diff;
+use crate::modules::ulp::ulp_diff;
 
 pub const F: Backend = Backend::Fortran;
 pub const R: Backend = Backend::Rust;

@@ -1,6 +1,6 @@
 //! The solver: owns the state and the time loop. The case's plan ([`plan`]) is the ordered list of
-//! stages a step runs; the step ([`step`]) runs it, each stage with the implementation the plan
-//! chose; the health checks ([`health`]) stop a run that went unstable. In a dual run
+//! stages a step runs; the step (`step`) runs it, each stage with the implementation the plan
+//! chose; the health checks (`health`) stop a run that went unstable. In a dual run
 //! ([`crate::dual`]) every stage runs both implementations on identical inputs, their outputs are
 //! compared, and the run continues with the Fortran result.
 
@@ -60,7 +60,7 @@ impl Book {
 pub struct Stability {
     /// Deepest position of a real particle behind a wall line (m; 0 = none crossed).
     pub max_wall_penetration_m: f64,
-    /// Particles counted outside [domain] (if the case has one).
+    /// Particles counted outside `[domain]` (if the case has one).
     pub left_domain: usize,
     /// Smallest and largest h/h_initial seen.
     pub h_ratio_min: f64,

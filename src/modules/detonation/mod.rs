@@ -1,10 +1,11 @@
-//! Detonation (THESIS.md §5 decision). Programmed burn: particle i lights at
+//! Detonation (docs/theory.md §9). Programmed burn: particle i lights at
 //! t_i = |x_i − x_det|/(s D) (s), s the lighting-speed factor (1: the thesis's reading); its burn
 //! fraction is λ_p = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))). With the beta
 //! burn (row η_CJ = ρ_CJ/ρ0 > 1), an explosive compressed towards its CJ density burns too and never
 //! un-burns: λ_i ← max(λ_i, λ_p, min(1, (1 − ρ0/ρ_i)/(1 − 1/η_CJ))). The instantaneous burn needs no
 //! routine. Fortran twin: `sph_detonation.f90`. Tier: 0 ULP (a maximum is exact).
 
+pub mod cj;
 mod ffi;
 #[cfg(test)]
 mod parity;

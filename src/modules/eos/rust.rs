@@ -2,15 +2,8 @@
 
 use super::Eval;
 use crate::modules::{fmax, par_rows2};
-use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
-
-const RHO0: usize = 0;
-const E1: usize = 1;
-const PMIN: usize = 7;
-const UNR_C: usize = 11;
-const UNR_S: usize = 12;
-const UNR_GAMMA: usize = 13;
-const ECHEM: usize = 14;
+use crate::modules::param::row::{E1, ECHEM, PMIN, RHO0, UNR_C, UNR_GAMMA, UNR_S};
+use crate::modules::param::{EosKind, NPAR};
 
 /// p and c of one particle: material type `itype`, parameters `par` (one column of mpar),
 /// burn fraction `lam`.
@@ -20,11 +13,13 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
     let mut p = 0.0;
     let mut c2 = 0.0;
     let mut cref = 0.0;
-    if itype == SPH_EOS_IDEAL_GAS as i32 {
+    match EosKind::of_code(itype) {
+    Some(EosKind::IdealGas) => {
         let g = par[E1];
         p = (g - 1.0) * rho * e;
         c2 = g * (g - 1.0) * e;
-    } else if itype == SPH_EOS_JWL as i32 {
+    }
+    Some(EosKind::Jwl) => {
         let (a, b, r1, r2, om) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
         let eta = rho / rho0;
         let x1 = (-r1 / eta).exp();
@@ -59,7 +54,8 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         } else {
             p *= lam;
         }
-    } else if itype == SPH_EOS_WATER as i32 {
+    }
+    Some(EosKind::Water) => {
         let mu = rho / rho0 - 1.0;
         let (wa1, wa2, wa3, wb0, wb1) = (par[E1], par[E1 + 1], par[E1 + 2], par[E1 + 3], par[E1 + 4]);
         let dpdr;
@@ -73,7 +69,8 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         let dpde = (wb0 + wb1 * mu) * rho0;
         c2 = dpdr + p / (rho * rho) * dpde;
         cref = par[E1 + 5];
-    } else if itype == SPH_EOS_SOIL as i32 {
+    }
+    Some(EosKind::Soil) => {
         cref = par[E1];
         let s = par[E1 + 1];
         let gam = par[E1 + 2];
@@ -90,6 +87,10 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         let dpdr = ((1.0 - 0.5 * gam * mu) * dph - 0.5 * gam * ph) / rho0 + gam * e;
         let dpde = gam * rho;
         c2 = dpdr + p / (rho * rho) * dpde;
+    }
+    // no equation of state: p = 0 before the floor, c = 0
+    Some(EosKind::None) => {}
+    None => panic!("eos: material type {itype} is no EosKind code"),
     }
     p = fmax(p, par[PMIN]);
     let c = fmax(c2, 1.0e-4 * cref * cref).sqrt();

@@ -1,4 +1,4 @@
-//! Internal force (thesis (4-33)…(4-38), sign as decided in THESIS.md §2; Liu's int_force), with
+//! Internal force (thesis (4-33)…(4-38), sign as docs/theory.md §5 states it; Liu's int_force), with
 //! σ = −p δ + τ:
 //! Dv_i^α/Dt = Σ_j m_j (σ_i^{αβ}/ρ_i² + σ_j^{αβ}/ρ_j²) ∂W_ij/∂x_i^β (m/s²),
 //! De_i/Dt = ½ Σ_j m_j (p_i/ρ_i² + p_j/ρ_j²) v_ij·∇_i W_ij (J/kg/s), or in the asymmetric form

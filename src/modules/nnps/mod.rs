@@ -1,4 +1,4 @@
-//! Neighbour search (Liu's direct_find and link_list; DESIGN.md "nnps").
+//! Neighbour search (Liu's direct_find and link_list; docs/theory.md §3).
 //!
 //! Output: the canonical pair list — every (i, j) with i < j, i real (i < nreal), j any particle,
 //! |x_i − x_j| < κ h_ij, h_ij = (h_i + h_j)/2 — sorted by i then j. Every search (direct or cell,

@@ -46,10 +46,9 @@ where
 
 pub(super) fn rust_direct(dim: usize, nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: &mut PairList) {
     let PairList { i: pi, j: pj, scratch, .. } = pl;
-    direct_into(dim, nreal, x, h, kappa, scratch.get_mut(), pi, pj);
+    direct_into(dim, nreal, x, h, kappa, scratch.get_mut(), (pi, pj));
 }
 
-#[allow(clippy::too_many_arguments)]
 fn direct_into(
     dim: usize,
     nreal: usize,
@@ -57,8 +56,7 @@ fn direct_into(
     h: &[f64],
     kappa: f64,
     s: &mut super::Bufs,
-    pi: &mut Vec<i32>,
-    pj: &mut Vec<i32>,
+    (pi, pj): (&mut Vec<i32>, &mut Vec<i32>),
 ) {
     let nt = h.len();
     let ntask = nreal.div_ceil(64);
@@ -273,41 +271,12 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     if nt == 0 || nreal == 0 {
         return;
     }
-    // the grid: bounding box, smallest and mean h, in tasks of CHUNK particles (the partial sums
-    // added in task order, so h̄ does not depend on the thread count)
-    let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
-        for i in CHUNK * c..(CHUNK * c + CHUNK).min(nt) {
-            for d in 0..D {
-                lo[d] = lo[d].min(x[d + D * i]);
-                hi[d] = hi[d].max(x[d + D * i]);
-            }
-            hsum += h[i];
-            hmin = hmin.min(h[i]);
-        }
-        (lo, hi, hsum, hmin)
-    };
-    let nchunk = nt.div_ceil(CHUNK);
-    let parts: Vec<_> =
-        if serial() { (0..nchunk).map(stats).collect() } else { (0..nchunk).into_par_iter().map(stats).collect() };
-    let mut lo = [0.0f64; 3];
-    let mut hi = [0.0f64; 3];
-    lo[..D].fill(f64::INFINITY);
-    hi[..D].fill(f64::NEG_INFINITY);
-    let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
-    for (plo, phi, ps, pm) in parts {
-        for d in 0..D {
-            lo[d] = lo[d].min(plo[d]);
-            hi[d] = hi[d].max(phi[d]);
-        }
-        hsum += ps;
-        hmin = hmin.min(pm);
-    }
+    // the grid: bounding box, smallest and mean h
+    let (mut lo, mut hi, hsum, hmin) = grid_stats::<D>(x, h);
     if hmin < 0.0 || kappa.is_nan() || kappa < 0.0 {
         // the owner's box assumes h ≥ 0 and κ ≥ 0; anything else gets the direct search
         let mut tmp = Vec::new();
-        direct_into(D, nreal, x, h, kappa, s, pi.unwrap_or(&mut tmp), pj);
+        direct_into(D, nreal, x, h, kappa, s, (pi.unwrap_or(&mut tmp), pj));
         if let Some(st) = rstart {
             offsets(st, nreal, tmp.iter().map(|&i| i as usize));
         }
@@ -321,45 +290,7 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
     // (hs is filled below, after the grid is laid out: free until then)
     trim_box::<D>(x, nt, cs, &mut lo, &mut hi, &mut s.hs);
     let (inv, nc) = grid_dims::<D>(&lo, &hi, cs, nt);
-    let ncell = nc[0] * nc[1] * nc[2];
-    // a particle's cell; the box search below uses the same map, which is monotone in x
-    let cell = |p: &[f64]| -> usize {
-        let mut c = [0usize; 3];
-        for d in 0..D {
-            let k = ((p[d] - lo[d]) * inv) as isize;
-            c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
-        }
-        c[0] + nc[0] * (c[1] + nc[1] * c[2])
-    };
-    s.cell_of.resize(nt, 0);
-    let cells = |(c, out): (usize, &mut [u32])| {
-        for (l, o) in out.iter_mut().enumerate() {
-            let i = CHUNK * c + l;
-            *o = cell(&x[D * i..D * i + D]) as u32;
-        }
-    };
-    if serial() {
-        s.cell_of.chunks_mut(CHUNK).enumerate().for_each(cells);
-    } else {
-        s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
-    }
-    offsets(&mut s.start, ncell, s.cell_of.iter().map(|&c| c as usize));
-    let start = &s.start;
-    let fill = &mut s.fill;
-    fill.clear();
-    fill.extend_from_slice(&start[..ncell]);
-    s.order.resize(nt, 0);
-    s.xs.resize(D * nt, 0.0);
-    s.hs.resize(nt, 0.0);
-    let (order, xs, hs) = (&mut s.order[..], &mut s.xs[..], &mut s.hs[..]);
-    for (i, (p, &c)) in x[..D * nt].chunks_exact(D).zip(&s.cell_of).enumerate() {
-        let f = &mut fill[c as usize];
-        let slot = *f as usize;
-        *f += 1;
-        order[slot] = i as u32;
-        xs[D * slot..D * slot + D].copy_from_slice(p);
-        hs[slot] = h[i];
-    }
+    sort_into_cells::<D>(s, x, h, (&lo, inv, nc));
     // each particle (in cell order) finds the pairs it owns, into per-task buffers, one per
     // bucket of rows (the pair's i). The list is canonical whatever the split, so the split may
     // follow the thread count: a few tasks and buckets per thread keep the buffers O(threads²).
@@ -457,5 +388,87 @@ pub(super) fn rust_cell_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], ka
         for a in 0..nreal {
             st[a + 1] += st[a];
         }
+    }
+}
+
+/// The bounding box, the sum and the smallest of h over all particles, in tasks of CHUNK
+/// particles (the partial sums added in task order, so h̄ does not depend on the thread count).
+fn grid_stats<const D: usize>(x: &[f64], h: &[f64]) -> ([f64; 3], [f64; 3], f64, f64) {
+    let nt = h.len();
+    let stats = |c: usize| -> ([f64; 3], [f64; 3], f64, f64) {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+        for i in CHUNK * c..(CHUNK * c + CHUNK).min(nt) {
+            for d in 0..D {
+                lo[d] = lo[d].min(x[d + D * i]);
+                hi[d] = hi[d].max(x[d + D * i]);
+            }
+            hsum += h[i];
+            hmin = hmin.min(h[i]);
+        }
+        (lo, hi, hsum, hmin)
+    };
+    let nchunk = nt.div_ceil(CHUNK);
+    let parts: Vec<_> =
+        if serial() { (0..nchunk).map(stats).collect() } else { (0..nchunk).into_par_iter().map(stats).collect() };
+    let mut lo = [0.0f64; 3];
+    let mut hi = [0.0f64; 3];
+    lo[..D].fill(f64::INFINITY);
+    hi[..D].fill(f64::NEG_INFINITY);
+    let (mut hsum, mut hmin) = (0.0, f64::INFINITY);
+    for (plo, phi, ps, pm) in parts {
+        for d in 0..D {
+            lo[d] = lo[d].min(plo[d]);
+            hi[d] = hi[d].max(phi[d]);
+        }
+        hsum += ps;
+        hmin = hmin.min(pm);
+    }
+    (lo, hi, hsum, hmin)
+}
+
+/// Every particle's cell of the grid (`lo`, 1/cell size `inv`, `nc` cells per axis), and the
+/// particles sorted by cell: `s.start` (cell offsets), `s.order`, and their positions and h
+/// copied in that order (`s.xs`, `s.hs`).
+fn sort_into_cells<const D: usize>(s: &mut super::Bufs, x: &[f64], h: &[f64], (lo, inv, nc): (&[f64; 3], f64, [usize; 3])) {
+    let nt = h.len();
+    let ncell = nc[0] * nc[1] * nc[2];
+    // a particle's cell; the box search below uses the same map, which is monotone in x
+    let cell = |p: &[f64]| -> usize {
+        let mut c = [0usize; 3];
+        for d in 0..D {
+            let k = ((p[d] - lo[d]) * inv) as isize;
+            c[d] = k.clamp(0, nc[d] as isize - 1) as usize;
+        }
+        c[0] + nc[0] * (c[1] + nc[1] * c[2])
+    };
+    s.cell_of.resize(nt, 0);
+    let cells = |(c, out): (usize, &mut [u32])| {
+        for (l, o) in out.iter_mut().enumerate() {
+            let i = CHUNK * c + l;
+            *o = cell(&x[D * i..D * i + D]) as u32;
+        }
+    };
+    if serial() {
+        s.cell_of.chunks_mut(CHUNK).enumerate().for_each(cells);
+    } else {
+        s.cell_of.par_chunks_mut(CHUNK).enumerate().for_each(cells);
+    }
+    offsets(&mut s.start, ncell, s.cell_of.iter().map(|&c| c as usize));
+    let start = &s.start;
+    let fill = &mut s.fill;
+    fill.clear();
+    fill.extend_from_slice(&start[..ncell]);
+    s.order.resize(nt, 0);
+    s.xs.resize(D * nt, 0.0);
+    s.hs.resize(nt, 0.0);
+    let (order, xs, hs) = (&mut s.order[..], &mut s.xs[..], &mut s.hs[..]);
+    for (i, (p, &c)) in x[..D * nt].chunks_exact(D).zip(&s.cell_of).enumerate() {
+        let f = &mut fill[c as usize];
+        let slot = *f as usize;
+        *f += 1;
+        order[slot] = i as u32;
+        xs[D * slot..D * slot + D].copy_from_slice(p);
+        hs[slot] = h[i];
     }
 }

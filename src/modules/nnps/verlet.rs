@@ -153,15 +153,7 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         v.valid = true;
         v.builds += 1;
     }
-    let test = |i: usize, j: usize| -> bool {
-        let mut r2 = 0.0;
-        for d in 0..D {
-            let dxd = x[d + D * i] - x[d + D * j];
-            r2 += dxd * dxd;
-        }
-        let s = kappa * (0.5 * (h[i] + h[j]));
-        r2 < s * s
-    };
+    let test = |i: usize, j: usize| within::<D>(x, h, kappa, i, j);
     // 1. the candidates between slow particles, filtered by the exact test
     v.keep.resize(v.cand.len(), 0);
     {
@@ -186,6 +178,31 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
         }
     }
     // 2. pairs with a fast particle or a mirror, searched in a grid over the real particles
+    extra_pairs::<D>(&mut v, x, h, kappa, (nreal, hsum));
+    // 3. the canonical list: per row, the kept candidates and the extra pairs, merged by j; the
+    //    rows in chunks, each writing its own slice of the list
+    canonical(&mut v, nreal, pl);
+    pl.scratch.get_mut().verlet = v;
+}
+
+/// The exact test of a pair: r_ij < κ (h_i + h_j)/2.
+#[inline]
+fn within<const D: usize>(x: &[f64], h: &[f64], kappa: f64, i: usize, j: usize) -> bool {
+    let mut r2 = 0.0;
+    for d in 0..D {
+        let dxd = x[d + D * i] - x[d + D * j];
+        r2 += dxd * dxd;
+    }
+    let s = kappa * (0.5 * (h[i] + h[j]));
+    r2 < s * s
+}
+
+/// Step 2 of [`verlet_d`]: the pairs of a fast particle or a mirror with the real particles,
+/// searched in a grid of cells κ h̄/2 wide (`hsum` the real particles' sum of h), sorted into
+/// `v.extra`.
+fn extra_pairs<const D: usize>(v: &mut Verlet, x: &[f64], h: &[f64], kappa: f64, (nreal, hsum): (usize, f64)) {
+    let nt = h.len();
+    let test = |i: usize, j: usize| within::<D>(x, h, kappa, i, j);
     v.extra.clear();
     let nsearch = v.fast_list.len() + (nt - nreal);
     if nsearch > 0 {
@@ -294,8 +311,11 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
             v.extra.par_sort_unstable();
         }
     }
-    // 3. the canonical list: per row, the kept candidates and the extra pairs, merged by j; the
-    //    rows in chunks, each writing its own slice of the list
+}
+
+/// Step 3 of [`verlet_d`]: the canonical list into `pl`, per row the kept candidates and the
+/// extra pairs merged by j; the rows in chunks, each writing its own slice of the list.
+fn canonical(v: &mut Verlet, nreal: usize, pl: &mut PairList) {
     let nchunk = nreal.div_ceil(CHUNK);
     v.off.clear();
     v.off.resize(nreal + 1, 0);
@@ -379,6 +399,5 @@ fn verlet_d<const D: usize>(nreal: usize, x: &[f64], h: &[f64], kappa: f64, pl: 
     } else {
         slices.into_par_iter().for_each(fill);
     }
-    pl.scratch.get_mut().verlet = v;
 }
 

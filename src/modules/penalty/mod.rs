@@ -1,4 +1,4 @@
-//! Penalty force between materials (thesis (4-53), (4-54); THESIS.md §6): for a pair in different
+//! Penalty force between materials (thesis (4-53), (4-54); docs/theory.md §10): for a pair in different
 //! penalty groups, pe = (h_i + h_j)/(2 r_ij); while pe > 1,
 //! PB_ij = P̄ (pe^{n1} − pe^{n2}) x_ij / r_ij², a_i += PB_ij/m_i, a_j −= PB_ij/m_j (m/s²).
 //! Integer powers as products. Fortran twin: `sph_penalty.f90`.

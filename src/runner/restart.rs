@@ -1,18 +1,19 @@
 //! Checkpoints and `blastsph resume` (docs/output.md "Checkpoints and resume").
 //!
 //! A checkpoint (`checkpoint.bin`, replaced atomically each time) holds the solver's state
-//! ([`Sim::save_state`]), the run loop's ([`Loop`]: output schedule, peaks, gauge records,
+//! ([`Sim::save_state`]), the run loop's (`Loop`: output schedule, peaks, gauge records,
 //! energies at t = 0), what particles.h5 and gauges.csv held when it was written, and a header
 //! (JSON) naming the binary and the case that wrote it. Resuming rebuilds the simulation from the
 //! run directory's case.toml exactly as the run built it, puts the state back, cuts particles.h5
 //! and gauges.csv back to the checkpoint (a run killed later may have written more), and goes on:
 //! every output after the checkpoint is bitwise the uninterrupted run's.
 
-use crate::error::{Result, SphError, input};
+use crate::error::{IoAt, Result, SphError, input};
 use crate::gauges::Gauges;
 use crate::modules::Backend;
 use crate::output::{H5Part, Peaks};
-use crate::runner::{Checkpoints, Energy, Loop, RunOptions, RunResult, sha256_hex};
+use crate::rundir::sha256_hex;
+use crate::runner::{Checkpoints, Energy, Loop, RunOptions, RunResult};
 use crate::sim::checkpoint::{Blob, Item};
 use crate::sim::{Overrides, Sim};
 use serde_json::{Value, json};
@@ -157,22 +158,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let text = crate::case::read_text(&case_path).map_err(|e| input(format!("resume {shown}: {e}")))?;
 
     // what changed since the checkpoint
-    let mut changed = Vec::new();
-    let was = meta["case_toml_sha256"].as_str().unwrap_or("?");
-    let now = sha256_hex(text.as_bytes());
-    if was != now {
-        changed.push(format!("the case (case.toml's SHA-256 is {}…, the checkpoint's {}…)", &now[..12], cut(was)));
-    }
-    let (bw, bn) = (meta["binary_sha256"].as_str().unwrap_or("?"), binary_sha256());
-    if bw != bn {
-        changed.push(format!(
-            "the binary (blastsph {} {}… wrote the checkpoint; this is blastsph {} {}…)",
-            meta["version"].as_str().unwrap_or("?"),
-            cut(bw),
-            env!("CARGO_PKG_VERSION"),
-            cut(&bn)
-        ));
-    }
+    let changed = changes(&meta, &text);
     if !changed.is_empty() && !o.allow_changed {
         return Err(input(format!(
             "resume {shown}: {} changed since the checkpoint: --allow-changed continues with it (the result is then not the uninterrupted run's)",
@@ -184,64 +170,11 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         .ok()
         .and_then(|s| serde_json::from_str::<Value>(&s).ok())
         .and_then(|v| v["status"].as_str().map(String::from));
-    let text = match o.end_time {
-        Some(t) => {
-            let max = crate::case::validate::T_MAX;
-            if !(t.is_finite() && t <= max) {
-                return Err(input(format!("--end-time {t}: must be a finite time in seconds, at most {max:e}")));
-            }
-            if t <= t_cp {
-                return Err(input(format!(
-                    "--end-time {t}: the checkpoint is at t = {t_cp:e} s already; give a later end"
-                )));
-            }
-            // the text must parse first: its error names the file and line, as `check`'s does
-            crate::case::parse(&text, &case_path.display().to_string(), &[], None)?;
-            let body = crate::case::apply_sets_by(&text, &[format!("time.end_s={t:?}")], "resume --end-time")?;
-            format!(
-                "# Resumed with --end-time {t:?} from the checkpoint at t = {t_cp:e} s (time.end_s, marked below).\n{body}"
-            )
-        }
-        None => {
-            if summary_status.as_deref() == Some("ok") {
-                return Err(input(format!(
-                    "resume {shown}: the run finished (t = {t_cp:e} s); --end-time S extends it"
-                )));
-            }
-            text
-        }
-    };
+    let text = with_end_time(o, text, (t_cp, &case_path), summary_status.as_deref(), &shown)?;
     let name = meta["case"].as_str().unwrap_or("case");
     let case = crate::case::parse(&text, &case_path.display().to_string(), &[], Some(name))?;
-    let mut ov = Overrides { max_particles: o.max_particles, ..Default::default() };
-    if let Some(b) = meta["backends"].as_object() {
-        for (m, v) in b {
-            match v.as_str().and_then(Backend::parse) {
-                Some(Backend::Rust) => ov.rust.push(m.clone()),
-                Some(Backend::Fortran) => ov.fortran.push(m.clone()),
-                None => {}
-            }
-        }
-    }
-    // a gauge's record belongs to its point and name: --allow-changed does not move or rename it
-    // (its record so far would be carried on under the new definition)
-    if let Some(was) = meta["gauges"].as_array() {
-        let now = gauge_defs(&case);
-        let now = now.as_array().map_or(&[][..], |v| v.as_slice());
-        if was.len() == now.len()
-            && let Some((a, b)) = was.iter().zip(now).find(|(a, b)| a != b)
-        {
-            return Err(input(format!(
-                "resume {shown}: gauge `{}` ({} at {}) is now `{}` ({} at {}): a gauge's record so far would be carried on under another name, kind or point; resume with the gauges as they were (a new gauge needs a new run)",
-                a["name"].as_str().unwrap_or("?"),
-                a["kind"].as_str().unwrap_or("?"),
-                a["point_m"],
-                b["name"].as_str().unwrap_or("?"),
-                b["kind"].as_str().unwrap_or("?"),
-                b["point_m"]
-            )));
-        }
-    }
+    let ov = overrides_of(&meta, o.max_particles);
+    same_gauges(&meta, &case, &shown)?;
     let mut sim = Sim::new(case, &ov).map_err(|e| match e {
         SphError::Input(m) => input(format!("resume {shown}: {m}")),
         e => e,
@@ -302,7 +235,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     // particles.h5 first, since it is checked as it is opened
     let h5 = H5Part::resume(&dir.join("particles.h5"), &blob)?;
     if let Some(f) = gfile {
-        f.set_len(gbytes).map_err(|e| SphError::Io(format!("gauges.csv: {e}")))?;
+        f.set_len(gbytes).io_at("gauges.csv")?;
     }
     // a report of the run as it was (report.json, its plots), and its revolved points, no longer
     // describe it
@@ -348,6 +281,104 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
         ..Default::default()
     };
     lp.go(&ro)
+}
+
+/// What changed since the checkpoint: the case file (its SHA-256) and the binary.
+fn changes(meta: &Value, text: &str) -> Vec<String> {
+    let mut changed = Vec::new();
+    let was = meta["case_toml_sha256"].as_str().unwrap_or("?");
+    let now = sha256_hex(text.as_bytes());
+    if was != now {
+        changed.push(format!("the case (case.toml's SHA-256 is {}…, the checkpoint's {}…)", &now[..12], cut(was)));
+    }
+    let (bw, bn) = (meta["binary_sha256"].as_str().unwrap_or("?"), binary_sha256());
+    if bw != bn {
+        changed.push(format!(
+            "the binary (blastsph {} {}… wrote the checkpoint; this is blastsph {} {}…)",
+            meta["version"].as_str().unwrap_or("?"),
+            cut(bw),
+            env!("CARGO_PKG_VERSION"),
+            cut(&bn)
+        ));
+    }
+    changed
+}
+
+/// The case's text to resume with: with `--end-time`, the checkpoint's case with its new end
+/// (marked); without, the case as it was, refused when the run finished.
+fn with_end_time(
+    o: &ResumeOptions,
+    text: String,
+    (t_cp, case_path): (f64, &Path),
+    summary_status: Option<&str>,
+    shown: &str,
+) -> Result<String> {
+    Ok(match o.end_time {
+        Some(t) => {
+            let max = crate::case::validate::T_MAX;
+            if !(t.is_finite() && t <= max) {
+                return Err(input(format!("--end-time {t}: must be a finite time in seconds, at most {max:e}")));
+            }
+            if t <= t_cp {
+                return Err(input(format!(
+                    "--end-time {t}: the checkpoint is at t = {t_cp:e} s already; give a later end"
+                )));
+            }
+            // the text must parse first: its error names the file and line, as `check`'s does
+            crate::case::parse(&text, &case_path.display().to_string(), &[], None)?;
+            let body = crate::case::apply_sets_by(&text, &[format!("time.end_s={t:?}")], "resume --end-time")?;
+            format!(
+                "# Resumed with --end-time {t:?} from the checkpoint at t = {t_cp:e} s (time.end_s, marked below).\n{body}"
+            )
+        }
+        None => {
+            if summary_status == Some("ok") {
+                return Err(input(format!(
+                    "resume {shown}: the run finished (t = {t_cp:e} s); --end-time S extends it"
+                )));
+            }
+            text
+        }
+    })
+}
+
+/// The backends the checkpointed run used, module by module.
+fn overrides_of(meta: &Value, max_particles: Option<u64>) -> Overrides {
+    let mut ov = Overrides { max_particles, ..Default::default() };
+    if let Some(b) = meta["backends"].as_object() {
+        for (m, v) in b {
+            match v.as_str().and_then(Backend::parse) {
+                Some(Backend::Rust) => ov.rust.push(m.clone()),
+                Some(Backend::Fortran) => ov.fortran.push(m.clone()),
+                None => {}
+            }
+        }
+    }
+    ov
+}
+
+/// Refused when a gauge changed its name, kind or point since the checkpoint.
+fn same_gauges(meta: &Value, case: &crate::case::Case, shown: &str) -> Result<()> {
+    // a gauge's record belongs to its point and name: --allow-changed does not move or rename it
+    // (its record so far would be carried on under the new definition)
+    if let Some(was) = meta["gauges"].as_array() {
+        let now = gauge_defs(case);
+        let now = now.as_array().map_or(&[][..], |v| v.as_slice());
+        if was.len() == now.len()
+            && let Some((a, b)) = was.iter().zip(now).find(|(a, b)| a != b)
+        {
+            return Err(input(format!(
+                "resume {shown}: gauge `{}` ({} at {}) is now `{}` ({} at {}): a gauge's record so far would be carried on under another name, kind or point; resume with the gauges as they were (a new gauge needs a new run)",
+                a["name"].as_str().unwrap_or("?"),
+                a["kind"].as_str().unwrap_or("?"),
+                a["point_m"],
+                b["name"].as_str().unwrap_or("?"),
+                b["kind"].as_str().unwrap_or("?"),
+                b["point_m"]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The first 12 characters of a checksum.

@@ -1,13 +1,15 @@
 //! `blastsph run`: the time loop with outputs, progress, checkpoints and the summary
-//! ([`crate::restart`] writes and reads the checkpoints and resumes a run).
+//! ([`restart`] writes and reads the checkpoints and resumes a run).
+
+pub mod restart;
 
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
-use crate::error::{Result, SphError, input};
+use crate::error::{IoAt, Result, SphError, input};
 use crate::gauges::Gauges;
 use crate::output::{H5Part, Peaks};
 use crate::progress::{self, Progress};
-use crate::rundir::{self, Found};
+use crate::rundir::{self, Found, sha256_hex};
 use crate::sim::{Overrides, Sim};
 use serde::Serialize;
 use serde_json::json;
@@ -70,12 +72,6 @@ pub struct RunResult {
     pub sim: Sim,
 }
 
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::{Digest, Sha256};
-    let d = Sha256::digest(bytes);
-    d.iter().map(|b| format!("{b:02x}")).collect()
-}
-
 /// The flag a SIGINT or SIGTERM sets (the command line installs the handlers): the run finishes
 /// its step, writes a checkpoint and stops with exit status 5.
 pub fn stop_flag() -> Arc<AtomicBool> {
@@ -115,10 +111,10 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             if !opts.quiet {
                 eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
             }
-            let ro = crate::restart::ResumeOptions::of_run(opts);
+            let ro = restart::ResumeOptions::of_run(opts);
             // (resume takes the lock itself)
             drop(lock);
-            return crate::restart::resume(&dir, &ro);
+            return restart::resume(&dir, &ro);
         }
         _ if opts.force => true,
         Found::Run { .. } => {
@@ -243,7 +239,7 @@ impl Status {
 }
 
 /// The run loop's state beside the solver's: what a checkpoint keeps of it
-/// ([`crate::restart`]).
+/// ([`restart`]).
 pub(crate) struct Loop {
     pub sim: Sim,
     pub dir: PathBuf,
@@ -279,7 +275,7 @@ impl Loop {
     fn fresh(mut sim: Sim, dir: &Path, case_text: &str, as_run: &str, opts: &RunOptions) -> Result<Loop> {
         use std::io::Write;
         let mut f = rundir::create_new(&dir.join("case.toml"))?;
-        f.write_all(as_run.as_bytes()).map_err(|e| SphError::Io(format!("case.toml: {e}")))?;
+        f.write_all(as_run.as_bytes()).io_at("case.toml")?;
         let mut h5 = H5Part::create(&dir.join("particles.h5"))?;
         let mut gauges = Gauges::new(&sim, Some(&dir.join("gauges.csv")))?;
         let e0 = energy(&sim);
@@ -393,7 +389,7 @@ impl Loop {
                     pb.update(self.sim.nstep, self.sim.t, dt);
                 }
                 Err(SphError::Unstable(msg)) => {
-                    // the diagnostic names the likely fix (src/advice.rs)
+                    // the diagnostic names the likely fix (src/advice/)
                     let mut hint = crate::advice::hint(&self.sim.case, &msg);
                     if !self.sim.plan.legacy.is_null() {
                         hint = format!(
@@ -416,14 +412,14 @@ impl Loop {
             let due = cp.every_steps.is_some_and(|k| self.sim.nstep - cp_step >= k)
                 || cp.every_wall_s.is_some_and(|s| cp_wall.elapsed().as_secs_f64() >= s);
             if due {
-                crate::restart::write(&mut self)?;
+                restart::write(&mut self)?;
                 self.write_summary(Status::Running, None)?;
                 (cp_step, cp_wall) = (self.sim.nstep, Instant::now());
             }
         }
         pb.finish();
         if stopped {
-            crate::restart::write(&mut self)?;
+            restart::write(&mut self)?;
             let line = SphError::Stopped(format!(
                 "at step {} (t = {:.6e} s of {:e} s): checkpoint written; `blastsph resume {}` continues the run",
                 self.sim.nstep,
@@ -443,7 +439,7 @@ impl Loop {
         self.h5.sync_xdmf()?;
         self.gauges.flush();
         if diag.is_none() && cp.at_end {
-            crate::restart::write(&mut self)?;
+            restart::write(&mut self)?;
         }
         let status = if diag.is_some() { Status::Unstable } else { Status::Ok };
         let summary = self.write_summary(status, diag.as_ref())?;
