@@ -1,4 +1,4 @@
-//! Gauges (`[[gauge]]`, docs/cases.md): pressure, velocity and stress at a point of the ground,
+//! Gauges (`[[gauge]]`, docs/reference/cases.md): pressure, velocity and stress at a point of the ground,
 //! every step, into `gauges.csv`; peak, arrival, impulse and peak particle velocity into
 //! summary.json.
 //!
@@ -369,7 +369,7 @@ impl Gauges {
 /// hundreds of times farther from the charge, farther than a scene's gauges lie.
 pub const REACHED: f64 = 1e-4;
 
-/// What an engineer reads off a gauge record (docs/cases.md `[[gauge]]`).
+/// What an engineer reads off a gauge record (docs/reference/cases.md `[[gauge]]`).
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct GaugeStats {
     /// Peak pressure (Pa) and its time (s); None without a reading.

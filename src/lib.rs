@@ -3,7 +3,7 @@
 //! its Rust twin implement every module ([`modules`]); the solver ([`sim`]) runs either, or any
 //! mix; the dual run ([`dual`]) checks each Rust routine against its Fortran twin, step by step.
 //!
-//! Physics and equation numbers: `docs/theory.md` (thesis numbering). Case format: `docs/cases.md`.
+//! Physics and equation numbers: `docs/theory.md` (thesis numbering). Case format: `docs/reference/cases.md`.
 //!
 //! ## Layers
 //!

@@ -1,9 +1,9 @@
-//! Run-directory output (docs/output.md): `particles.h5` in the H5Part layout that ParaView
+//! Run-directory output (docs/reference/output.md): `particles.h5` in the H5Part layout that ParaView
 //! opens directly (groups `Step#N` of equal-length 1D datasets and a float64 `TimeValue`
 //! attribute), and its XDMF sidecar `particles.xmf` (`File > Open particles.xmf` in ParaView, or
 //! `OpenDataFile` in pvpython).
 //!
-//! Storage (docs/output.md has the measurements):
+//! Storage (docs/reference/output.md has the measurements):
 //! - every dataset is chunked (at most 65 536 values a chunk) and compressed (byte shuffle, then
 //!   deflate level 1): the 1 ms surface blast shrinks from 67.6 MB to 36.6 MB (level 4 gives
 //!   36.4 MB for 42 % more instructions in the writer);
@@ -11,7 +11,7 @@
 //!   velocity and shear-stress components) is declared with fill value 0 and never written:
 //!   HDF5 allocates no chunk for it, so it costs a few hundred bytes of header and no data, and
 //!   reads back as zeros. They stay because ParaView's H5PartReader takes its points from its
-//!   coordinate arrays `x`, `y`, `z`, and the output contract (docs/output.md) names `z` (0 in 2D) and `vz`;
+//!   coordinate arrays `x`, `y`, `z`, and the output contract (docs/reference/output.md) names `z` (0 in 2D) and `vz`;
 //! - `/xdmf/Step#N/{xyz, vxyz, stress}` are (N, 3) and (N, 9) HDF5 virtual datasets over the 1D
 //!   columns (no data of their own): ParaView's Xdmf3 reader builds points and vectors only from
 //!   such arrays.
@@ -21,7 +21,7 @@
 //! checkpoint and at the end: a run that is killed leaves an XDMF that names the steps of the
 //! HDF5 file up to a recent one (every one, while the XDMF is small), and a run of many frames
 //! does not spend its time rewriting it (the text grows with the frames: rewritten after every
-//! one, 10 000 frames of the shock tube took 394 s; now 21 s, docs/output.md).
+//! one, 10 000 frames of the shock tube took 394 s; now 21 s, docs/reference/output.md).
 
 use crate::error::{IoAt, Result, SphError};
 use crate::modules::param::NSTR;

@@ -1,4 +1,4 @@
-//! Material presets: `[[material]] name = "charge" preset = "tnt"` (docs/cases.md lists each
+//! Material presets: `[[material]] name = "charge" preset = "tnt"` (docs/reference/cases.md lists each
 //! preset's constants and source). A preset is a block of case keys, merged under the keys the
 //! case gives beside it, so any key can be overridden (`eos = { b_pa = 3.231e9 }` changes B
 //! only; an `eos` of another `kind` replaces the preset's eos whole). The constants are the

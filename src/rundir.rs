@@ -1,4 +1,4 @@
-//! Run directories (docs/output.md): what a run may write where.
+//! Run directories (docs/reference/output.md): what a run may write where.
 //!
 //! - A run writes into an empty or new folder; a folder that holds anything else is refused
 //!   unless it is the run's own restart (the same case, an unfinished run with a checkpoint) or

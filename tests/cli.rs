@@ -199,7 +199,7 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     assert!(!text(&out.stderr).contains("panicked"));
 
     // particles.h5: groups Step#0..Step#K, equal-length 1D datasets, a float64 TimeValue; beside
-    // them only `xdmf`, the (N, 3) views particles.xmf reads (docs/output.md)
+    // them only `xdmf`, the (N, 3) views particles.xmf reads (docs/reference/output.md)
     let f = hdf5::File::open(dir.join("particles.h5")).expect("open particles.h5");
     let mut steps: Vec<usize> = f
         .member_names()
@@ -253,7 +253,7 @@ fn run_writes_h5part_and_summary_and_report_reads_them() {
     drop(first);
     drop(f);
 
-    // summary.json: the keys of docs/output.md
+    // summary.json: the keys of docs/reference/output.md
     let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
         .expect("summary.json is JSON");
     assert_eq!(s["case"], "shock_tube");

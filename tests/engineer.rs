@@ -465,7 +465,7 @@ fn a_3d_report_draws_its_section_and_measures_the_crater_in_sections() {
 }
 
 /// An underwater charge in RZ over a symmetry plane (a mirror wall on y = 0 through its centre,
-/// the set-up docs/cases.md gives for a point blast): the report scales by the whole charge, both
+/// the set-up docs/reference/cases.md gives for a point blast): the report scales by the whole charge, both
 /// halves (it used to take the modelled half: distances 2^⅓ too far, the products' radius 2^⅓
 /// too small), and a gauge the wave has not reached is not a peak (it used to read its noise
 /// over the ambient pressure as a peak, arriving at t = 0).

@@ -1,4 +1,4 @@
-//! Restart bit for bit (docs/output.md "Checkpoints and resume"), through the built
+//! Restart bit for bit (docs/reference/output.md "Checkpoints and resume"), through the built
 //! binary as a user meets it: a surface blast stopped past 40 % of its end time — by SIGTERM
 //! (a clean stop: its own checkpoint, exit status 5) and by SIGKILL (after a periodic
 //! checkpoint; the run may have written more outputs after it) — and continued with `blastsph

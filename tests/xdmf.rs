@@ -1,4 +1,4 @@
-//! particles.xmf against particles.h5 (docs/output.md): every dataset the XDMF names exists with
+//! particles.xmf against particles.h5 (docs/reference/output.md): every dataset the XDMF names exists with
 //! the shape it states, one grid per H5Part step with the step's TimeValue, the interleaved views
 //! equal the H5Part columns, the datasets are compressed and the zero components store nothing.
 //! Runs the 1D shock tube and a short 2D surface blast (with stress).

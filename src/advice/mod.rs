@@ -33,7 +33,7 @@ pub fn warnings(case: &Case) -> Vec<String> {
     if jwl {
         for m in case.materials.iter().filter(|m| matches!(m.eos, EosCfg::Water { .. }) && m.pmin_pa.is_none()) {
             w.push(format!(
-                "material `{}` (water) has no pmin_pa: beside the detonation products it takes tension without limit (down to -690 MPa at a 0.11 kg charge's products, RZ at 5 mm; real water cavitates near 0); set material.{}.pmin_pa = 0 for a bubble, cavitation or a free surface's spall (in that run the gauges' peaks moved by under 2 %, their impulses by up to 5 %, and it took 978 steps instead of 1448; docs/cases.md, the water preset)",
+                "material `{}` (water) has no pmin_pa: beside the detonation products it takes tension without limit (down to -690 MPa at a 0.11 kg charge's products, RZ at 5 mm; real water cavitates near 0); set material.{}.pmin_pa = 0 for a bubble, cavitation or a free surface's spall (in that run the gauges' peaks moved by under 2 %, their impulses by up to 5 %, and it took 978 steps instead of 1448; docs/reference/cases.md, the water preset)",
                 m.name, m.name
             ));
         }
@@ -357,7 +357,7 @@ pub fn ignored_keys(case: &Case) -> Vec<String> {
 /// cell faces (lo + k Δx of the box's lattice, to 10⁻⁴ of a spacing per spacing, as
 /// `crate::setup::cells` counts): one line each. The box keeps its lattice points outside the
 /// cut, the cut region keeps its own lattice, and off the cell faces the seam between them is
-/// not one spacing (from Δx/2 to 5Δx/2: docs/cases.md, the paragraph on `subtract`), which the
+/// not one spacing (from Δx/2 to 5Δx/2: docs/reference/cases.md, the paragraph on `subtract`), which the
 /// first steps see as a gap or a squeeze. A box's faces are checked on every axis; a cylinder's
 /// base and top (z) and the planes of its `lo_m`/`hi_m` that cut it; a sphere is round; a
 /// `keep_below` plane normal to an axis is a face where it cuts the box's or cylinder's span
@@ -433,7 +433,7 @@ pub fn seam_warnings(case: &Case) -> Vec<String> {
                 let k = (f - hlo[a]) / dx;
                 let an = if case.axisymmetric() { axis_rz[a] } else { axis[a] };
                 out.push(format!(
-                    "region {}: its face at {an} = {f} m is {k:.3} spacings of region {} from that region's lo_m, not a whole number: the seam between them is not one spacing (a gap or a squeeze in the first steps); put the faces on {}'s cell faces, lo_m + k x {dx} m (docs/cases.md, `subtract`)",
+                    "region {}: its face at {an} = {f} m is {k:.3} spacings of region {} from that region's lo_m, not a whole number: the seam between them is not one spacing (a gap or a squeeze in the first steps); put the faces on {}'s cell faces, lo_m + k x {dx} m (docs/reference/cases.md, `subtract`)",
                     cut.name, host.name, host.name
                 ));
             }

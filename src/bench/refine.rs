@@ -21,7 +21,7 @@ pub(super) fn num(x: f64) -> String {
 ///   (otherwise their defaults ρΔx^d and h_over_dx·Δx follow the spacing by themselves);
 /// - lattice regions: `count` × k per axis (it must come out whole) and the origin moved so that
 ///   the lattice covers the same cells. Lattice points are cell centres (the extent that
-///   docs/cases.md gives a lattice), so origin' = origin − Δx/2 + Δx'/2 — except in a 1D Riemann
+///   docs/reference/cases.md gives a lattice), so origin' = origin − Δx/2 + Δx'/2 — except in a 1D Riemann
 ///   case (`analysis.kind = "riemann"`), where each point is taken at the end of its cell away
 ///   from the diaphragm x0: origin' = origin left of x0, origin − Δx + Δx' right of it. That
 ///   is the book's shock tube (its first particles one spacing from the diaphragm on either

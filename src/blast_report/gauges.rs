@@ -12,7 +12,7 @@ pub struct GaugeRecord {
     pub after_void: Vec<usize>,
 }
 
-/// Reads gauges.csv (docs/cases.md `[[gauge]]` lists its columns); empty fields (a point
+/// Reads gauges.csv (docs/reference/cases.md `[[gauge]]` lists its columns); empty fields (a point
 /// gauge in a void) are left out.
 pub fn read_gauges(path: &Path) -> Result<Vec<GaugeRecord>> {
     let bytes = std::fs::read(path).map_err(|e| crate::error::input(format!("{}: {e}", path.display())))?;

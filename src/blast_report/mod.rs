@@ -413,7 +413,7 @@ fn draw_bubble(
             tu.text(*t),
             100.0 * r,
             if vented {
-                " (Σm/ρ of their particles: once they vent through the crater their density stops changing and the radius stops growing; read bubble_growth.png up to the venting only, docs/output.md)"
+                " (Σm/ρ of their particles: once they vent through the crater their density stops changing and the radius stops growing; read bubble_growth.png up to the venting only, docs/reference/output.md)"
             } else {
                 ""
             }

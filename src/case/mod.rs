@@ -1,5 +1,5 @@
 //! Case files: TOML, SI units, every key with its unit in its name or its docs
-//! (`docs/cases.md` lists them all). Unknown keys are refused (`deny_unknown_fields`).
+//! (`docs/reference/cases.md` lists them all). Unknown keys are refused (`deny_unknown_fields`).
 //!
 //! What is where:
 //! - `types`: the tables as Rust types (serde);

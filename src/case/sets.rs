@@ -1,5 +1,5 @@
 //! `--set KEY=VALUE` overrides, applied to the case's text (its layout and comments kept), so an
-//! override is validated exactly like the file (`docs/cases.md`).
+//! override is validated exactly like the file (`docs/reference/cases.md`).
 
 use crate::error::{Result, input};
 

@@ -1,5 +1,5 @@
 //! The case's tables as Rust types: one struct per TOML table, `deny_unknown_fields` everywhere
-//! (`docs/cases.md` lists every key with its unit and default). What serde cannot check is
+//! (`docs/reference/cases.md` lists every key with its unit and default). What serde cannot check is
 //! checked in [`super::validate`]: one place per key.
 
 use super::material::MaterialCfg;
@@ -11,7 +11,7 @@ pub struct Case {
     /// Name of the case (default: the file stem).
     pub name: Option<String>,
     /// `"thesis"`: every key the case does not give takes the thesis's (and Liu's book code's)
-    /// setting instead of the safe default (docs/cases.md, "Defaults and the parity preset").
+    /// setting instead of the safe default (docs/reference/cases.md, "Defaults and the parity preset").
     pub parity: Option<String>,
     /// Free text.
     #[serde(default)]
@@ -597,7 +597,7 @@ fn default_lighting() -> f64 {
     0.95
 }
 
-/// What a gauge follows (docs/cases.md `[[gauge]]`).
+/// What a gauge follows (docs/reference/cases.md `[[gauge]]`).
 #[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "lowercase")]
 pub enum GaugeKind {

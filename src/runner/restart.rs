@@ -1,4 +1,4 @@
-//! Checkpoints and `blastsph resume` (docs/output.md "Checkpoints and resume").
+//! Checkpoints and `blastsph resume` (docs/reference/output.md "Checkpoints and resume").
 //!
 //! A checkpoint (`checkpoint.bin`, replaced atomically each time) holds the solver's state
 //! ([`Sim::save_state`]), the run loop's (`Loop`: output schedule, peaks, gauge records,

@@ -1,10 +1,10 @@
 //! Every value of a case checked, one place per key: finite, in its physical range, with the
-//! references between tables resolved. Errors are one line naming the key (`docs/cases.md` gives
+//! references between tables resolved. Errors are one line naming the key (`docs/reference/cases.md` gives
 //! each key's range).
 //!
 //! A new key gets one line here: `v.num(&at, "key", value, Range::…)` (or `vec`, `int`, `name`).
 //! Each check records the key's path (`material.eos.rho0_kgm3`), and a test walks every case in
-//! `cases/` and every example of `docs/cases.md`: a numeric key without a check fails it.
+//! `cases/` and every example of `docs/reference/cases.md`: a numeric key without a check fails it.
 //!
 //! The ranges are wide — they refuse what no explosion in soil or water can mean (a density of
 //! 1e300, a spacing below a nanometre, a NaN floor) and what would make the run meaningless or

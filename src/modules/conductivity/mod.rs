@@ -8,7 +8,7 @@
 //! (`signal = "pressure"`, Price's, for contact discontinuities) or |v_ij·x̂_ij|
 //! (`signal = "velocity"`, for shocks and wall heating). x̂·∇W ≤ 0, so heat flows from the hotter
 //! particle; the two ends' terms cancel in Σ m_i De_i/Dt (energy is conserved). Coincident
-//! particles exchange nothing. Off by default (`[conductivity] alpha = 0`, docs/cases.md).
+//! particles exchange nothing. Off by default (`[conductivity] alpha = 0`, docs/reference/cases.md).
 //! Fortran twin: `fortran/src/sph_conductivity.f90`. Tier: 0 ULP (+ − × ÷ √ only).
 
 mod ffi;
