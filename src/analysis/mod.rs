@@ -3,6 +3,8 @@
 //! and its Taylor wave).
 
 #[cfg(feature = "io")]
+mod axis;
+#[cfg(feature = "io")]
 pub mod cj;
 pub mod crater;
 pub mod noh;
