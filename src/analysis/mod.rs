@@ -2,6 +2,8 @@
 //! the verification problems (Riemann, Sedov–Taylor, Noh and wall reflection, the CJ detonation
 //! and its Taylor wave).
 
+#[cfg(feature = "io")]
+mod axis;
 pub use crate::modules::detonation::cj;
 pub mod crater;
 pub mod noh;

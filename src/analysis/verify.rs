@@ -257,6 +257,8 @@ fn sedov(case: &Case, f: &Frame, x0: &[f64]) -> Result<(Value, Option<Profiles>)
     let l1r = l1(&vol, &err);
     let rho_max = f.rho.iter().cloned().fold(0.0, f64::max);
     let (nneg, emin) = neg_e(f);
+    let peak_r = |rr: &[f64], rh: &[f64]| shock_measures(&profile(rr, rh, s.dx), &|_| s.rho0).0;
+    let axis = case.axisymmetric().then(|| super::axis::measures(f, &r, [s.centre[0], s.centre[1]], s.dx, &peak_r));
     let parts: Vec<[f64; 4]> = (0..n).map(|i| [r[i], f.rho[i], radial_v(&s, f, i, r[i]), f.p[i]]).collect();
     // particles running ahead of the front (jets): beyond 1.2 R (a smeared front's toe reaches
     // 3-4 spacings, 0.2 R at 15-20 spacings from the centre) at more than a tenth of the exact
@@ -272,7 +274,7 @@ fn sedov(case: &Case, f: &Frame, x0: &[f64]) -> Result<(Value, Option<Profiles>)
             [x, q.rho, q.u, q.p]
         })
         .collect();
-    let v = json!({
+    let mut v = json!({
         "kind": "sedov",
         "geometry_j": s.j,
         "gamma": s.gamma,
@@ -305,6 +307,12 @@ fn sedov(case: &Case, f: &Frame, x0: &[f64]) -> Result<(Value, Option<Profiles>)
         "edge_m": edge.as_ref().map(|e| e.0),
         "warning": edge_warning,
     });
+    if let (Some(a), Some(o)) = (axis, v.as_object_mut()) {
+        o.insert("axis_shock_radius_peak_ratio".into(), json!(a[0] / rex));
+        o.insert("equator_shock_radius_peak_ratio".into(), json!(a[1] / rex));
+        o.insert("axis_max_density".into(), json!(a[2]));
+        o.insert("axis_max_density_ratio".into(), json!(a[2] / (s.rho0 * jump)));
+    }
     Ok((v, Some(Profiles { particles: parts, exact, xlabel: "r (m)" })))
 }
 
