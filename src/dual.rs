@@ -88,10 +88,10 @@ pub struct Stat {
     /// (the user's routine, `dual --legacy`) or "none" (a compat variant, not compared).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub counterpart: Option<String>,
-    /// Pair lists compared as sets (see [`crate::migration::pairs`]); absent when both sides
+    /// Pair lists compared as sets (see [`crate::pairs`]); absent when both sides
     /// returned the same list in the same order.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pair_order: Option<crate::migration::pairs::OrderStat>,
+    pub pair_order: Option<crate::pairs::OrderStat>,
     /// The stage ran one implementation only (`tolerance_why` says why): nothing compared.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub not_compared: bool,
@@ -247,7 +247,7 @@ impl Comparator {
         self.steps = self.steps.max(step + 1);
         let legacy = stage.counterpart() == Counterpart::Legacy;
         // pair lists in another order (or with other pairs): compared as sets
-        let aligned = crate::migration::pairs::align(stage.writes(), rust, p, w, self.dim);
+        let aligned = crate::pairs::align(stage.writes(), rust, p, w, self.dim);
         let rust: &[Snap] = aligned.as_ref().map_or(rust, |a| &a.snaps);
         for (&f, r) in stage.writes().iter().zip(rust) {
             let key = (stage.name().to_string(), f);

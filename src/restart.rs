@@ -214,6 +214,11 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     let name = meta["case"].as_str().unwrap_or("case");
     let case = crate::case::parse(&text, &case_path.display().to_string(), &[], Some(name))?;
     let mut ov = Overrides { max_particles: o.max_particles, ..Default::default() };
+    // the case's [compat] table, as the run had it
+    #[cfg(feature = "legacy")]
+    {
+        ov.bridge = Some(crate::migration::bridge(None, false));
+    }
     if let Some(b) = meta["backends"].as_object() {
         for (m, v) in b {
             match v.as_str().and_then(Backend::parse) {

@@ -286,6 +286,7 @@ impl Loop {
         let m0 = sim.total_mass();
         // a legacy STOP in the rates at t = 0 ends the process before the summary below: the
         // exit handler then writes this much of one
+        #[cfg(feature = "legacy")]
         if !sim.plan.legacy.is_null() {
             crate::migration::ffi::report_exit_with(
                 dir.join("summary.json"),
@@ -348,17 +349,7 @@ impl Loop {
         .starting_at(self.sim.t, self.sim.nstep);
         let stop = stop_flag();
         // a legacy STOP ends the process inside a step: its exit handler marks this summary
-        struct Watch;
-        impl Drop for Watch {
-            fn drop(&mut self) {
-                crate::migration::ffi::report_exit_to(None);
-            }
-        }
-        let _watch = (!self.sim.plan.legacy.is_null()).then(|| {
-            crate::migration::ffi::report_exit_to(Some(self.dir.join("summary.json")));
-            crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
-            Watch
-        });
+        let _watch = legacy_watch::Watch::start(&self.sim, &self.dir);
         let cp = opts.checkpoints;
         let (mut cp_step, mut cp_wall) = (self.sim.nstep, Instant::now());
         let mut diag: Option<SphError> = None;
@@ -373,8 +364,8 @@ impl Loop {
             }
             match self.sim.step() {
                 Ok(dt) => {
-                    if _watch.is_some() {
-                        crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
+                    if let Some(w) = &_watch {
+                        w.progress(&self.sim);
                     }
                     self.gauges.sample(&self.sim)?;
                     self.peaks.update(&self.sim);
@@ -571,5 +562,40 @@ impl Loop {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
         rundir::write_atomic(&self.dir.join("summary.json"), text.as_bytes())?;
         Ok(summary)
+    }
+}
+
+/// A legacy STOP ends the process inside a step: the bridge's exit handler then marks the run's
+/// summary with the step reached. Nothing without the bridge.
+mod legacy_watch {
+    use crate::sim::Sim;
+    use std::path::Path;
+
+    pub struct Watch;
+
+    impl Watch {
+        #[cfg(feature = "legacy")]
+        pub fn start(sim: &Sim, dir: &Path) -> Option<Watch> {
+            (!sim.plan.legacy.is_null()).then(|| {
+                crate::migration::ffi::report_exit_to(Some(dir.join("summary.json")));
+                crate::migration::ffi::report_progress(sim.nstep, sim.t);
+                Watch
+            })
+        }
+        #[cfg(not(feature = "legacy"))]
+        pub fn start(_sim: &Sim, _dir: &Path) -> Option<Watch> {
+            None
+        }
+        pub fn progress(&self, _sim: &Sim) {
+            #[cfg(feature = "legacy")]
+            crate::migration::ffi::report_progress(_sim.nstep, _sim.t);
+        }
+    }
+
+    #[cfg(feature = "legacy")]
+    impl Drop for Watch {
+        fn drop(&mut self) {
+            crate::migration::ffi::report_exit_to(None);
+        }
     }
 }

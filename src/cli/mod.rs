@@ -318,8 +318,7 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
         nnps: a.nnps.clone(),
         end_time: a.end_time,
         max_particles: a.max_particles,
-        legacy: a.legacy.legacy.clone(),
-        legacy_setup_only: false,
+        bridge: Some(crate::migration::bridge(a.legacy.legacy.clone(), false)),
     })
 }
 
@@ -608,7 +607,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             print!("{}", check_text(&sim));
             // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
             // come at the first step)
-            if let Some(info) = ov.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
+            if let Some(info) = args.legacy.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
                 && est.pairs > info.max_interaction as f64
                 && sim.plan.legacy["routines"]
                     .as_object()
@@ -757,7 +756,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
             if free && legacy.legacy.is_some() {
                 return Err(input("dual --free --legacy: the free mode compares blastsph's two backends; drop --free"));
             }
-            let ov = Overrides { nnps, max_particles, legacy: legacy.legacy.clone(), ..Default::default() };
+            let ov = Overrides {
+                nnps,
+                max_particles,
+                bridge: Some(crate::migration::bridge(legacy.legacy.clone(), false)),
+                ..Default::default()
+            };
             let dir = out
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", crate::rundir::sanitize(c.name()))));
             report_folder(&dir, &["dual_report.json", "dual_free.json"], "dual run")?;

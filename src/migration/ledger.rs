@@ -192,13 +192,12 @@ fn row_or_failed(run: &str, what: String, flags: Flags, end: Result<End>, base: 
 /// that names the profile `none`, or turns every item off, gets the ledger against blastsph's own
 /// twins); writes `out/ledger.json` and returns the table.
 pub fn ledger(case: &Case, legacy: &Path, out: &Path) -> Result<(Vec<Row>, String)> {
-    let mut profile = case.compat.flags()?;
+    let mut profile = super::compat::flags(&case.compat)?;
     if case.compat.profile.is_none() && case.compat.items.is_empty() {
         profile = Flags::profile("liu-book").unwrap_or_default();
     }
     let ov = |setup_only: bool| Overrides {
-        legacy: Some(legacy.to_path_buf()),
-        legacy_setup_only: setup_only,
+        bridge: Some(super::bridge(Some(legacy.to_path_buf()), setup_only)),
         ..Default::default()
     };
     // the legacy code first: its SAVEd locals and COMMON blocks start as in its own program

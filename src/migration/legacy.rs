@@ -184,7 +184,7 @@ impl Legacy {
             std::fs::create_dir_all(&d).map_err(|e| SphError::Io(format!("{}: {e}", d.display())))?;
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();
-        let flags = case.compat.flags()?;
+        let flags = super::compat::flags(&case.compat)?;
         let l = Arc::new(Legacy {
             lib,
             dir: abs,

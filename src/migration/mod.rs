@@ -5,6 +5,7 @@
 //!
 //! The book's semantics that blastsph's Rust twins differ from are in `docs/compat-liu-book.md`.
 
+pub mod attach;
 pub mod bind;
 pub mod builder;
 pub mod compat;
@@ -13,10 +14,10 @@ pub mod ffi;
 pub mod ledger;
 pub mod legacy;
 pub mod manifest;
-pub mod pairs;
 pub mod shim;
 pub mod vocab;
 
+pub use attach::{LegacyBridge, bridge};
 pub use builder::{BuildInfo, build};
 pub use ffi::{Args, LegacyLib, Routine, Slot};
 pub use manifest::{Manifest, check_capacity};

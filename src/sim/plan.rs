@@ -16,11 +16,9 @@ pub struct Overrides {
     pub fortran: Vec<String>,
     pub nnps: Option<String>,
     pub end_time: Option<f64>,
-    /// A legacy build (`--legacy DIR`): the user's routines in place of the modules they stand
-    /// for (`crate::migration::legacy`).
-    pub legacy: Option<std::path::PathBuf>,
-    /// With `legacy`: only its set-up routine (the initial particles), no routine in the step.
-    pub legacy_setup_only: bool,
+    /// The layer attached to the run ([`super::hook`]): it may edit the case, the initial
+    /// particles and the plan.
+    pub bridge: Option<std::sync::Arc<dyn super::Bridge>>,
     /// The largest particle count allowed (`--max-particles`); default: what fits in 80 % of
     /// the machine's memory ([`crate::case::size`]).
     pub max_particles: Option<u64>,
@@ -105,18 +103,14 @@ impl Plan {
         Self::build_with(ctx, choice, None)
     }
 
-    /// As [`Plan::build`], with the user's legacy routines in place of the stages they stand for.
-    /// A module the case's `[compat]` table touches contributes its compat variants (Rust only:
-    /// they have no Fortran twin).
-    pub fn build_with(
-        ctx: &PlanCtx,
-        choice: &BTreeMap<Module, Backend>,
-        legacy: Option<&std::sync::Arc<crate::migration::legacy::Legacy>>,
-    ) -> Plan {
+    /// As [`Plan::build`], with the run's hook ([`super::Hook`]): a module may contribute the
+    /// hook's stages in place of its own (a stage without a Fortran twin runs in Rust), and the
+    /// hook edits the plan last.
+    pub fn build_with(ctx: &PlanCtx, choice: &BTreeMap<Module, Backend>, hook: Option<&dyn super::Hook>) -> Plan {
         let mut entries = Vec::new();
         let mut modules = BTreeMap::new();
         for &m in Module::ALL {
-            let c = crate::migration::compat::plan(m, ctx).unwrap_or_else(|| m.plan(ctx));
+            let c = hook.and_then(|h| h.contribution(m, ctx)).unwrap_or_else(|| m.plan(ctx));
             let backend = choice.get(&m).copied().unwrap_or(Backend::Rust);
             modules.insert(m, ModulePlan { active: !c.stages.is_empty(), backend, why: c.why });
             for (phase, stage) in c.stages {
@@ -127,8 +121,8 @@ impl Plan {
                 entries.push(Entry { phase, stage, backend, seconds: 0.0 });
             }
         }
-        let (notes, legacy) = match legacy {
-            Some(l) => l.edit_plan(ctx, &mut entries, &mut modules),
+        let (notes, legacy) = match hook {
+            Some(h) => h.edit_plan(ctx, &mut entries, &mut modules),
             None => (String::new(), serde_json::Value::Null),
         };
         // by phase; within a phase the registry order (the sort is stable)

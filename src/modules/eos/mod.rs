@@ -11,7 +11,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 pub use rust::point;
@@ -44,7 +43,7 @@ impl Twin for Eval<'_> {
 
 /// p and c of the real particles.
 pub struct EosStage {
-    mt: MatTable,
+    pub(crate) mt: MatTable,
 }
 
 impl Stage for EosStage {
