@@ -141,9 +141,14 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     if !opts.quiet {
         // the settings known to fail, as `blastsph check` lists them (once the run directory is
         // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region).into_iter().chain(sim.plan.legacy_warnings()) {
+        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
             eprintln!("warning: {w}");
         }
+    }
+    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
+    // as the user's code
+    for w in sim.plan.legacy_warnings() {
+        eprintln!("warning: {w}");
     }
     Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
@@ -455,7 +460,7 @@ impl Loop {
             .modules
             .iter()
             .filter(|(_, p)| p.active)
-            .map(|(m, p)| (m.name().to_string(), json!(p.backend.name())))
+            .map(|(m, _)| (m.name().to_string(), json!(sim.plan.implementation(*m))))
             .collect();
         let skipped: serde_json::Map<String, serde_json::Value> = sim
             .plan

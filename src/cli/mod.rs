@@ -602,7 +602,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
             let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
             let est = case::size::check(&c, args.max_particles)?;
-            let ov = overrides(&args)?;
+            let mut ov = overrides(&args)?;
+            // a legacy set-up routine runs in a scratch folder: check writes nothing of the user's
+            ov.bridge = Some(crate::migration::attach::check_bridge(args.legacy.legacy.clone()));
             let sim = Sim::new(c, &ov)?;
             print!("{}", check_text(&sim));
             // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would

@@ -10,9 +10,9 @@ use crate::modules::{Contribution, Module, PlanCtx};
 use crate::setup::Initial;
 use crate::sim::plan::{Entry, ModulePlan};
 use crate::sim::{Bridge, Hook};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// What a command attaches to its runs: the `[compat]` table always, a legacy build if given.
 #[derive(Debug, Clone, Default)]
@@ -21,11 +21,21 @@ pub struct LegacyBridge {
     pub dir: Option<PathBuf>,
     /// Only its set-up routine (the initial particles), no routine in the step.
     pub setup_only: bool,
+    /// The routines run in a scratch folder, removed afterwards (`check`).
+    pub scratch: bool,
+    /// The warnings said so far: a run opened again through the same bridge says each once.
+    pub said: Arc<Mutex<BTreeSet<String>>>,
 }
 
 /// The bridge for a run: `dir` the legacy build, if any.
 pub fn bridge(dir: Option<PathBuf>, setup_only: bool) -> Arc<dyn Bridge> {
-    Arc::new(LegacyBridge { dir, setup_only })
+    Arc::new(LegacyBridge { dir, setup_only, ..Default::default() })
+}
+
+/// The bridge for `check`: the legacy build's init and set-up routines run in a scratch folder,
+/// so that `check` writes nothing in the user's folders.
+pub fn check_bridge(dir: Option<PathBuf>) -> Arc<dyn Bridge> {
+    Arc::new(LegacyBridge { dir, scratch: true, ..Default::default() })
 }
 
 struct Attached {
@@ -37,7 +47,7 @@ impl Bridge for LegacyBridge {
         // the case's own numbers as a legacy code writes them (nothing without `literals`)
         compat::apply_case(case)?;
         let legacy = match &self.dir {
-            Some(d) => Some(Legacy::open(d, case, self.setup_only)?),
+            Some(d) => Some(Legacy::open(d, case, self)?),
             None => None,
         };
         Ok(Arc::new(Attached { legacy }))

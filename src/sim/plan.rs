@@ -59,6 +59,15 @@ pub struct Plan {
     pub legacy: serde_json::Value,
 }
 
+/// A stage's implementation as printed: its backend, or "legacy" / "compat".
+fn impl_of(e: &Entry) -> &'static str {
+    match e.stage.counterpart() {
+        Counterpart::Legacy | Counterpart::LegacyAlone(_) => "legacy",
+        Counterpart::None(_) => "compat",
+        Counterpart::Fortran => e.backend.name(),
+    }
+}
+
 /// The implementation of every module: Rust by default (bitwise equal to the legacy core and
 /// several times faster), then the case's `[backend]` table, then the command line.
 pub fn choices(case: &Case, ov: &Overrides) -> Result<BTreeMap<Module, Backend>> {
@@ -229,22 +238,22 @@ impl Plan {
             .collect()
     }
 
+    /// What runs module `m`, as `check` and summary.json name it: "legacy" where a user's
+    /// routine stands for its stages, "compat" for a compat variant, else its backend.
+    pub fn implementation(&self, m: Module) -> &'static str {
+        let Some(p) = self.modules.get(&m) else { return Backend::Rust.name() };
+        if p.why.starts_with("legacy ") {
+            return "legacy";
+        }
+        let mine = self.entries.iter().filter(|e| e.stage.module() == m && e.phase != Phase::Init);
+        mine.map(impl_of).find(|l| *l != "fortran" && *l != "rust").unwrap_or(p.backend.name())
+    }
+
     pub fn text(&self) -> String {
         let mut s = String::from("module plan:\n");
-        // a stage's implementation as printed: its backend, or "legacy" / "compat"
-        let impl_of = |e: &Entry| match e.stage.counterpart() {
-            Counterpart::Legacy | Counterpart::LegacyAlone(_) => "legacy",
-            Counterpart::None(_) => "compat",
-            Counterpart::Fortran => e.backend.name(),
-        };
         for (m, p) in &self.modules {
             if p.active {
-                let mine = self.entries.iter().filter(|e| e.stage.module() == *m && e.phase != Phase::Init);
-                let label = if p.why.starts_with("legacy ") {
-                    "legacy"
-                } else {
-                    mine.map(impl_of).find(|l| *l != "fortran" && *l != "rust").unwrap_or(p.backend.name())
-                };
+                let label = self.implementation(*m);
                 s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), label, p.why, m.what());
             } else {
                 s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", p.why);

@@ -1,0 +1,117 @@
+//! blastsph as the host of a legacy build: what `check`, `run --quiet` and the ledger say of
+//! it, and where the user's code may write.
+
+mod legacy_kit;
+use legacy_kit::*;
+
+/// The fixture with a set-up routine that writes a file where it runs, as set-up routines of
+/// legacy codes do (the book's `input` writes `ini_xv.dat` and friends).
+fn writing_setup() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        variant_built("setup_writes", "input.f", |t| {
+            t.replacen(
+                "      write(*,*) ' particles:', ntotal\n",
+                "      write(*,*) ' particles:', ntotal\n      open(11, file='ini_count.dat')\n      write(11,*) ntotal\n      close(11)\n",
+                1,
+            )
+        })
+    })
+}
+
+#[test]
+fn check_runs_the_users_setup_in_a_scratch_folder_and_says_so() {
+    let d = writing_setup();
+    let build = d.join("build");
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", build.to_str().unwrap()], 0);
+    assert!(so.contains("they run in a scratch folder"), "{so}");
+    assert!(so.contains("nothing is written in"), "{so}");
+    assert!(!build.join("work").join("ini_count.dat").exists(), "check wrote the routine's file in the build");
+    assert!(!build.join("work").exists(), "check made the build's work folder");
+    // the scratch folder named is gone
+    let line = so.lines().find(|l| l.contains("a scratch folder, ")).unwrap();
+    let tmp = line.split("a scratch folder, ").nth(1).unwrap().split(", removed").next().unwrap();
+    assert!(!Path::new(tmp).exists(), "{tmp} is left behind");
+    // a run does write there: the routine's file is where the docs say the code runs
+    let out = d.join("run");
+    blastsph_ok(
+        &["run", "shock_tube", "--legacy", build.to_str().unwrap(), "--compat", "liu-book", "--quiet", "--out"]
+            .iter()
+            .map(|s| s.to_string())
+            .chain([out.to_str().unwrap().to_string()])
+            .collect::<Vec<_>>(),
+        0,
+    );
+    assert!(build.join("work").join("ini_count.dat").exists());
+}
+
+/// The fixture without sum_density: its con_density alone does not run in the shock tube's
+/// summation density (`check` says "not run").
+fn con_density_alone() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let v = variant("guest_con_density_alone", |m| {
+            let (head, tail) = m.split_once("[[routine]]\nname = \"sum_density\"").expect("sum_density's entry");
+            let rest = tail.split_once("[[routine]]").map_or(String::new(), |(_, r)| format!("[[routine]]{r}"));
+            format!("{head}{rest}")
+        });
+        build(&v.join("legacy.toml"), &v.join("build")).expect("the variant builds");
+        v.join("build")
+    })
+}
+
+#[test]
+fn quiet_keeps_the_not_run_warning_and_the_summary_names_the_legacy_modules() {
+    let lg = con_density_alone().to_str().unwrap();
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", lg, "--compat", "liu-book"], 0);
+    let unrun: Vec<&str> =
+        so.lines().filter(|l| l.starts_with("warning: legacy") && l.contains("is not run")).collect();
+    assert!(unrun.iter().any(|l| l.contains("con_density")), "{so}");
+    let out = scratch("quiet_unrun");
+    let o = blastsph(&[
+        "run",
+        "shock_tube",
+        "--legacy",
+        lg,
+        "--compat",
+        "liu-book",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{se}");
+    for w in &unrun {
+        assert!(se.contains(w), "--quiet dropped `{w}`: {se}");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    // direct_find stands for the search, p_gas for the EOS: the modules say so
+    assert_eq!(s["modules"]["nnps"], "legacy", "{}", s["modules"]);
+    assert_eq!(s["modules"]["eos"], "legacy", "{}", s["modules"]);
+    // no routine of this build stands for the density: its implementation's name (compat, or
+    // blastsph's backend)
+    assert_ne!(s["modules"]["density"], "legacy", "{}", s["modules"]);
+    assert_eq!(s["modules"]["integrator"], "compat", "{}", s["modules"]);
+}
+
+#[test]
+fn the_ledger_says_a_setup_warning_once() {
+    let out = scratch("ledger_once");
+    let o = blastsph(&[
+        "legacy",
+        "ledger",
+        "shock_tube",
+        "--legacy",
+        shared().to_str().unwrap(),
+        "--set",
+        "region.left.count=[300]",
+        "--set",
+        "region.left.spacing_m=0.002",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    let n = se.matches("made 400 particles, the case describes 380").count();
+    assert_eq!(n, 1, "status {:?}: {se}", o.status.code());
+}
