@@ -115,3 +115,29 @@ fn the_ledger_says_a_setup_warning_once() {
     let n = se.matches("made 400 particles, the case describes 380").count();
     assert_eq!(n, 1, "status {:?}: {se}", o.status.code());
 }
+
+/// A whole array of vectors whose leading extent is not `dim` (`vx(maxdim,maxn)`, maxdim = 3, in
+/// the 1D fixture): blastsph passes dim values per particle, so the routine would read another
+/// particle's values. The build refuses it in one line naming the routine, the array and why.
+#[test]
+fn a_leading_extent_other_than_dim_is_refused_in_one_line() {
+    let d = variant("maxdim", |m| m.to_string());
+    let f = d.join("av_vel.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = text
+        .replacen(
+            "      include 'param.inc'\n",
+            "      include 'param.inc'\n      integer maxdim\n      parameter (maxdim = 3)\n",
+            1,
+        )
+        .replacen("vx(dim,maxn)", "vx(maxdim,maxn)", 1);
+    assert_ne!(new, text);
+    std::fs::write(&f, new).unwrap();
+    refused(&d, &["routine av_vel", "`vx`", "(maxdim,maxn)", "leading extent `maxdim` is not provably dim (= 1)"]);
+    // the same extent as the number dim is provably right: it builds
+    let d = variant("maxdim_literal", |m| m.to_string());
+    let f = d.join("av_vel.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    std::fs::write(&f, text.replacen("vx(dim,maxn)", "vx(1,maxn)", 1)).unwrap();
+    build(&d.join("legacy.toml"), &d.join("build")).expect("x(1,maxn) in a 1D build is x(dim,maxn)");
+}
