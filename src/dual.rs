@@ -3,7 +3,7 @@
 //! with the Fortran result so differences never compound.
 //!
 //! Tolerance tiers (each stage declares its own, [`crate::modules::Stage::tolerance`]; also in
-//! docs/migration.md):
+//! docs/howto/add-module.md):
 //! - 0 ULP: the Rust twin performs the same IEEE operations (+ − × ÷ √) in the same order,
 //!   including neighbour sums (gather in ascending pair order = the Fortran scatter order);
 //! - also 0 ULP where a transcendental from the C library is involved (`exp` in JWL, `pow` for h

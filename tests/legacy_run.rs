@@ -1,4 +1,4 @@
-//! Bring your own legacy code, part 2 (docs/migration.md A.6): the fixture run by blastsph
+//! Bring your own legacy code, part 2 (docs/howto/migrate.md): the fixture run by blastsph
 //! (`run --legacy`), dual-checked routine by routine against the Rust twins (`dual --legacy`,
 //! with and without `--compat liu-book`), and the ledger.
 
@@ -262,7 +262,7 @@ fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
 }
 
 /// The switches of param.inc that the book ships off, each met by its compat item (found on the
-/// genuine book code, docs/migration.md A.7): with `pa_sph = 1` int_force differs from the profile
+/// genuine book code, docs/howto/migrate.md): with `pa_sph = 1` int_force differs from the profile
 /// until `pa_sph1` is on, with `nor_density` sum_density until `nor_density` is on; with the item
 /// every mapped routine is at 0 ULP and `run --legacy` ends where the variant's own program ends.
 #[test]

@@ -50,7 +50,7 @@ pub struct CaseArgs {
     pub legacy: LegacyArgs,
 }
 
-/// Your legacy code and the compatibility items (docs/migration.md A.6).
+/// Your legacy code and the compatibility items (docs/howto/migrate.md).
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct LegacyArgs {
     /// A `legacy build` folder: your routines in place of the modules they stand for
@@ -255,7 +255,7 @@ pub enum Cmd {
         #[arg(long)]
         quiet: bool,
     },
-    /// Bring your own legacy code: build it with shims into a library (docs/migration.md)
+    /// Bring your own legacy code: build it with shims into a library (docs/howto/migrate.md)
     Legacy {
         #[command(subcommand)]
         cmd: LegacyCmd,

@@ -1286,7 +1286,7 @@ fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), lo
     }
     if let Some(e) = first_err {
         return Err(input(format!(
-            "{}: cannot evaluate {}, {}, {} with a probe program: {e} (if your include file names its sizes otherwise, give their names in the manifest's [param_names]: dim, maxn, max_interaction; docs/migration.md A.1)",
+            "{}: cannot evaluate {}, {}, {} with a probe program: {e} (if your include file names its sizes otherwise, give their names in the manifest's [param_names]: dim, maxn, max_interaction; docs/reference/legacy.md)",
             inc.display(),
             n.dim,
             n.maxn,

@@ -362,7 +362,7 @@ impl Legacy {
         let region: Vec<u32> = mat.iter().map(|&m| region_of(m)).collect();
         let mut counts = vec![0usize; case.regions.len().max(1)];
         region.iter().for_each(|&r| counts[r as usize] += 1);
-        // the case must still describe these particles (docs/migration.md A.6): a count that
+        // the case must still describe these particles (docs/howto/migrate.md): a count that
         // differs is said once (the run takes the routine's particles, while the case's gauges,
         // charge and walls were written for its own)
         let described = base.x.len() / dim.max(1);

@@ -1,4 +1,4 @@
-//! Bring your own legacy code (docs/migration.md): a user's unmodified Liu-style Fortran,
+//! Bring your own legacy code (docs/howto/migrate.md): a user's unmodified Liu-style Fortran,
 //! described by a manifest ([`manifest`], argument names from [`vocab`]), built with generated
 //! shims into a shared library ([`builder`], [`shim`]: `blastsph legacy build`), and called from
 //! Rust through one C signature behind a safe API ([`ffi`]: [`LegacyLib`], [`Routine`], [`Args`]).

@@ -172,7 +172,7 @@ impl Default for Tolerance {
 pub enum Counterpart {
     /// blastsph's own Fortran twin (every module's stages).
     Fortran,
-    /// Nothing in blastsph: a compatibility variant of the Rust twin (`<module>/compat.rs`,
+    /// Nothing in blastsph: a compatibility variant of the Rust twin (`src/migration/compat/<module>.rs`,
     /// `--compat`) reproduces a legacy code's semantics and has no Fortran twin in blastsph's
     /// core; it is compared with the user's legacy routine (`dual --legacy`). The string says
     /// which items it reproduces.

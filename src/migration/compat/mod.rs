@@ -1,7 +1,7 @@
 //! Compatibility profiles of the Rust twins (`--compat liu-book`, the case's `[compat]` table):
 //! each **item** is one place where a legacy code computes differently from blastsph's twins
 //! (`docs/compat-liu-book.md` §14), reproduced bit for bit by a variant of the module's Rust twin
-//! in `src/modules/<module>/compat.rs`. A profile switches a set of items on; each item can be
+//! in `src/migration/compat/<module>.rs`. A profile switches a set of items on; each item can be
 //! switched on or off on its own over it:
 //!
 //! ```toml

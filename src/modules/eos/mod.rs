@@ -6,7 +6,7 @@
 //! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
 //!
 //! Tier: 0 ULP where only + − × ÷ √ are involved (ideal gas, water, soil); JWL calls `exp`, which
-//! both sides take from the same C library, so it is 0 ULP too (see docs/migration.md).
+//! both sides take from the same C library, so it is 0 ULP too (see docs/howto/add-module.md).
 
 mod ffi;
 #[cfg(test)]
