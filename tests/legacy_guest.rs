@@ -141,3 +141,53 @@ fn a_leading_extent_other_than_dim_is_refused_in_one_line() {
     std::fs::write(&f, text.replacen("vx(dim,maxn)", "vx(1,maxn)", 1)).unwrap();
     build(&d.join("legacy.toml"), &d.join("build")).expect("x(1,maxn) in a 1D build is x(dim,maxn)");
 }
+
+/// The peak resident memory of `blastsph ARGS` (kB), read from /proc while it runs (VmHWM, the
+/// high-water mark, only grows), and its exit status.
+fn peak_kb(args: &[&str]) -> (u64, Option<i32>) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak = 0;
+    loop {
+        if let Ok(text) = std::fs::read_to_string(&status)
+            && let Some(l) = text.lines().find(|l| l.starts_with("VmHWM:"))
+        {
+            peak = peak.max(l.split_whitespace().nth(1).and_then(|v| v.parse().ok()).unwrap_or(0));
+        }
+        if let Some(s) = child.try_wait().unwrap() {
+            return (peak, s.code());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+/// A search's shim copies the pairs in use, not its max_interaction-long buffers: with
+/// max_interaction = 2e7 (480 MB of pair arrays), a run of the 400-particle fixture stays small.
+#[test]
+fn a_search_shims_cost_follows_the_pairs_in_use_not_max_interaction() {
+    let d = variant_built("big_max_interaction", "param.inc", |t| {
+        t.replace("max_interaction = 20*maxn", "max_interaction = 20000000")
+    });
+    let (lg, out) = (d.join("build"), d.join("run"));
+    let (peak, code) = peak_kb(&[
+        "run",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0));
+    assert!(peak > 0, "no reading of the run's memory");
+    assert!(peak < 150_000, "peak resident memory {peak} kB: the shim touched its max_interaction buffers");
+    // and the run is the fixture's program's, bit for bit
+    assert_run_ends_as_the_program(&lg, "big_max_interaction_run");
+}
