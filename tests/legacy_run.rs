@@ -196,6 +196,8 @@ fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
     let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", b.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     blastsph_ok(&["check", "shock_tube", "--legacy", b.to_str().unwrap()], 0);
+    assert!(!b.join("work").exists(), "check writes nothing in DIR (its routines run in a scratch folder)");
+    blastsph_ok(&dual_book_args(&b, Some(1), &d.join("dual")), 0);
     assert!(b.join("work/TEST/data").is_dir(), "run_dirs made in DIR/work");
     let d = variant("exclude_nothing", |t| {
         t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")

@@ -1113,7 +1113,7 @@ impl Legacy {
             }
             let ph = format!("{phase:?}").to_lowercase();
             let what = if alone {
-                "runs alone (no Rust twin here, not compared)".to_string()
+                "no Rust twin yet: runs alone in its place, not compared".to_string()
             } else {
                 format!("stands for {}", twins.join(" + "))
             };
