@@ -3,7 +3,7 @@
 //! with the Fortran result so differences never compound.
 //!
 //! Tolerance tiers (each stage declares its own, [`crate::modules::Stage::tolerance`]; also in
-//! docs/migration.md):
+//! docs/howto/add-module.md):
 //! - 0 ULP: the Rust twin performs the same IEEE operations (+ − × ÷ √) in the same order,
 //!   including neighbour sums (gather in ascending pair order = the Fortran scatter order);
 //! - also 0 ULP where a transcendental from the C library is involved (`exp` in JWL, `pow` for h
@@ -74,10 +74,10 @@ pub struct Stat {
     /// (the user's routine, `dual --legacy`) or "none" (a compat variant, not compared).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub counterpart: Option<String>,
-    /// Pair lists compared as sets (see [`crate::migration::pairs`]); absent when both sides
+    /// Pair lists compared as sets (see [`crate::pairs`]); absent when both sides
     /// returned the same list in the same order.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub pair_order: Option<crate::migration::pairs::OrderStat>,
+    pub pair_order: Option<crate::pairs::OrderStat>,
     /// The stage ran one implementation only (`tolerance_why` says why): nothing compared.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub not_compared: bool,
@@ -233,7 +233,7 @@ impl Comparator {
         self.steps = self.steps.max(step + 1);
         let legacy = stage.counterpart() == Counterpart::Legacy;
         // pair lists in another order (or with other pairs): compared as sets
-        let aligned = crate::migration::pairs::align(stage.writes(), rust, p, w, self.dim);
+        let aligned = crate::pairs::align(stage.writes(), rust, p, w, self.dim);
         let rust: &[Snap] = aligned.as_ref().map_or(rust, |a| &a.snaps);
         for (&f, r) in stage.writes().iter().zip(rust) {
             let key = (stage.name().to_string(), f);

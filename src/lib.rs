@@ -40,11 +40,13 @@ pub mod cli;
 pub mod dual;
 pub mod error;
 pub mod gauges;
+#[cfg(feature = "legacy")]
 pub mod migration;
 pub mod modules;
 pub mod os_ffi;
 #[cfg(feature = "io")]
 pub mod output;
+pub mod pairs;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod presets;

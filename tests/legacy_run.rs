@@ -1,4 +1,4 @@
-//! Bring your own legacy code, part 2 (docs/migration.md A.6): the fixture run by blastsph
+//! Bring your own legacy code, part 2 (docs/howto/migrate.md): the fixture run by blastsph
 //! (`run --legacy`), dual-checked routine by routine against the Rust twins (`dual --legacy`,
 //! with and without `--compat liu-book`), and the ledger.
 
@@ -196,6 +196,8 @@ fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
     let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", b.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     blastsph_ok(&["check", "shock_tube", "--legacy", b.to_str().unwrap()], 0);
+    assert!(!b.join("work").exists(), "check writes nothing in DIR (its routines run in a scratch folder)");
+    blastsph_ok(&dual_book_args(&b, Some(1), &d.join("dual")), 0);
     assert!(b.join("work/TEST/data").is_dir(), "run_dirs made in DIR/work");
     let d = variant("exclude_nothing", |t| {
         t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")
@@ -262,7 +264,7 @@ fn a_routine_that_cannot_stand_for_its_stage_is_not_added_to_it() {
 }
 
 /// The switches of param.inc that the book ships off, each met by its compat item (found on the
-/// genuine book code, docs/migration.md A.7): with `pa_sph = 1` int_force differs from the profile
+/// genuine book code, docs/howto/migrate.md): with `pa_sph = 1` int_force differs from the profile
 /// until `pa_sph1` is on, with `nor_density` sum_density until `nor_density` is on; with the item
 /// every mapped routine is at 0 ULP and `run --legacy` ends where the variant's own program ends.
 #[test]

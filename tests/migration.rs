@@ -1,4 +1,4 @@
-//! Bring your own legacy code (docs/migration.md): the fixture `tests/legacy/` (a Liu-style F77
+//! Bring your own legacy code (docs/howto/migrate.md): the fixture `tests/legacy/` (a Liu-style F77
 //! code written for these tests) built by `blastsph legacy build`, its routines called through the
 //! run-time loader on small arrays and checked against the formulas of its source (with the same
 //! single-precision constants), its own program run to the end of the shock tube, and every bad
@@ -495,19 +495,19 @@ fn a_bad_call_mode_or_module_is_refused() {
 #[test]
 fn the_docs_table_lists_every_vocabulary_name() {
     use blastsph::migration::vocab::{PAIR_TERMS, TERMS};
-    let doc = std::fs::read_to_string(root().join("docs/migration.md")).unwrap();
+    let doc = std::fs::read_to_string(root().join("docs/reference/legacy.md")).unwrap();
     for t in TERMS.iter().chain(PAIR_TERMS) {
-        assert!(doc.contains(&format!("| `{}` |", t.name)), "docs/migration.md has no row for `{}`", t.name);
+        assert!(doc.contains(&format!("| `{}` |", t.name)), "docs/reference/legacy.md has no row for `{}`", t.name);
     }
 }
 
-/// The manifest for the book code that docs/migration.md gives is accepted as it is, and builds
+/// The manifest for the book code that docs/howto/migrate.md gives is accepted as it is, and builds
 /// against the fixture (which has the book's routines and argument lists, less two); with it, as a
 /// user who copies it whole would, the dual run is at 0 ULP and `run --legacy` ends as the program.
 #[test]
 fn the_books_manifest_in_the_docs_builds_against_the_fixture() {
-    let doc = std::fs::read_to_string(root().join("docs/migration.md")).unwrap();
-    let from = doc.find("### A.3").expect("section A.3");
+    let doc = std::fs::read_to_string(root().join("docs/howto/migrate.md")).unwrap();
+    let from = doc.find("## The book's routines, ready to copy").expect("the book's routines");
     let start = from + doc[from..].find("```toml\n").expect("a toml block") + 8;
     let end = start + doc[start..].find("```").unwrap();
     let mut table: toml::Table = doc[start..end].parse().expect("the docs' manifest is TOML");

@@ -47,9 +47,29 @@ pub struct Case {
     #[serde(default)]
     pub backend: BackendCfg,
     pub domain: Option<DomainCfg>,
-    /// Compatibility items of the Rust twins (`--compat`; docs/migration.md A.6).
+    /// Compatibility items: a profile and items by name, read by the layer a run attaches
+    /// ([`crate::sim::Bridge`]); the core only carries them.
     #[serde(default)]
-    pub compat: crate::migration::compat::CompatCfg,
+    pub compat: CompatCfg,
+}
+
+/// The case's `[compat]` table: a profile and items switched on or off over it, by name. The
+/// core carries it unread; the bridge a run attaches gives it a meaning or refuses it.
+#[derive(Debug, Clone, Default, Deserialize, serde::Serialize, PartialEq)]
+pub struct CompatCfg {
+    /// A profile, by name.
+    #[serde(default)]
+    pub profile: Option<String>,
+    /// Items switched on (true) or off (false) over the profile, by name.
+    #[serde(flatten)]
+    pub items: std::collections::BTreeMap<String, bool>,
+}
+
+impl CompatCfg {
+    /// True when the table names nothing.
+    pub fn is_empty(&self) -> bool {
+        self.profile.is_none() && self.items.is_empty()
+    }
 }
 
 /// The geometry of a 2D case (docs/theory.md, axisymmetric SPH).

@@ -54,7 +54,7 @@ pub struct CaseArgs {
     pub legacy: LegacyArgs,
 }
 
-/// Your legacy code and the compatibility items (docs/migration.md A.6).
+/// Your legacy code and the compatibility items (docs/howto/migrate.md).
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct LegacyArgs {
     /// A `legacy build` folder: your routines in place of the modules they stand for
@@ -259,7 +259,7 @@ pub enum Cmd {
         #[arg(long)]
         quiet: bool,
     },
-    /// Bring your own legacy code: build it with shims into a library (docs/migration.md)
+    /// Bring your own legacy code: build it with shims into a library (docs/howto/migrate.md)
     Legacy {
         #[command(subcommand)]
         cmd: LegacyCmd,
@@ -322,8 +322,7 @@ fn overrides(a: &CaseArgs) -> Result<Overrides> {
         nnps: a.nnps.clone(),
         end_time: a.end_time,
         max_particles: a.max_particles,
-        legacy: a.legacy.legacy.clone(),
-        legacy_setup_only: false,
+        bridge: Some(crate::migration::bridge(a.legacy.legacy.clone(), false)),
     })
 }
 
@@ -589,7 +588,12 @@ fn dispatch(cli: Cli) -> Result<i32> {
             if free && legacy.legacy.is_some() {
                 return Err(input("dual --free --legacy: the free mode compares blastsph's two backends; drop --free"));
             }
-            let ov = Overrides { nnps, max_particles, legacy: legacy.legacy.clone(), ..Default::default() };
+            let ov = Overrides {
+                nnps,
+                max_particles,
+                bridge: Some(crate::migration::bridge(legacy.legacy.clone(), false)),
+                ..Default::default()
+            };
             let dir = out
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_dual", crate::rundir::sanitize(c.name()))));
             report_folder(&dir, &["dual_report.json", "dual_free.json"], "dual run")?;
@@ -613,12 +617,14 @@ fn check(case: PathBuf, args: CaseArgs, case_dir: Option<PathBuf>, n: Option<usi
     let case = crate::casedir::resolve(&case, case_dir.as_deref())?;
     let c = case::load(&case, &args.legacy.sets(&args.sets)?)?;
     let est = case::size::check(&c, args.max_particles)?;
-    let ov = overrides(&args)?;
+    let mut ov = overrides(&args)?;
+    // a legacy set-up routine runs in a scratch folder: check writes nothing of the user's
+    ov.bridge = Some(crate::migration::attach::check_bridge(args.legacy.legacy.clone()));
     let sim = Sim::new(c, &ov)?;
     print!("{}", check_text(&sim));
     // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
     // come at the first step)
-    if let Some(info) = ov.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
+    if let Some(info) = args.legacy.legacy.as_deref().and_then(|d| crate::migration::BuildInfo::read(d).ok())
         && est.pairs > info.max_interaction as f64
         && sim.plan.legacy["routines"]
             .as_object()

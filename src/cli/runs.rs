@@ -59,7 +59,7 @@ pub fn check_text(sim: &Sim) -> String {
             // a compatibility item that replaces the case's energy form says so here
             use crate::migration::compat::Item;
             let form = format!("{:?}", c.sph.energy_form).to_lowercase();
-            if c.compat.flags().is_ok_and(|f| f.has(Item::ForceEnergy)) {
+            if crate::migration::compat::flags(&c.compat).is_ok_and(|f| f.has(Item::ForceEnergy)) {
                 format!("the book's symmetric form (compat force_energy, in place of the case's {form})")
             } else {
                 form

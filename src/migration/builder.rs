@@ -405,6 +405,31 @@ fn assumed_shape(body: &str, dummy: &str) -> bool {
     matches!(declaration(body, dummy), Decl::Array(g) if g.starts_with(':'))
 }
 
+/// Why a whole array of vectors (`x(dim,maxn)`, `dwdx(dim,max_interaction)`) cannot be passed
+/// as blastsph lays it out, or `None`. The shims pass `dim` values per particle or pair, one after
+/// the other; a leading extent other than `dim` (`x(maxdim,maxn)` with maxdim = 3 in a 2D code)
+/// makes the routine read them at other places. The extent is taken as `dim` only when it is the
+/// include's name of `dim` or the number `dim` itself: anything else is not provably the same.
+fn leading_extent_refusal(decl: &Decl, call: CallMode, shape: Shape, dim_name: &str, dim: usize) -> Option<String> {
+    let vec = matches!(shape, Shape::ParticleVec | Shape::PairVec);
+    let Decl::Array(g) = decl else { return None };
+    if call != CallMode::Whole || !vec {
+        return None;
+    }
+    let extents: Vec<&str> = g.split(',').collect();
+    if extents.len() < 2 {
+        // one extent (`x(*)`, `x(n)`): the routine indexes it itself, as laid out
+        return None;
+    }
+    let lead = extents[0].trim();
+    let is_dim = lead.eq_ignore_ascii_case(dim_name) || lead.parse::<usize>().is_ok_and(|v| v == dim);
+    (!is_dim).then(|| {
+        format!(
+            "is declared `({g})`: its leading extent `{lead}` is not provably {dim_name} (= {dim}), and blastsph passes {dim} values per particle or pair one after the other, so the routine would read them at other places: refused rather than computed wrong"
+        )
+    })
+}
+
 /// How a dummy argument is declared in a routine's statements from [`routine_text`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Decl {
@@ -965,6 +990,15 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                     if array_here { "an array" } else { "one value" },
                 )));
             }
+            if let Some(why) = leading_extent_refusal(&decl, r.call, a.term.shape, &m.param_names.dim, sizes.dim) {
+                return Err(input(format!(
+                    "{}: routine {}: argument {} (\"{}\" in the manifest, dummy `{dummy}` in {file}) {why}",
+                    m.path.display(),
+                    r.name,
+                    pos + 1,
+                    a.written,
+                )));
+            }
             if cty != want {
                 let hint = if cty.contains("float128") || cty.contains("long double") {
                     " (-fdefault-real-8 alone makes double precision 16 bytes: add -fdefault-double-8)"
@@ -1252,7 +1286,7 @@ fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), lo
     }
     if let Some(e) = first_err {
         return Err(input(format!(
-            "{}: cannot evaluate {}, {}, {} with a probe program: {e} (if your include file names its sizes otherwise, give their names in the manifest's [param_names]: dim, maxn, max_interaction; docs/migration.md A.1)",
+            "{}: cannot evaluate {}, {}, {} with a probe program: {e} (if your include file names its sizes otherwise, give their names in the manifest's [param_names]: dim, maxn, max_interaction; docs/reference/legacy.md)",
             inc.display(),
             n.dim,
             n.maxn,

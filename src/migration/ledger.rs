@@ -192,14 +192,15 @@ fn row_or_failed(run: &str, what: String, flags: Flags, end: Result<End>, base: 
 /// that names the profile `none`, or turns every item off, gets the ledger against blastsph's own
 /// twins); writes `out/ledger.json` and returns the table.
 pub fn ledger(case: &Case, legacy: &Path, out: &Path) -> Result<(Vec<Row>, String)> {
-    let mut profile = case.compat.flags()?;
+    let mut profile = super::compat::flags(&case.compat)?;
     if case.compat.profile.is_none() && case.compat.items.is_empty() {
         profile = Flags::profile("liu-book").unwrap_or_default();
     }
-    let ov = |setup_only: bool| Overrides {
-        legacy: Some(legacy.to_path_buf()),
-        legacy_setup_only: setup_only,
-        ..Default::default()
+    // one bridge for every run of the ledger: a set-up warning is said once, not once per row
+    let said = std::sync::Arc::new(std::sync::Mutex::new(std::collections::BTreeSet::new()));
+    let ov = |setup_only: bool| -> Overrides {
+        let b = super::LegacyBridge { dir: Some(legacy.to_path_buf()), setup_only, scratch: false, said: said.clone() };
+        Overrides { bridge: Some(std::sync::Arc::new(b)), ..Default::default() }
     };
     // the legacy code first: its SAVEd locals and COMMON blocks start as in its own program
     let leg = run_to_end(with_flags(case, profile), &ov(false))?;

@@ -76,6 +76,11 @@ pub struct Legacy {
     /// The code's type code of each material.
     itype: Vec<i32>,
     setup_only: bool,
+    /// `cwd` is a scratch folder of its own (`check`), removed when the build is closed.
+    scratch: bool,
+    /// The warnings said so far, shared by every opening of one bridge (the ledger opens the
+    /// build once per row): each is said once.
+    said: Arc<Mutex<std::collections::BTreeSet<String>>>,
     /// The case's fixed step (s), what the routines get as `dt`.
     dt: Option<f64>,
     flags: Flags,
@@ -96,6 +101,28 @@ fn book_code(kind: &str) -> Option<i32> {
 fn die(msg: String) -> ! {
     eprintln!("error: {msg}");
     std::process::exit(2)
+}
+
+/// A new, empty folder under the system's temporary folder.
+fn scratch_folder() -> Result<PathBuf> {
+    let base = std::env::temp_dir();
+    for k in 0..1000u32 {
+        let d = base.join(format!("blastsph-check-{}-{k}", std::process::id()));
+        match std::fs::create_dir(&d) {
+            Ok(()) => return Ok(d),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(SphError::Io(format!("{}: {e}", d.display()))),
+        }
+    }
+    Err(SphError::Io(format!("{}: no free scratch folder name", base.display())))
+}
+
+impl Drop for Legacy {
+    fn drop(&mut self) {
+        if self.scratch {
+            let _ = std::fs::remove_dir_all(&self.cwd);
+        }
+    }
 }
 
 /// Runs the legacy code with the current folder set to its work folder.
@@ -119,8 +146,17 @@ impl Drop for Cwd {
 
 impl Legacy {
     /// Opens the build in `dir` for `case`: the dimensions must agree and every material needs
-    /// a type code if a routine takes `itype`.
-    pub fn open(dir: &Path, case: &Case, setup_only: bool) -> Result<Arc<Legacy>> {
+    /// a type code if a routine takes `itype`. With `scratch`, the routines run in a new folder
+    /// under the system's temporary folder, removed when the build is closed, not in `dir/work`
+    /// (`check` writes nothing of the user's code's files).
+    pub fn open(dir: &Path, case: &Case, how: &super::attach::LegacyBridge) -> Result<Arc<Legacy>> {
+        let (setup_only, scratch) = (how.setup_only, how.scratch);
+        let said = how.said.clone();
+        let warn = |msg: String| {
+            if said.lock().unwrap_or_else(|e| e.into_inner()).insert(msg.clone()) {
+                eprintln!("warning: {msg}");
+            }
+        };
         let lib = LegacyLib::open(dir)?;
         let info = lib.info();
         let shown = dir.display();
@@ -169,28 +205,31 @@ impl Legacy {
                         .zip(&itype)
                         .map(|(m, c)| format!("{} ({}) = {c}", m.name, m.eos.kind()))
                         .collect();
-                    eprintln!(
-                        "warning: --legacy {shown}: the manifest's [itype] `{key}` names no material of this case and no EOS kind ({}): a misspelt name? the codes the routines get: {}",
+                    warn(format!(
+                        "--legacy {shown}: the manifest's [itype] `{key}` names no material of this case and no EOS kind ({}): a misspelt name? the codes the routines get: {}",
                         EosCfg::KINDS.join(", "),
                         names.join(", ")
-                    );
+                    ));
                 }
             }
         }
         let abs = std::path::absolute(dir).map_err(|e| SphError::Io(format!("{shown}: {e}")))?;
-        let cwd = abs.join("work");
+        let cwd = if scratch { scratch_folder()? } else { abs.join("work") };
         let run_dirs = info.run_dirs.iter().map(|d| cwd.join(d));
-        for d in [cwd.clone(), abs.join("data")].into_iter().chain(run_dirs) {
+        let data = (!scratch).then(|| abs.join("data"));
+        for d in [cwd.clone()].into_iter().chain(data).chain(run_dirs) {
             std::fs::create_dir_all(&d).map_err(|e| SphError::Io(format!("{}: {e}", d.display())))?;
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();
-        let flags = case.compat.flags()?;
+        let flags = super::compat::flags(&case.compat)?;
         let l = Arc::new(Legacy {
             lib,
             dir: abs,
             cwd,
             itype,
             setup_only,
+            scratch,
+            said: how.said.clone(),
             dt,
             flags,
             shared: Mutex::new(Shared::default()),
@@ -235,6 +274,13 @@ impl Legacy {
             .iter()
             .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &empty, &work))
             .collect()
+    }
+
+    /// Says `msg` on stderr as a warning, once per bridge.
+    fn warn(&self, msg: String) {
+        if self.said.lock().unwrap_or_else(|e| e.into_inner()).insert(msg.clone()) {
+            eprintln!("warning: {msg}");
+        }
     }
 
     pub fn dir(&self) -> &Path {
@@ -316,22 +362,22 @@ impl Legacy {
         let region: Vec<u32> = mat.iter().map(|&m| region_of(m)).collect();
         let mut counts = vec![0usize; case.regions.len().max(1)];
         region.iter().for_each(|&r| counts[r as usize] += 1);
-        // the case must still describe these particles (docs/migration.md A.6): a count that
+        // the case must still describe these particles (docs/howto/migrate.md): a count that
         // differs is said once (the run takes the routine's particles, while the case's gauges,
         // charge and walls were written for its own)
         let described = base.x.len() / dim.max(1);
         if described != n {
-            eprintln!(
-                "warning: legacy {} made {n} particles, the case describes {described}: the run takes the routine's (check that the case's regions, gauges and charge are the ones your program sets up)",
+            self.warn(format!(
+                "legacy {} made {n} particles, the case describes {described}: the run takes the routine's (check that the case's regions, gauges and charge are the ones your program sets up)",
                 r.name
-            );
+            ));
         }
         let made = Initial { x, v, rho, e, h, mass, mat, region, counts, dx_min: base.dx_min };
         if let Some(diff) = state_differences(case, &base, &made) {
-            eprintln!(
-                "warning: legacy {}'s particles are not the state the case describes: {diff}; the run takes the routine's, while the case's exact solution, gauges and charge are the case's",
+            self.warn(format!(
+                "legacy {}'s particles are not the state the case describes: {diff}; the run takes the routine's, while the case's exact solution, gauges and charge are the case's",
                 r.name
-            );
+            ));
         }
         Ok(made)
     }
@@ -1067,7 +1113,7 @@ impl Legacy {
             }
             let ph = format!("{phase:?}").to_lowercase();
             let what = if alone {
-                "runs alone (no Rust twin here, not compared)".to_string()
+                "no Rust twin yet: runs alone in its place, not compared".to_string()
             } else {
                 format!("stands for {}", twins.join(" + "))
             };
@@ -1078,13 +1124,21 @@ impl Legacy {
             );
         }
         order_as_book(entries);
+        let place = if self.scratch {
+            format!(
+                "a scratch folder, {}, removed when this ends: nothing is written in {}",
+                self.cwd.display(),
+                self.dir.join("work").display()
+            )
+        } else {
+            self.cwd.display().to_string()
+        };
         let mut text = format!(
-            "legacy routines ({}, dim {}, maxn {}, max_interaction {}; they run in {}):\n",
+            "legacy routines ({}, dim {}, maxn {}, max_interaction {}; they run in {place}):\n",
             self.dir.display(),
             info.dim,
             info.maxn,
             info.max_interaction,
-            self.cwd.display()
         );
         // a routine of another formulation (the book's con_density in a summation case) is no
         // miss where another mapped routine stands for its module (sum_density); where none

@@ -228,10 +228,10 @@ pub const REFUSED_FLAGS: &[&str] = &[
 /// Why a flag of `fflags` is refused, if it is.
 fn refused_flag(f: &str) -> Option<&'static str> {
     if REFUSED_FLAGS.contains(&f) {
-        return Some("it changes the arithmetic against blastsph's own core (docs/migration.md A.4)");
+        return Some("it changes the arithmetic against blastsph's own core (docs/howto/migrate.md)");
     }
     if f.starts_with("-O") && f != "-O2" {
-        return Some("the optimisation level is fixed at -O2, as blastsph's own core is built (docs/migration.md A.4)");
+        return Some("the optimisation level is fixed at -O2, as blastsph's own core is built (docs/howto/migrate.md)");
     }
     if matches!(f, "-shared" | "-c" | "-o" | "-S" | "-E") || f.starts_with("-fsyntax-only") || f.starts_with("-Wl,") {
         return Some("blastsph compiles and links the library itself");
@@ -404,14 +404,14 @@ pub fn load(path: &Path) -> Result<Manifest> {
                     return err(
                         &format!("{key}.args"),
                         format!(
-                            "\"{a}\" is an argument of an each_pair call only (one pair's r, dx, hsml, w, dwdx): set call = \"each_pair\", or name the whole arrays of a {} call (docs/migration.md A.2)",
+                            "\"{a}\" is an argument of an each_pair call only (one pair's r, dx, hsml, w, dwdx): set call = \"each_pair\", or name the whole arrays of a {} call (docs/reference/legacy.md)",
                             call.name()
                         ),
                     );
                 }
                 let hint = match call {
                     CallMode::EachPair => "in an each_pair call: r, dx, hsml, w, dwdx and scalars".to_string(),
-                    _ => "see the argument table of docs/migration.md".to_string(),
+                    _ => "see the argument table of docs/reference/legacy.md".to_string(),
                 };
                 err(&format!("{key}.args"), format!("unknown argument name \"{a}\" ({hint})"))
             })?;
@@ -447,7 +447,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
             }
             let written = n.trim().to_ascii_lowercase();
             let term = vocab::lookup(&written).ok_or_else(|| {
-                err(&gkey, format!("unknown name \"{n}\" (see the argument table of docs/migration.md)"))
+                err(&gkey, format!("unknown name \"{n}\" (see the argument table of docs/reference/legacy.md)"))
             })?;
             if args.iter().any(|a| a.term.name == term.name) {
                 return Err(err(&gkey, format!("\"{n}\" is also an argument of the routine")));

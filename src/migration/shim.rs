@@ -129,17 +129,20 @@ fn one(ri: usize, r: &Routine) -> String {
     }
     let _ = writeln!(f, "  status = 0");
     let _ = writeln!(f, "  iloop = 0; jloop = 0; kloop = 0; dloop = 0; nloop = 0");
-    // copy in
+    // copy in: the scalars first, so that niac is known before the per-pair arrays
+    let niac = ix("niac");
+    for (k, _) in b.iter().enumerate().filter(|(_, t)| t.shape == Shape::Scalar) {
+        let k = k + 1;
+        let _ = writeln!(f, "  if (sizes({k}) /= 1) then");
+        let _ = writeln!(f, "    status = {}", TOO_LARGE);
+        let _ = writeln!(f, "    return");
+        let _ = writeln!(f, "  end if");
+        let _ = writeln!(f, "  call c_f_pointer(ptrs({k}), p{k})");
+        let _ = writeln!(f, "  v{k} = p{k}");
+    }
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
-        if t.shape == Shape::Scalar {
-            let _ = writeln!(f, "  if (sizes({k}) /= 1) then");
-            let _ = writeln!(f, "    status = {}", TOO_LARGE);
-            let _ = writeln!(f, "    return");
-            let _ = writeln!(f, "  end if");
-            let _ = writeln!(f, "  call c_f_pointer(ptrs({k}), p{k})");
-            let _ = writeln!(f, "  v{k} = p{k}");
-        } else {
+        if t.shape != Shape::Scalar {
             let cap = capacity(t.shape);
             let zero = if t.kind == Kind::Real { "0.0d0" } else { "0" };
             let _ = writeln!(f, "  if (.not. allocated(v{k})) then");
@@ -150,12 +153,21 @@ fn one(ri: usize, r: &Routine) -> String {
             let _ = writeln!(f, "    status = {}", TOO_LARGE);
             let _ = writeln!(f, "    return");
             let _ = writeln!(f, "  end if");
-            let _ = writeln!(f, "  if (sizes({k}) > 0) then");
-            let _ = writeln!(f, "    call c_f_pointer(ptrs({k}), p{k}, [sizes({k})])");
+            // a per-pair array: the pairs in use (niac on the way in), not the whole buffer (a
+            // search's buffers are max_interaction long: copying them all cost ~1 s a call)
+            let _ = writeln!(f, "  ncopy = sizes({k})");
+            if t.shape.per_pair()
+                && let Some(n) = niac
+            {
+                let stride = if t.shape == Shape::PairVec { "bs_dim" } else { "1" };
+                let _ = writeln!(f, "  ncopy = min(ncopy, max(0_c_int64_t, int(v{n}, c_int64_t)*{stride}))");
+            }
+            let _ = writeln!(f, "  if (sizes({k}) > 0) call c_f_pointer(ptrs({k}), p{k}, [sizes({k})])");
+            let _ = writeln!(f, "  if (ncopy > 0) then");
             if t.base == Base::One {
-                let _ = writeln!(f, "    v{k}(1:sizes({k})) = p{k} + 1");
+                let _ = writeln!(f, "    v{k}(1:ncopy) = p{k}(1:ncopy) + 1");
             } else {
-                let _ = writeln!(f, "    v{k}(1:sizes({k})) = p{k}");
+                let _ = writeln!(f, "    v{k}(1:ncopy) = p{k}(1:ncopy)");
             }
             let _ = writeln!(f, "  end if");
         }
@@ -261,7 +273,6 @@ fn one(ri: usize, r: &Routine) -> String {
         }
     }
     // copy out
-    let niac = ix("niac");
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
         if t.shape == Shape::Scalar {

@@ -3,7 +3,7 @@
 //!
 //! A manifest lists a routine's arguments **by position**: the k-th name says what the routine's
 //! k-th dummy argument is, whatever the routine calls it. So a code that names the density `dens`
-//! still writes `rho` in that place. `docs/migration.md` has the same table for users; a test keeps
+//! still writes `rho` in that place. `docs/reference/legacy.md` has the same table for users; a test keeps
 //! the two in step.
 //!
 //! Shapes are those of the legacy declarations (`x(dim,maxn)`, `w(max_interaction)`); blastsph

@@ -30,7 +30,6 @@ pub(crate) use par::{
     CHUNK, Sums, by_dim, fmax, fmin, gather_signed, gather_signed_max, gather_signed_own, grow, ipow, par_rows,
     par_rows2, serial,
 };
-pub(crate) use stage::as_its_normal_stage;
 pub use stage::{Backend, Contribution, Counterpart, InputWrite, Phase, PlanCtx, Slots, Stage, Terms, Tolerance, Twin};
 
 /// The module registry: one line per module, `folder: Variant => "what it computes"`. The order is

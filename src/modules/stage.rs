@@ -172,7 +172,7 @@ impl Default for Tolerance {
 pub enum Counterpart {
     /// blastsph's own Fortran twin (every module's stages).
     Fortran,
-    /// Nothing in blastsph: a compatibility variant of the Rust twin (`<module>/compat.rs`,
+    /// Nothing in blastsph: a compatibility variant of the Rust twin (`src/migration/compat/<module>.rs`,
     /// `--compat`) reproduces a legacy code's semantics and has no Fortran twin in blastsph's
     /// core; it is compared with the user's legacy routine (`dual --legacy`). The string says
     /// which items it reproduces.
@@ -262,43 +262,6 @@ pub struct InputWrite {
     /// or it was dropped (the pair list, kernel values and rate arrays are not the routine's).
     pub kept: bool,
 }
-
-/// The `Stage` methods of a compatibility stage (`<module>/compat.rs`) that stands where its field
-/// `normal`, blastsph's own stage, would: its module, name, the fields it reads and writes, the
-/// state it registers and sizes, and its rate-term slots are the normal stage's; the stage itself
-/// writes only `run` and `counterpart`.
-macro_rules! as_its_normal_stage {
-    () => {
-        fn module(&self) -> $crate::modules::Module {
-            $crate::modules::Stage::module(&self.normal)
-        }
-        fn name(&self) -> &'static str {
-            $crate::modules::Stage::name(&self.normal)
-        }
-        fn reads(&self) -> &[$crate::state::Field] {
-            $crate::modules::Stage::reads(&self.normal)
-        }
-        fn writes(&self) -> &[$crate::state::Field] {
-            $crate::modules::Stage::writes(&self.normal)
-        }
-        fn real_rows(&self) -> &[$crate::state::Field] {
-            $crate::modules::Stage::real_rows(&self.normal)
-        }
-        fn register(&self, p: &mut $crate::state::Particles) {
-            $crate::modules::Stage::register(&self.normal, p)
-        }
-        fn prepare(&self, p: &mut $crate::state::Particles, w: &mut $crate::state::Work) {
-            $crate::modules::Stage::prepare(&self.normal, p, w)
-        }
-        fn terms(&self) -> $crate::modules::Terms {
-            $crate::modules::Stage::terms(&self.normal)
-        }
-        fn assign(&mut self, slots: $crate::modules::Slots) {
-            $crate::modules::Stage::assign(&mut self.normal, slots)
-        }
-    };
-}
-pub(crate) use as_its_normal_stage;
 
 /// What the plan knows when it asks the modules for their stages.
 pub struct PlanCtx<'a> {

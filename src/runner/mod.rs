@@ -137,9 +137,14 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     if !opts.quiet {
         // the settings known to fail, as `blastsph check` lists them (once the run directory is
         // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region).into_iter().chain(sim.plan.legacy_warnings()) {
+        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
             eprintln!("warning: {w}");
         }
+    }
+    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
+    // as the user's code
+    for w in sim.plan.legacy_warnings() {
+        eprintln!("warning: {w}");
     }
     Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
@@ -282,6 +287,7 @@ impl Loop {
         let m0 = sim.total_mass();
         // a legacy STOP in the rates at t = 0 ends the process before the summary below: the
         // exit handler then writes this much of one
+        #[cfg(feature = "legacy")]
         if !sim.plan.legacy.is_null() {
             crate::migration::ffi::report_exit_with(
                 dir.join("summary.json"),
@@ -344,17 +350,7 @@ impl Loop {
         .starting_at(self.sim.t, self.sim.nstep);
         let stop = stop_flag();
         // a legacy STOP ends the process inside a step: its exit handler marks this summary
-        struct Watch;
-        impl Drop for Watch {
-            fn drop(&mut self) {
-                crate::migration::ffi::report_exit_to(None);
-            }
-        }
-        let _watch = (!self.sim.plan.legacy.is_null()).then(|| {
-            crate::migration::ffi::report_exit_to(Some(self.dir.join("summary.json")));
-            crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
-            Watch
-        });
+        let _watch = legacy_watch::Watch::start(&self.sim, &self.dir);
         let cp = opts.checkpoints;
         let (mut cp_step, mut cp_wall) = (self.sim.nstep, Instant::now());
         let mut diag: Option<SphError> = None;
@@ -369,8 +365,8 @@ impl Loop {
             }
             match self.sim.step() {
                 Ok(dt) => {
-                    if _watch.is_some() {
-                        crate::migration::ffi::report_progress(self.sim.nstep, self.sim.t);
+                    if let Some(w) = &_watch {
+                        w.progress(&self.sim);
                     }
                     self.gauges.sample(&self.sim)?;
                     self.peaks.update(&self.sim);
@@ -460,7 +456,7 @@ impl Loop {
             .modules
             .iter()
             .filter(|(_, p)| p.active)
-            .map(|(m, p)| (m.name().to_string(), json!(p.backend.name())))
+            .map(|(m, _)| (m.name().to_string(), json!(sim.plan.implementation(*m))))
             .collect();
         let skipped: serde_json::Map<String, serde_json::Value> = sim
             .plan
@@ -567,5 +563,40 @@ impl Loop {
         let text = serde_json::to_string_pretty(&summary).unwrap_or_default();
         rundir::write_atomic(&self.dir.join("summary.json"), text.as_bytes())?;
         Ok(summary)
+    }
+}
+
+/// A legacy STOP ends the process inside a step: the bridge's exit handler then marks the run's
+/// summary with the step reached. Nothing without the bridge.
+mod legacy_watch {
+    use crate::sim::Sim;
+    use std::path::Path;
+
+    pub struct Watch;
+
+    impl Watch {
+        #[cfg(feature = "legacy")]
+        pub fn start(sim: &Sim, dir: &Path) -> Option<Watch> {
+            (!sim.plan.legacy.is_null()).then(|| {
+                crate::migration::ffi::report_exit_to(Some(dir.join("summary.json")));
+                crate::migration::ffi::report_progress(sim.nstep, sim.t);
+                Watch
+            })
+        }
+        #[cfg(not(feature = "legacy"))]
+        pub fn start(_sim: &Sim, _dir: &Path) -> Option<Watch> {
+            None
+        }
+        pub fn progress(&self, _sim: &Sim) {
+            #[cfg(feature = "legacy")]
+            crate::migration::ffi::report_progress(_sim.nstep, _sim.t);
+        }
+    }
+
+    #[cfg(feature = "legacy")]
+    impl Drop for Watch {
+        fn drop(&mut self) {
+            crate::migration::ffi::report_exit_to(None);
+        }
     }
 }

@@ -345,6 +345,11 @@ fn with_end_time(
 /// The backends the checkpointed run used, module by module.
 fn overrides_of(meta: &Value, max_particles: Option<u64>) -> Overrides {
     let mut ov = Overrides { max_particles, ..Default::default() };
+    // the case's [compat] table, as the run had it
+    #[cfg(feature = "legacy")]
+    {
+        ov.bridge = Some(crate::migration::bridge(None, false));
+    }
     if let Some(b) = meta["backends"].as_object() {
         for (m, v) in b {
             match v.as_str().and_then(Backend::parse) {

@@ -7,12 +7,14 @@
 pub mod checkpoint;
 mod config;
 mod health;
+pub mod hook;
 pub mod plan;
 mod step;
 
 pub use checkpoint::Blob;
 pub use config::{Config, Frame};
 pub use health::behind_wall;
+pub use hook::{Bridge, Hook};
 pub use plan::{Overrides, Plan};
 
 use crate::case::{Case, NnpsKind};
@@ -126,25 +128,26 @@ impl Sim {
             };
         }
         let choice = plan::choices(&case, ov)?;
-        // the case's own numbers as a legacy code writes them (`--compat`; nothing without it)
-        crate::migration::compat::apply_case(&mut case)?;
-        let legacy = match &ov.legacy {
-            Some(d) => Some(crate::migration::legacy::Legacy::open(d, &case, ov.legacy_setup_only)?),
+        // the layer the caller attaches sees the case first (it may edit its numbers)
+        let hook = match &ov.bridge {
+            Some(b) => Some(b.attach(&mut case)?),
+            None if !case.compat.is_empty() => {
+                return Err(input(
+                    "[compat]: this build of blastsph has no legacy bridge to read it (cargo feature `legacy`)",
+                ));
+            }
             None => None,
         };
         let mut init = setup::particles_limited(&case, ov.max_particles)?;
-        if let Some(l) = &legacy {
-            // before the set-up routine fills maxn-long arrays with the case's particles
-            l.check_capacity(init.mass.len())?;
-            init = l.setup(&case, init)?;
-            l.check_capacity(init.mass.len())?;
+        if let Some(h) = &hook {
+            init = h.setup(&case, init)?;
         }
         let dim = case.dim;
         let n = init.mass.len();
         let mt = setup::material_table(&case);
         let kappa = case.sph.kernel.support();
         let ctx = PlanCtx { case: &case, dim, mt: &mt, kappa, dx_min: init.dx_min, x0: &init.x, h0: &init.h };
-        let plan = Plan::build_with(&ctx, &choice, legacy.as_ref());
+        let plan = Plan::build_with(&ctx, &choice, hook.as_deref());
         let cfg = Config::new(&case, mt, &init.x, init.dx_min);
         let mut p = Particles {
             dim,

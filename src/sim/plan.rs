@@ -16,11 +16,9 @@ pub struct Overrides {
     pub fortran: Vec<String>,
     pub nnps: Option<String>,
     pub end_time: Option<f64>,
-    /// A legacy build (`--legacy DIR`): the user's routines in place of the modules they stand
-    /// for (`crate::migration::legacy`).
-    pub legacy: Option<std::path::PathBuf>,
-    /// With `legacy`: only its set-up routine (the initial particles), no routine in the step.
-    pub legacy_setup_only: bool,
+    /// The layer attached to the run ([`super::hook`]): it may edit the case, the initial
+    /// particles and the plan.
+    pub bridge: Option<std::sync::Arc<dyn super::Bridge>>,
     /// The largest particle count allowed (`--max-particles`); default: what fits in 80 % of
     /// the machine's memory ([`crate::case::size`]).
     pub max_particles: Option<u64>,
@@ -59,6 +57,15 @@ pub struct Plan {
     pub notes: String,
     /// The same for summary.json (`legacy`), null without `--legacy`.
     pub legacy: serde_json::Value,
+}
+
+/// A stage's implementation as printed: its backend, or "legacy" / "compat".
+fn impl_of(e: &Entry) -> &'static str {
+    match e.stage.counterpart() {
+        Counterpart::Legacy | Counterpart::LegacyAlone(_) => "legacy",
+        Counterpart::None(_) => "compat",
+        Counterpart::Fortran => e.backend.name(),
+    }
 }
 
 /// The implementation of every module: Rust by default (bitwise equal to the legacy core and
@@ -105,18 +112,14 @@ impl Plan {
         Self::build_with(ctx, choice, None)
     }
 
-    /// As [`Plan::build`], with the user's legacy routines in place of the stages they stand for.
-    /// A module the case's `[compat]` table touches contributes its compat variants (Rust only:
-    /// they have no Fortran twin).
-    pub fn build_with(
-        ctx: &PlanCtx,
-        choice: &BTreeMap<Module, Backend>,
-        legacy: Option<&std::sync::Arc<crate::migration::legacy::Legacy>>,
-    ) -> Plan {
+    /// As [`Plan::build`], with the run's hook ([`super::Hook`]): a module may contribute the
+    /// hook's stages in place of its own (a stage without a Fortran twin runs in Rust), and the
+    /// hook edits the plan last.
+    pub fn build_with(ctx: &PlanCtx, choice: &BTreeMap<Module, Backend>, hook: Option<&dyn super::Hook>) -> Plan {
         let mut entries = Vec::new();
         let mut modules = BTreeMap::new();
         for &m in Module::ALL {
-            let c = crate::migration::compat::plan(m, ctx).unwrap_or_else(|| m.plan(ctx));
+            let c = hook.and_then(|h| h.contribution(m, ctx)).unwrap_or_else(|| m.plan(ctx));
             let backend = choice.get(&m).copied().unwrap_or(Backend::Rust);
             modules.insert(m, ModulePlan { active: !c.stages.is_empty(), backend, why: c.why });
             for (phase, stage) in c.stages {
@@ -127,8 +130,8 @@ impl Plan {
                 entries.push(Entry { phase, stage, backend, seconds: 0.0 });
             }
         }
-        let (notes, legacy) = match legacy {
-            Some(l) => l.edit_plan(ctx, &mut entries, &mut modules),
+        let (notes, legacy) = match hook {
+            Some(h) => h.edit_plan(ctx, &mut entries, &mut modules),
             None => (String::new(), serde_json::Value::Null),
         };
         // by phase; within a phase the registry order (the sort is stable)
@@ -235,22 +238,22 @@ impl Plan {
             .collect()
     }
 
+    /// What runs module `m`, as `check` and summary.json name it: "legacy" where a user's
+    /// routine stands for its stages, "compat" for a compat variant, else its backend.
+    pub fn implementation(&self, m: Module) -> &'static str {
+        let Some(p) = self.modules.get(&m) else { return Backend::Rust.name() };
+        if p.why.starts_with("legacy ") {
+            return "legacy";
+        }
+        let mine = self.entries.iter().filter(|e| e.stage.module() == m && e.phase != Phase::Init);
+        mine.map(impl_of).find(|l| *l != "fortran" && *l != "rust").unwrap_or(p.backend.name())
+    }
+
     pub fn text(&self) -> String {
         let mut s = String::from("module plan:\n");
-        // a stage's implementation as printed: its backend, or "legacy" / "compat"
-        let impl_of = |e: &Entry| match e.stage.counterpart() {
-            Counterpart::Legacy | Counterpart::LegacyAlone(_) => "legacy",
-            Counterpart::None(_) => "compat",
-            Counterpart::Fortran => e.backend.name(),
-        };
         for (m, p) in &self.modules {
             if p.active {
-                let mine = self.entries.iter().filter(|e| e.stage.module() == *m && e.phase != Phase::Init);
-                let label = if p.why.starts_with("legacy ") {
-                    "legacy"
-                } else {
-                    mine.map(impl_of).find(|l| *l != "fortran" && *l != "rust").unwrap_or(p.backend.name())
-                };
+                let label = self.implementation(*m);
                 s += &format!("  {:<11} {:<8} {}  [{}]\n", m.name(), label, p.why, m.what());
             } else {
                 s += &format!("  {:<11} {:<8} {}\n", m.name(), "skipped", p.why);

@@ -240,7 +240,6 @@ mod regions;
 impl Case {
     /// Checks what serde cannot; errors are one line naming the key.
     pub fn validate(&self) -> Result<()> {
-        self.compat.flags()?;
         self.validate_with(&mut Checker::default())
     }
 
@@ -354,16 +353,6 @@ impl Case {
         v.num(&at, "theta", s.theta, Range::above(0.0, 10.0))?;
         v.num(&at, "xsph_eps", s.xsph_eps, Range::within(0.0, 1.0))?;
         v.num(&at, "jitter", s.jitter, Range::within(0.0, 0.5))?;
-        {
-            use crate::migration::compat::Item;
-            let f = self.compat.flags()?;
-            if s.lattice_gradient && [Item::Kernel, Item::QuinticGradient, Item::GlobalH].iter().any(|&i| f.has(i)) {
-                return Err(input(format!(
-                    "sph.lattice_gradient = true with the book's kernel (compat {}): the book's kernel has no lattice normalisation; drop one of them",
-                    f.label()
-                )));
-            }
-        }
         let at = At::top("viscosity");
         v.num(&at, "alpha", self.viscosity.alpha, Range::within(0.0, 100.0))?;
         v.num(&at, "beta", self.viscosity.beta, Range::within(0.0, 100.0))?;

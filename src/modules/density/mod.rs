@@ -4,7 +4,6 @@
 //! Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j)(v_i − v_j)·∇_i W_ij, which stays consistent across large density
 //! ratios (detonation products against soil). Fortran twin: `sph_density.f90`.
 
-pub(crate) mod compat;
 mod ffi;
 #[cfg(test)]
 mod parity;

@@ -6,12 +6,11 @@
 //! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
 //!
 //! Tier: 0 ULP where only + − × ÷ √ are involved (ideal gas, water, soil); JWL calls `exp`, which
-//! both sides take from the same C library, so it is 0 ULP too (see docs/migration.md).
+//! both sides take from the same C library, so it is 0 ULP too (see docs/howto/add-module.md).
 
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 pub use rust::point;
@@ -44,7 +43,7 @@ impl Twin for Eval<'_> {
 
 /// p and c of the real particles.
 pub struct EosStage {
-    mt: MatTable,
+    pub(crate) mt: MatTable,
 }
 
 impl Stage for EosStage {

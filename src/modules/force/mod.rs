@@ -15,7 +15,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 use super::nnps::PairList;
@@ -54,11 +53,11 @@ impl Twin for Internal<'_> {
 
 /// The pressure (and stress) terms of the rate sums.
 pub struct ForceStage {
-    slots: Slots,
+    pub(crate) slots: Slots,
     /// Axisymmetric: the pair sums of the planar masses.
-    rz: bool,
+    pub(crate) rz: bool,
     /// The asymmetric energy form (`sph.energy_form`).
-    asym: bool,
+    pub(crate) asym: bool,
 }
 
 impl Stage for ForceStage {

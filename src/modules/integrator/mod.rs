@@ -15,7 +15,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 use super::param::NSTR;
@@ -175,7 +174,7 @@ fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>,
 }
 
 /// Sizes the half-step values and the rates the leapfrog reads.
-fn size_leapfrog(p: &Particles, w: &mut Work) {
+pub(crate) fn size_leapfrog(p: &Particles, w: &mut Work) {
     let (dim, n) = (p.dim, p.nreal);
     let ntau = if p.tau.is_empty() { 0 } else { NSTR * n };
     w.rho_min.resize(n, 0.0);
@@ -186,7 +185,7 @@ fn size_leapfrog(p: &Particles, w: &mut Work) {
 }
 
 /// The stages of the module.
-enum Which {
+pub(crate) enum Which {
     Sum,
     Predict,
     /// The Courant number and the weight of the viscous signal speed (None: without it).
@@ -197,11 +196,11 @@ enum Which {
 
 /// A stage of the leapfrog.
 pub struct IntegratorStage {
-    which: Which,
+    pub(crate) which: Which,
     /// ρ is staggered (continuity density).
-    cont: bool,
-    grav: Vec<f64>,
-    slots: Slots,
+    pub(crate) cont: bool,
+    pub(crate) grav: Vec<f64>,
+    pub(crate) slots: Slots,
 }
 
 const LEAPFROG: [Field; 8] =

@@ -7,7 +7,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 pub use rust::w_dw;
@@ -110,8 +109,8 @@ pub fn lattice_moment(dim: usize, kind: KernelKind, h_over_dx: f64) -> f64 {
 
 /// W and ∇W of every pair.
 pub struct PairsStage {
-    kind: KernelKind,
-    gscale: f64,
+    pub(crate) kind: KernelKind,
+    pub(crate) gscale: f64,
 }
 
 impl Stage for PairsStage {

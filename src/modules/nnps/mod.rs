@@ -20,7 +20,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 mod verlet;
 

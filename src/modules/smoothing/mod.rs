@@ -9,7 +9,6 @@
 //! `sph_smoothing.f90`.
 //! Tier: 0 ULP in 1D and 2D (division, √), and in 3D (`pow`, the same C library on both sides).
 
-pub(crate) mod compat;
 mod ffi;
 #[cfg(test)]
 mod parity;

@@ -14,7 +14,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 use super::nnps::PairList;
@@ -163,13 +162,13 @@ impl Stage for SwitchStage {
 
 /// The viscous terms of the rate sums.
 pub struct ViscosityStage {
-    coef: Coef,
-    slots: Slots,
+    pub(crate) coef: Coef,
+    pub(crate) slots: Slots,
     /// Axisymmetric: the pair sums of the planar masses.
     rz: bool,
     /// The CFL step reads max|μ| (`time.viscous_step`): only then is `mumax` an output of the
     /// stage (compared by the dual run, and required of a legacy routine that stands for it).
-    signal: bool,
+    pub(crate) signal: bool,
     /// The switch's α_max (`Some` with the Morris–Monaghan switch: α_i per particle).
     switch: Option<f64>,
 }

@@ -4,7 +4,6 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
-pub(crate) mod compat;
 mod rust;
 
 use super::nnps::PairList;
@@ -37,9 +36,9 @@ impl Twin for Average<'_> {
 
 /// The XSPH velocity correction.
 pub struct XsphStage {
-    eps: f64,
+    pub(crate) eps: f64,
     /// Axisymmetric: the planar masses.
-    rz: bool,
+    pub(crate) rz: bool,
 }
 
 impl Stage for XsphStage {

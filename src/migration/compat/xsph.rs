@@ -5,8 +5,8 @@
 //! adds av (to v, without Δt) is the integrator's item `xsph_velocity`. No Fortran twin in
 //! blastsph's core.
 
-use super::XsphStage;
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
+use crate::modules::xsph::XsphStage;
 use crate::modules::{Backend, Contribution, Counterpart, Phase, PlanCtx, Stage, par_rows};
 use crate::state::{Clock, Particles, Work};
 
@@ -17,7 +17,7 @@ pub struct XsphCompat {
 }
 
 impl Stage for XsphCompat {
-    crate::modules::as_its_normal_stage!();
+    super::as_its_normal_stage!();
 
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt, eps) = (p.dim, p.ntotal, self.normal.eps);
@@ -56,5 +56,8 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     }
     let why: &'static str = Box::leak(format!("xsph: {}", f.label()).into_boxed_str());
     let st = XsphCompat { normal: XsphStage { eps, rz: false }, why };
-    Some(Contribution::run(format!("eps = {eps} [compat {}]", f.label()), vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)]))
+    Some(Contribution::run(
+        format!("eps = {eps} [compat {}]", f.label()),
+        vec![(Phase::Rates, Box::new(st) as Box<dyn Stage>)],
+    ))
 }

@@ -13,7 +13,7 @@
 //! ρ_i = (m_i W_ii + Σ_j m_j W_ij) / (m_i W_ii/ρ_i + Σ_j m_j W_ij/ρ_j) (kg/m³). Planar cases
 //! only (an axisymmetric case keeps blastsph's twin). No Fortran twin in blastsph's core.
 
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
 use crate::modules::{Backend, Contribution, Counterpart, Module, PlanCtx, Stage, par_rows};
 use crate::state::{Clock, Field, Particles, Work};
 
@@ -64,7 +64,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if !f.has(Item::NorDensity) || ctx.case.axisymmetric() {
         return None;
     }
-    let mut normal = super::plan(ctx);
+    let mut normal = crate::modules::density::plan(ctx);
     let why: &'static str = Box::leak(format!("density: {}", f.label()).into_boxed_str());
     let mut found = false;
     for (_, st) in normal.stages.iter_mut() {

@@ -6,8 +6,8 @@
 //! (`migration::compat::apply_case`). Other materials keep blastsph's EOS. No Fortran twin in
 //! blastsph's core.
 
-use super::{EosStage, point};
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
+use crate::modules::eos::{EosStage, point};
 use crate::modules::param::{NPAR, SPH_EOS_IDEAL_GAS, SPH_MP_E1, SPH_MP_PMIN};
 use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows2};
 use crate::state::{Clock, Field, Particles, Work};
@@ -69,7 +69,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if !f.has(Item::SoundSpeed) {
         return None;
     }
-    let normal = super::plan(ctx);
+    let normal = crate::modules::eos::plan(ctx);
     let why: &'static str = Box::leak(format!("eos: {}", f.label()).into_boxed_str());
     let stage = || Box::new(EosCompat { normal: EosStage { mt: ctx.mt.clone() }, why }) as Box<dyn Stage>;
     Some(Contribution::run(

@@ -4,8 +4,9 @@
 //! single precision) and `global_h` (link_list's one h: the first particle's). No Fortran twin in
 //! blastsph's core: the dual run compares it with the user's legacy `kernel` (`dual --legacy`).
 
-use super::{KernelKind, PairsStage, w_dw};
-use crate::migration::compat::{Flags, Item, single};
+use super::{Flags, Item, single};
+use crate::case::KernelKind;
+use crate::modules::kernel::{PairsStage, w_dw};
 use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, par_rows, par_rows2};
 use crate::state::{Clock, Field, Particles, Work};
 use std::f64::consts::PI;
@@ -115,7 +116,7 @@ pub struct PairsCompat {
 }
 
 impl Stage for PairsCompat {
-    crate::modules::as_its_normal_stage!();
+    super::as_its_normal_stage!();
 
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt, kind, f) = (p.dim, p.ntotal, self.kind, self.f);
@@ -183,7 +184,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if !touched {
         return None;
     }
-    let normal = super::plan(ctx);
+    let normal = crate::modules::kernel::plan(ctx);
     let kind = ctx.case.sph.kernel;
     let why: &'static str = Box::leak(format!("kernel: {}", f.label()).into_boxed_str());
     let stages = normal

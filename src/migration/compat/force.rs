@@ -9,9 +9,9 @@
 //! Fluids only (the book has no stress): with strength the module keeps blastsph's twin. No
 //! Fortran twin in blastsph's core.
 
+use super::{Flags, Item};
+use crate::modules::force::ForceStage;
 use crate::modules::grow;
-use super::ForceStage;
-use crate::migration::compat::{Flags, Item};
 use crate::modules::{
     Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, by_dim, gather_signed, par_rows,
 };
@@ -86,15 +86,11 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, slots: Slo
 }
 
 impl Stage for ForceCompat {
-    crate::modules::as_its_normal_stage!();
+    super::as_its_normal_stage!();
 
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let slots = self.normal.slots;
-        if self.pa1 {
-            by_dim!(p.dim, 1, run_pa1_d(p, w, slots))
-        } else {
-            by_dim!(p.dim, 1, run_d(p, w, slots))
-        }
+        if self.pa1 { by_dim!(p.dim, 1, run_pa1_d(p, w, slots)) } else { by_dim!(p.dim, 1, run_d(p, w, slots)) }
     }
     fn counterpart(&self) -> Counterpart {
         Counterpart::None(self.why)

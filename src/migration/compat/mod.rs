@@ -1,7 +1,7 @@
 //! Compatibility profiles of the Rust twins (`--compat liu-book`, the case's `[compat]` table):
 //! each **item** is one place where a legacy code computes differently from blastsph's twins
 //! (`docs/compat-liu-book.md` §14), reproduced bit for bit by a variant of the module's Rust twin
-//! in `src/modules/<module>/compat.rs`. A profile switches a set of items on; each item can be
+//! in `src/migration/compat/<module>.rs`. A profile switches a set of items on; each item can be
 //! switched on or off on its own over it:
 //!
 //! ```toml
@@ -16,11 +16,57 @@
 //! The variants have no Fortran twin in blastsph's core: the dual run says so for their stages and
 //! compares them with the user's legacy routines (`dual --legacy`).
 
-use crate::case::{Case, EosCfg};
+use crate::case::{Case, CompatCfg, EosCfg};
 use crate::error::{Result, input};
 use crate::modules::{Contribution, Module, PlanCtx};
-use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
+use serde::Serialize;
+
+/// The `Stage` methods of a compatibility stage (`compat/<module>.rs`) that stands where its field
+/// `normal`, blastsph's own stage, would: its module, name, the fields it reads and writes, the
+/// state it registers and sizes, and its rate-term slots are the normal stage's; the stage itself
+/// writes only `run` and `counterpart`.
+macro_rules! as_its_normal_stage {
+    () => {
+        fn module(&self) -> $crate::modules::Module {
+            $crate::modules::Stage::module(&self.normal)
+        }
+        fn name(&self) -> &'static str {
+            $crate::modules::Stage::name(&self.normal)
+        }
+        fn reads(&self) -> &[$crate::state::Field] {
+            $crate::modules::Stage::reads(&self.normal)
+        }
+        fn writes(&self) -> &[$crate::state::Field] {
+            $crate::modules::Stage::writes(&self.normal)
+        }
+        fn real_rows(&self) -> &[$crate::state::Field] {
+            $crate::modules::Stage::real_rows(&self.normal)
+        }
+        fn register(&self, p: &mut $crate::state::Particles) {
+            $crate::modules::Stage::register(&self.normal, p)
+        }
+        fn prepare(&self, p: &mut $crate::state::Particles, w: &mut $crate::state::Work) {
+            $crate::modules::Stage::prepare(&self.normal, p, w)
+        }
+        fn terms(&self) -> $crate::modules::Terms {
+            $crate::modules::Stage::terms(&self.normal)
+        }
+        fn assign(&mut self, slots: $crate::modules::Slots) {
+            $crate::modules::Stage::assign(&mut self.normal, slots)
+        }
+    };
+}
+pub(crate) use as_its_normal_stage;
+
+pub mod density;
+pub mod eos;
+pub mod force;
+pub mod integrator;
+pub mod kernel;
+pub mod nnps;
+pub mod smoothing;
+pub mod viscosity;
+pub mod xsph;
 
 /// One compatibility item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
@@ -221,33 +267,21 @@ impl Flags {
     }
 }
 
-/// The case's `[compat]` table.
-#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
-pub struct CompatCfg {
-    /// A profile: "liu-book" or "none".
-    #[serde(default)]
-    pub profile: Option<String>,
-    /// Items switched on (true) or off (false) over the profile, by name.
-    #[serde(flatten)]
-    pub items: BTreeMap<String, bool>,
-}
-
-impl CompatCfg {
-    /// The items on; an unknown profile or item is an input error.
-    pub fn flags(&self) -> Result<Flags> {
-        let mut f = match &self.profile {
-            None => Flags(0),
-            Some(p) => Flags::profile(p).ok_or_else(|| {
-                input(format!("compat.profile = \"{p}\": no such profile (profiles: {})", profile_names()))
-            })?,
-        };
-        for (k, &on) in &self.items {
-            let i = Item::parse(k)
-                .ok_or_else(|| input(format!("compat.{k}: no such compatibility item (items: {})", item_names())))?;
-            f = f.with(i, on);
-        }
-        Ok(f)
+/// The items the case's `[compat]` table switches on; an unknown profile or item is an input
+/// error.
+pub fn flags(cfg: &CompatCfg) -> Result<Flags> {
+    let mut f = match &cfg.profile {
+        None => Flags(0),
+        Some(p) => Flags::profile(p).ok_or_else(|| {
+            input(format!("compat.profile = \"{p}\": no such profile (profiles: {})", profile_names()))
+        })?,
+    };
+    for (k, &on) in &cfg.items {
+        let i = Item::parse(k)
+            .ok_or_else(|| input(format!("compat.{k}: no such compatibility item (items: {})", item_names())))?;
+        f = f.with(i, on);
     }
+    Ok(f)
 }
 
 fn profile_names() -> String {
@@ -295,8 +329,15 @@ pub fn single(x: f64) -> f64 {
 
 /// Applies the items that change the case's own numbers (`literals`): the values a legacy code
 /// writes as default-real literals are rounded to single precision. Nothing without the item.
+/// Refuses an unknown item and a case whose other keys contradict an item.
 pub fn apply_case(case: &mut Case) -> Result<()> {
-    let f = case.compat.flags()?;
+    let f = flags(&case.compat)?;
+    if case.sph.lattice_gradient && [Item::Kernel, Item::QuinticGradient, Item::GlobalH].iter().any(|&i| f.has(i)) {
+        return Err(input(format!(
+            "sph.lattice_gradient = true with the book's kernel (compat {}): the book's kernel has no lattice normalisation; drop one of them",
+            f.label()
+        )));
+    }
     if !f.has(Item::Literals) {
         return Ok(());
     }
@@ -325,21 +366,20 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
 /// The compat variant of module `m`'s stages when the case switches one of its items on, else
 /// `None` (the module's own plan).
 pub fn plan(m: Module, ctx: &PlanCtx) -> Option<Contribution> {
-    let f = ctx.case.compat.flags().ok()?;
+    let f = flags(&ctx.case.compat).ok()?;
     if f.is_empty() {
         return None;
     }
-    use crate::modules::{density, eos, force, integrator, kernel, nnps, smoothing, viscosity, xsph};
     match m {
-        Module::Smoothing => smoothing::compat::plan(ctx, f),
-        Module::Density => density::compat::plan(ctx, f),
-        Module::Nnps => nnps::compat::plan(ctx, f),
-        Module::Kernel => kernel::compat::plan(ctx, f),
-        Module::Eos => eos::compat::plan(ctx, f),
-        Module::Force => force::compat::plan(ctx, f),
-        Module::Viscosity => viscosity::compat::plan(ctx, f),
-        Module::Xsph => xsph::compat::plan(ctx, f),
-        Module::Integrator => integrator::compat::plan(ctx, f),
+        Module::Smoothing => smoothing::plan(ctx, f),
+        Module::Density => density::plan(ctx, f),
+        Module::Nnps => nnps::plan(ctx, f),
+        Module::Kernel => kernel::plan(ctx, f),
+        Module::Eos => eos::plan(ctx, f),
+        Module::Force => force::plan(ctx, f),
+        Module::Viscosity => viscosity::plan(ctx, f),
+        Module::Xsph => xsph::plan(ctx, f),
+        Module::Integrator => integrator::plan(ctx, f),
         _ => None,
     }
 }
@@ -360,9 +400,9 @@ mod tests {
         assert_eq!(s, ["compat.profile=\"liu-book\"", "compat.sound_speed=false", "compat.global_h=true"]);
         assert!(sets_of("bogus").unwrap_err().to_string().contains("neither a profile"));
         let cfg = CompatCfg { profile: Some("liu-book".into()), items: [("kernel".to_string(), false)].into() };
-        assert!(!cfg.flags().unwrap().has(Item::Kernel));
+        assert!(!flags(&cfg).unwrap().has(Item::Kernel));
         let bad = CompatCfg { profile: None, items: [("kernal".to_string(), true)].into() };
-        assert!(bad.flags().unwrap_err().to_string().contains("compat.kernal"));
+        assert!(flags(&bad).unwrap_err().to_string().contains("compat.kernal"));
         assert_eq!(single(1.4), 1.399_999_976_158_142);
         assert!(book.touches("viscosity") && !Flags::default().touches("eos"));
     }

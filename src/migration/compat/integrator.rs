@@ -10,8 +10,8 @@
 //! The leapfrog is otherwise blastsph's, which is the book's for a fixed step (Δt/2 = ½ Δt,
 //! ½ (Δt + Δt) = Δt exactly). No Fortran twin in blastsph's core.
 
-use super::{IntegratorStage, Which, size_leapfrog};
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
+use crate::modules::integrator::{IntegratorStage, Which, size_leapfrog};
 use crate::modules::param::NSTR;
 use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Slots, Stage};
 use crate::state::{Clock, Field, Particles, Work};
@@ -141,16 +141,9 @@ impl Stage for IntegratorCompat {
     }
     fn reads(&self) -> &[Field] {
         match self.part {
-            Part::Predict | Part::Advance => &[
-                Field::Drho,
-                Field::De,
-                Field::Dv,
-                Field::Dtau,
-                Field::Av,
-                Field::RhoMin,
-                Field::P,
-                Field::X,
-            ],
+            Part::Predict | Part::Advance => {
+                &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin, Field::P, Field::X]
+            }
             Part::Sum => self.normal.reads(),
         }
     }
@@ -183,7 +176,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if ![Item::EnergyFloor, Item::XsphVelocity, Item::RateSum].iter().any(|&i| f.has(i)) {
         return None;
     }
-    let normal = super::plan(ctx);
+    let normal = crate::modules::integrator::plan(ctx);
     let v = &ctx.case.viscosity;
     let visc_slot = (v.alpha > 0.0 || v.beta > 0.0).then_some(1);
     let why: &'static str = Box::leak(format!("integrator: {}", f.label()).into_boxed_str());

@@ -13,7 +13,7 @@
 //! i.e. h_i ← h_i + Δt (h_i/d) Σ_j (m_j/ρ_j)(v_j − v_i)·∇_i W_ij (m), real particles only. Planar
 //! cases only. No Fortran twin in blastsph's core.
 
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
 use crate::modules::{Backend, Contribution, Counterpart, Module, Phase, PlanCtx, Stage, by_dim};
 use crate::state::{Clock, Field, Particles, Work};
 

@@ -8,8 +8,9 @@
 //! The candidates come from blastsph's own Rust search with a support widened by 10⁻⁶ (a
 //! superset of both tests); each is then decided by the book's test on the book's operands.
 
-use super::{Search, Twin};
-use crate::migration::compat::{Flags, Item};
+use super::{Flags, Item};
+use crate::modules::Twin;
+use crate::modules::nnps::Search;
 use crate::modules::{Backend, Contribution, Counterpart, Module, PlanCtx, Stage};
 use crate::state::{Clock, Field, Particles, Work};
 

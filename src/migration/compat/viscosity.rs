@@ -6,12 +6,10 @@
 //! case's α, β and φ/h (the book's `etq = 0.1e0`) are single precision
 //! (`migration::compat::apply_case`). No Fortran twin in blastsph's core.
 
+use super::{Flags, Item};
 use crate::modules::grow;
-use super::{Coef, ViscosityStage};
-use crate::migration::compat::{Flags, Item};
-use crate::modules::{
-    Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, by_dim, par_rows, par_rows2,
-};
+use crate::modules::viscosity::{Coef, ViscosityStage};
+use crate::modules::{Backend, Contribution, Counterpart, Phase, PlanCtx, Slots, Stage, by_dim, par_rows, par_rows2};
 use crate::state::{Clock, Particles, Work};
 
 /// The book's art_visc.
@@ -90,7 +88,7 @@ fn run_d<const D: usize, const W: usize>(p: &Particles, w: &mut Work, coef: Coef
 }
 
 impl Stage for ViscosityCompat {
-    crate::modules::as_its_normal_stage!();
+    super::as_its_normal_stage!();
 
     fn run(&self, _b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (coef, slots, f) = (self.normal.coef, self.normal.slots, self.f);
@@ -118,7 +116,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
     if stage.signal {
         return None;
     }
-    let normal = super::plan(ctx);
+    let normal = crate::modules::viscosity::plan(ctx);
     if normal.stages.is_empty() {
         return None;
     }
