@@ -13,7 +13,7 @@
 //!
 //! | layer | modules |
 //! |---|---|
-//! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `dual` |
+//! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
 //! | bridge | `migration` |
 //! | run | `casedir`, `rundir`, `progress`, `output`, `analysis`, `advice`, `gauges`, `runner` |
 //! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench` |

@@ -10,24 +10,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// Imports from the core to the legacy bridge, one line each (file, module imported).
-/// Removed when the core<->bridge hook lands: the core must then know nothing of `migration`.
-const CORE_TO_BRIDGE: &[(&str, &str)] = &[
-    ("src/case/types.rs", "migration"),
-    ("src/case/validate/mod.rs", "migration"),
-    ("src/dual.rs", "migration"),
-    ("src/modules/density/compat.rs", "migration"),
-    ("src/modules/eos/compat.rs", "migration"),
-    ("src/modules/force/compat.rs", "migration"),
-    ("src/modules/integrator/compat.rs", "migration"),
-    ("src/modules/kernel/compat.rs", "migration"),
-    ("src/modules/nnps/compat.rs", "migration"),
-    ("src/modules/smoothing/compat.rs", "migration"),
-    ("src/modules/viscosity/compat.rs", "migration"),
-    ("src/modules/xsph/compat.rs", "migration"),
-    ("src/sim/mod.rs", "migration"),
-    ("src/sim/plan.rs", "migration"),
-];
+/// Imports from the core to the legacy bridge, one line each (file, module imported): none; the
+/// core knows the bridge only through the hook it defines (`sim::hook`).
+const CORE_TO_BRIDGE: &[(&str, &str)] = &[];
 
 /// Imports from the legacy bridge upwards (its ledger reads the Riemann report and writes files
 /// through the run directory's helpers). `src/migration/` belongs to the bridge's own work; these
