@@ -187,11 +187,9 @@ fn sentence_splitter_counts_what_a_reader_sees() {
     assert_eq!(long_sentences(&long, 61).len(), 0);
 }
 
-/// The legacy bridge's user guide and its compatibility reference are written by the bridge's own
-/// maintainers and split into a how-to and a reference; until then they fail the prose rules
-/// below. They are named here so the exemption is visible, and a listed file that passes every
-/// rule fails [`exempt_files_still_need_their_exemption`], so the list only shrinks.
-const EXEMPT: &[&str] = &["docs/migration.md", "docs/compat-liu-book.md"];
+/// Files exempt from the prose rules: none. A listed file that passes every rule fails
+/// [`exempt_files_still_need_their_exemption`], so the list only shrinks.
+const EXEMPT: &[&str] = &[];
 
 fn exempt(f: &Path) -> bool {
     EXEMPT.iter().any(|e| f.ends_with(e))
