@@ -20,6 +20,7 @@ mod dims;
 pub mod geometry;
 mod sets;
 pub mod size;
+pub mod slips;
 mod types;
 pub mod validate;
 

@@ -605,6 +605,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let est = case::size::check(&c, args.max_particles)?;
             let ov = overrides(&args)?;
             let sim = Sim::new(c, &ov)?;
+            case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
             print!("{}", check_text(&sim));
             // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
             // come at the first step)
