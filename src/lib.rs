@@ -19,6 +19,8 @@ pub mod case;
 pub mod casedir;
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "plot")]
+pub mod converge;
 pub mod dual;
 pub mod error;
 pub mod gauges;

@@ -256,6 +256,10 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         summary["backend"].as_str().unwrap_or("?"),
         summary["status"].as_str().unwrap_or("?")
     );
+    // the error bars of a `converge` ladder this run is a level of
+    for l in crate::converge::report_lines(dir) {
+        println!("{l}");
+    }
     let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
     let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
     let (mu, eu) = extensive_units(&case);

@@ -130,16 +130,25 @@ fn a_density_in_grams_per_cubic_centimetre_is_refused() {
     assert_eq!(code, Some(0), "{out}{err}");
 }
 
-/// A charge mass off any blast's range (each particle's mass_kg a million times too large or
-/// too small) is refused, naming the mass; the case's own 1.84 kg passes.
+/// A charge mass off any blast's range for its scene is refused, naming the mass: a charge of
+/// 2 × 2 rings of 1 mm (41 mg), and a charge that fills most of its scene (a cylinder 0.9 m
+/// across in a 1 m block); the case's own 1.84 kg passes.
 #[test]
 fn a_charge_mass_off_any_plausible_range_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let case = write(dir.path(), "m.toml", &rz_charge(1.0, 0.0));
     let (code, out, err) = check(&case, &[]);
     assert_eq!(code, Some(0), "{out}{err}");
-    refused(&case, &["region.charge.mass_kg=1.0e6"], "the explosive holds");
-    refused(&case, &["region.charge.mass_kg=1.0e-9"], "outside any blast in soil or water");
+    refused(
+        &case,
+        &["region.charge.spacing_m=0.001", "region.charge.hi_m=[0.002, 0.702]", "detonation.point_m=[0.001, 0.701]"],
+        "the explosive holds 4.0966e-5 kg, outside any blast in soil or water",
+    );
+    refused(
+        &case,
+        &["region.charge.lo_m=[0.0, 0.05]", "region.charge.hi_m=[0.9, 0.95]", "detonation.point_m=[0.01, 0.5]"],
+        "the explosive fills 73 % of the scene's volume",
+    );
 }
 
 /// A charge lifted 0.6 m off the soil in a crater scene: a warning naming the gap (not a

@@ -151,7 +151,7 @@ fn charge_refusal(case: &Case, s: &Scene) -> Option<String> {
         let why = if s.charge_kg > hi {
             "lengths in millimetres (a 1 kg charge reads as 10⁹ kg), or a density or mass_kg 1000 × too large?"
         } else {
-            "a density in g/cm³, or mass_kg in tonnes?"
+            "the charge's size in metres where centimetres or millimetres were meant, or a density in g/cm³?"
         };
         return Some(format!(
             "the explosive holds {:.4e} {unit}, outside any blast in soil or water ({lo:e} to {hi:e} {unit}): {why}",

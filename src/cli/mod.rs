@@ -266,6 +266,12 @@ pub enum Cmd {
         #[command(flatten)]
         args: crate::bench::BenchArgs,
     },
+    /// Error bars: the case at spacings Δx, Δx/2, Δx/4; each headline figure's observed order,
+    /// extrapolated value and grid convergence index (DIR/converge.json, a plot per figure; docs/converge.md)
+    Converge {
+        #[command(flatten)]
+        args: crate::converge::ConvergeArgs,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -672,6 +678,17 @@ fn dispatch(cli: Cli) -> Result<i32> {
             let b = on_pool(|| crate::bench::bench(&o))?;
             print!("{}", b.text);
             for f in &b.files {
+                println!("written: {}", f.display());
+            }
+            Ok(0)
+        }
+        Cmd::Converge { args } => {
+            let (case, o) = args.options()?;
+            own_folder(&o.out, crate::converge::JSON, "converge")?;
+            threads(args.threads)?;
+            let (table, files) = on_pool(|| crate::converge::converge(&case, &o))?;
+            print!("{table}");
+            for f in &files {
                 println!("written: {}", f.display());
             }
             Ok(0)
