@@ -158,10 +158,10 @@ fn draw_surface_map(path: &Path, case: &Case, t: f64, m: &SurfaceMap) -> Result<
         path,
         &MapSpec {
             title: format!(
-                "{}  t = {}: ground surface s − s0, plan view (cells {:.1} cm)",
+                "{}  t = {}: ground surface s − s0, plan view (cells {})",
                 case.name(),
                 TimeUnit::for_end(t).text(t),
-                100.0 * ds
+                crate::converge::spacing_text(ds)
             ),
             x: &x,
             y: &y,
@@ -540,7 +540,7 @@ pub fn report(
         // ejecta flying far above a crater (a long run: metres against decimetres) would flatten
         // the crater's curves: then they get a plot of their own
         let widest = ok_hist.iter().map(|(_, c)| c.diameter_m).fold(0.0, f64::max);
-        // (no crater at all, a contained charge: the highest soil is the dome over it, drawn
+        // (no crater at all, a contained charge: the dome over it, the surface's rise, is drawn
         // beside the zero crater so that the plot has a scale)
         let ejecta_apart = widest > 0.0 && ok_hist.iter().any(|(_, c)| c.ejecta_height_m > 5.0 * widest);
         if ejecta_apart {
@@ -556,7 +556,10 @@ pub fn report(
         } else if widest > 0.0 {
             grow.push(("ejecta height (cm)".to_string(), ejecta));
         } else {
-            grow.push(("highest soil above the original ground: no crater, the dome (cm)".to_string(), ejecta));
+            // no crater: the dome, the ground surface's highest rise (the text's figure), not
+            // the highest soil particle (a grain thrown off the dome)
+            let dome = ok_hist.iter().map(|(t, c)| (tu.of(*t), 100.0 * c.mound_height_m)).collect();
+            grow.push(("no crater: the dome, the ground surface's highest rise (cm)".to_string(), dome));
         }
         let mut refs = Vec::new();
         let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
@@ -630,9 +633,9 @@ pub fn report(
                 )
             } else {
                 format!(
-                    "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {:.1} cm wide)",
+                    "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {} wide)",
                     case.name(),
-                    100.0 * c_end.column_m
+                    crate::converge::spacing_text(c_end.column_m)
                 )
             },
             if case.dim == 3 || case.axisymmetric() {
@@ -946,13 +949,13 @@ fn print_text(
             let how = if case.dim == 3 { " (revolved about the charge's axis)" } else { "" };
             match &c.note {
                 None => println!(
-                    "crater{how} at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {:.1} cm wide, the soil's spacing)",
+                    "crater{how} at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {} wide, the soil's spacing)",
                     t_end,
                     cm1(c.diameter_m),
                     cm1(c.depth_m),
                     cm1(c.width_half_depth_m),
                     height_text(c.ejecta_height_m),
-                    100.0 * c.column_m
+                    crate::converge::spacing_text(c.column_m)
                 ),
                 Some(why) => println!("crater{how} at t = {t_end}: {why}"),
             }
@@ -1009,8 +1012,8 @@ fn print_text(
     match map {
         Some(Ok(m)) => match &m.note {
             None => println!(
-                "crater as a surface (the run's end, cells {:.1} cm, the whole scene): equivalent diameter {} cm (plan area {:.0} cm²), depth {} cm at ({}, {}) cm from the charge's axis, volume {:.2} L, its edge {} to {} cm from the axis",
-                100.0 * m.cell_m,
+                "crater as a surface (the run's end, cells {}, the whole scene): equivalent diameter {} cm (plan area {:.0} cm²), depth {} cm at ({}, {}) cm from the charge's axis, volume {:.2} L, its edge {} to {} cm from the axis",
+                crate::converge::spacing_text(m.cell_m),
                 cm1(m.equivalent_diameter_m),
                 m.plan_area_m2 * 1e4,
                 cm1(m.depth_m),

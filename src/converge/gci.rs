@@ -95,6 +95,13 @@ pub fn three(h: [f64; 3], f: [f64; 3]) -> Option<Estimate> {
             "the differences change sign (f3 - f2 = {e32:.4e}, f2 - f1 = {e21:.4e}): the values oscillate with refinement"
         ));
     }
+    if e21.abs() > e32.abs() {
+        why.push(format!(
+            "the change grows with refinement (|f2 - f1| = {:.4e} > |f3 - f2| = {:.4e}): the values move away",
+            e21.abs(),
+            e32.abs()
+        ));
+    }
     if !p.is_finite() || !(0.5..=4.0).contains(&p) {
         why.push(format!("the observed order {p:.3} is outside 0.5 to 4"));
     }

@@ -342,8 +342,8 @@ pub fn report_lines(run_dir: &Path) -> Vec<String> {
     let mut out = vec![format!(
         "error bars from {} (levels k = {}; this run is k = {}): the grid convergence index (safety factor {}) of the finest level",
         path.display(),
-        levels.iter().map(|l| l["k"].to_string()).collect::<Vec<_>>().join(", "),
-        levels[me]["k"],
+        levels.iter().map(|l| l["k"].as_f64().unwrap_or(f64::NAN).to_string()).collect::<Vec<_>>().join(", "),
+        levels[me]["k"].as_f64().unwrap_or(f64::NAN),
         doc["safety_factor"]
     )];
     for f in doc["figures"].as_array().into_iter().flatten() {
