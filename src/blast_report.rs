@@ -719,7 +719,11 @@ pub fn report(
     let (ylo, yhi) =
         (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let wdt = (xhi - xlo).max(1e-9);
-    let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
+    // `analysis.view_m` (or `report --window`) sets the window
+    let bounds = match case.analysis.view_m.as_deref() {
+        Some(&[x0, x1, y0, y1]) => ((x0, x1), (y0, y1)),
+        _ => ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt)),
+    };
     let section_label =
         format!("x (m), on the vertical section y = {:.4} m", charge.centre.as_ref().map_or(0.0, |c| c[1]));
     let axes = match (case.dim, case.axisymmetric()) {

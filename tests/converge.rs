@@ -1,5 +1,6 @@
 //! `blastsph converge` end to end on a tiny RZ charge (three levels, seconds), `report` of one
-//! of its levels showing the error bars, and a run's frames at the requested output times.
+//! of its levels showing the error bars, a run's frames at the requested output times, and the
+//! report's window.
 
 mod common;
 
@@ -85,6 +86,17 @@ fn frames_land_on_the_requested_output_times() {
     for (t, w) in times.iter().zip(&want) {
         assert!((t - w).abs() < 1e-12, "frame at {t:e} s, requested {w:e} s: {times:?}");
     }
+    // the report's window: four numbers, refused otherwise; the case key is checked by `check`
+    let run = out.to_str().unwrap();
+    let o = blastsph(&["report", run, "--window", "0,0.2,0.1,0.45"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let o = blastsph(&["report", run, "--window", "0,0.2,0.45,0.1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).starts_with("error: --window"), "{}", text(&o.stderr));
+    let o = blastsph(&["check", &case, "--set", "analysis.view_m=[0.0, 0.2, 0.1]"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    let o = blastsph(&["check", &case, "--set", "analysis.view_m=[0.0, 0.2, 0.1, 0.45]"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
 }
 
 /// `converge` on the tiny case: three levels (k = 1, 2, 4; 4× the particles each), the crater and

@@ -222,6 +222,10 @@ pub enum Cmd {
         /// output step)
         #[arg(long)]
         animate: bool,
+        /// The window of the particle maps (m, X_LO,X_HI,Y_LO,Y_HI; r and z in RZ), in place of
+        /// the case's analysis.view_m
+        #[arg(long, value_delimiter = ',', value_name = "X_LO,X_HI,Y_LO,Y_HI", allow_hyphen_values = true)]
+        window: Vec<f64>,
     },
     /// The revolved 3D points of an axisymmetric run, for ParaView (revolved.h5, revolved.xmf
     /// in the run directory)
@@ -754,7 +758,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("revolved: {} (open it in ParaView)", xmf.display());
             Ok(0)
         }
-        Cmd::Report { dir, times, animate } => {
+        Cmd::Report { dir, times, animate, window } => {
             if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0 || **t > 1e6) {
                 return Err(input(format!("--times {t}: times must be finite, from 0 to 1e6 s")));
             }
@@ -762,7 +766,18 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 return Err(input(format!("--times: {} times (at most 1000 snapshots)", times.len())));
             }
             crate::rundir::check_existing(&dir, "report")?;
-            crate::report::report_with(&dir, &times, animate)?;
+            let window = match window[..] {
+                [] => None,
+                [x0, x1, y0, y1] if [x0, x1, y0, y1].iter().all(|v| v.is_finite()) && x1 > x0 && y1 > y0 => {
+                    Some([x0, x1, y0, y1])
+                }
+                _ => {
+                    return Err(input(format!(
+                        "--window {window:?}: need four finite numbers X_LO,X_HI,Y_LO,Y_HI (m) with X_HI > X_LO and Y_HI > Y_LO"
+                    )));
+                }
+            };
+            crate::report::report_in(&dir, &times, animate, window)?;
             Ok(0)
         }
         Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, max_particles, legacy } => {
