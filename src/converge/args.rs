@@ -9,9 +9,12 @@ use std::path::PathBuf;
 pub struct ConvergeArgs {
     /// The case: a .toml file, or the name of one in the case folder (see --case-dir)
     pub case: PathBuf,
-    /// Levels of the ladder, 2 to 4: k = 1, 2, 4 (, 8); every spacing Δx becomes Δx/k
+    /// Levels of the ladder, 2 to 4: k = b, 2b, 4b (, 8b), b from --base; every spacing Δx becomes Δx/k
     #[arg(long, default_value_t = 3)]
     pub levels: usize,
+    /// The first level's k (0.25: a ladder from four times as coarse as the case, k = 0.25, 0.5, 1)
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub base: f64,
     /// Where converge.json, the plots and the level runs (level_K/) go (default: runs/<case name>_converge)
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -37,6 +40,15 @@ impl ConvergeArgs {
                 PathBuf::from("runs").join(format!("{}_converge", crate::rundir::sanitize(c.name())))
             }
         };
-        Ok((case, ConvergeOptions { levels: self.levels, out, sets: self.sets.clone(), ov: Overrides::default() }))
+        Ok((
+            case,
+            ConvergeOptions {
+                levels: self.levels,
+                base: self.base,
+                out,
+                sets: self.sets.clone(),
+                ov: Overrides::default(),
+            },
+        ))
     }
 }

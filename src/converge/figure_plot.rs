@@ -67,8 +67,10 @@ pub fn draw(path: &Path, f: &FigurePlot) -> Result<()> {
             .label("Richardson extrapolation (zero spacing)")
             .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, red.filled()));
     }
+    // the legend in the right-hand corner away from the coarsest level's point
+    let coarse_low = f.pts.first().is_some_and(|p| p.1 < 0.5 * (lo + hi));
     ch.configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
+        .position(if coarse_low { SeriesLabelPosition::UpperRight } else { SeriesLabelPosition::LowerRight })
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .label_font(("sans-serif", 13))

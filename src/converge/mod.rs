@@ -30,8 +30,10 @@ pub const FORMAL_ORDER: f64 = 1.0;
 /// What `converge` runs.
 #[derive(Debug, Clone)]
 pub struct ConvergeOptions {
-    /// Levels of the ladder (2 to 4): k = 1, 2, 4, 8 in turn.
+    /// Levels of the ladder (2 to 4): k = b, 2b, 4b, 8b in turn.
     pub levels: usize,
+    /// The first level's refinement b (1: the case as it is; 0.25: four times as coarse).
+    pub base: f64,
     /// The folder of converge.json, the plots and the level runs.
     pub out: PathBuf,
     /// `--set` overrides applied to every level before its refinement.
@@ -139,7 +141,10 @@ pub fn estimate_all(dx: &[f64], per_level: &[Vec<(String, String, String, f64)>]
 /// Runs the ladder and writes converge.json, the table (returned) and the plots.
 pub fn converge(case_path: &Path, opts: &ConvergeOptions) -> Result<(String, Vec<PathBuf>)> {
     if !(2..=4).contains(&opts.levels) {
-        return Err(input(format!("--levels {}: from 2 to 4 levels (k = 1, 2, 4, 8)", opts.levels)));
+        return Err(input(format!("--levels {}: from 2 to 4 levels (k = b, 2b, 4b, 8b)", opts.levels)));
+    }
+    if !(opts.base.is_finite() && opts.base > 0.0 && opts.base <= 16.0) {
+        return Err(input(format!("--base {}: the first level's k, above 0 and at most 16", opts.base)));
     }
     let text = crate::case::read_text(case_path)?;
     let origin = case_path.display().to_string();
@@ -147,7 +152,7 @@ pub fn converge(case_path: &Path, opts: &ConvergeOptions) -> Result<(String, Vec
     // every level refused before any runs (a case that cannot be refined says so now)
     let mut plan = Vec::new();
     for i in 0..opts.levels {
-        let k = f64::from(1u32 << i);
+        let k = opts.base * f64::from(1u32 << i);
         let (case, sets) = crate::bench::refine(&text, &origin, stem, &opts.sets, k)?;
         let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
         plan.push((k, dx, sets, case.name().to_string()));
