@@ -46,5 +46,6 @@ pub mod runner;
 pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod stress_invariants;
 #[cfg(feature = "plot")]
 pub mod validate;
