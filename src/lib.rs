@@ -15,8 +15,8 @@
 //! |---|---|
 //! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
 //! | bridge | `migration` |
-//! | run | `casedir`, `rundir`, `progress`, `output`, `analysis`, `advice`, `gauges`, `runner` |
-//! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench` |
+//! | run | `casedir`, `rundir`, `progress`, `stress_invariants`, `output`, `analysis`, `advice`, `gauges`, `runner` |
+//! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench`, `converge` |
 //! | cli | `cli` |
 //!
 //! The core (the modules and their twins, the particle state, the case, the set-up, the solver
@@ -37,6 +37,8 @@ pub mod case;
 pub mod casedir;
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "plot")]
+pub mod converge;
 pub mod dual;
 pub mod error;
 pub mod gauges;
@@ -64,5 +66,6 @@ pub use runner::restart;
 pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod stress_invariants;
 #[cfg(feature = "plot")]
 pub mod validate;

@@ -187,6 +187,11 @@ impl H5Part {
                 let v: Vec<f64> = (0..n).map(|i| p.tau[q + NSTR * i] - if q < 3 { p.p[i] } else { 0.0 }).collect();
                 put(name, &v)?;
             }
+            // mean, von Mises and principal stresses (src/stress_invariants.rs)
+            let inv = crate::stress_invariants::fields(&p.tau, &p.p, n, dim);
+            for (name, v) in crate::stress_invariants::NAMES.iter().zip(&inv) {
+                put(name, v)?;
+            }
         }
         let burn = !p.burn.is_empty();
         if burn {
@@ -481,6 +486,7 @@ fn xdmf_text(h5: &str, _dim: usize, steps: &[StepInfo]) -> String {
     s += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
     s += "<!-- written by blastsph beside particles.h5 after every output step: open this file in ParaView.\n";
     s += "     SI units: velocity (m/s) a 3-component vector, stress (Pa, total: -p I + deviator) a 3x3 tensor,\n";
+    s += "     sigma_mean, von_mises, sigma_1 >= sigma_2 >= sigma_3 (Pa) the mean, von Mises and principal stresses,\n";
     s += "     ppv (m/s) and p_peak (Pa) the peak particle velocity and peak pressure of each particle so far. -->\n";
     s += "<Xdmf Version=\"2.0\">\n  <Domain>\n";
     s += "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
@@ -499,6 +505,9 @@ fn xdmf_text(h5: &str, _dim: usize, steps: &[StepInfo]) -> String {
         attribute(&mut s, h5, k, &format!("{n} 3"), "Vector", "velocity", &F8("vxyz"));
         if st.stress {
             attribute(&mut s, h5, k, &format!("{n} 9"), "Tensor", "stress", &F8("stress"));
+            for name in crate::stress_invariants::NAMES {
+                attribute(&mut s, h5, k, &n1, "Scalar", name, &F8(name));
+            }
         }
         for name in ["rho", "p", "e", "h", "c", "mass"] {
             attribute(&mut s, h5, k, &n1, "Scalar", name, &F8(name));

@@ -666,8 +666,8 @@ fn checked_quarter(sets: &[&str]) -> String {
 
 /// Slips of units that make a case run as another scene (a docs-only engineer's mistakes: each
 /// passed `check` silently; three then ended the run at its first steps with advice to lower the
-/// CFL, one made a square prism of the cylinder): `check` names each with its likely unit, and
-/// the case as shipped names none of them.
+/// CFL, one made a square prism of the cylinder): `check` names each with its likely unit (a
+/// density in g/cm³ it refuses), and the case as shipped names none of them.
 #[test]
 fn slips_of_units_are_named_by_check() {
     let plain = checked_quarter(&[]);
@@ -675,7 +675,6 @@ fn slips_of_units_are_named_by_check() {
         assert!(!plain.contains(hint), "{hint} in the shipped case: {plain}");
     }
     for (set, want) in [
-        ("material.tnt.eos.rho0_kgm3=1.63", "warning: material tnt: rho0_kgm3 = 1.63 kg/m³"),
         ("region.charge.e_jkg=4290", "warning: region charge (tnt): e_jkg = 4290 J/kg"),
         ("region.charge.radius_m=46", "warning: region charge: its radius_m = 46 m does not cut its lo_m/hi_m box"),
         ("region.charge.mass_kg=2.4", "warning: region charge (tnt): mass_kg = 2.4 kg per particle"),
@@ -684,6 +683,10 @@ fn slips_of_units_are_named_by_check() {
         let line = t.lines().find(|l| l.starts_with(want)).unwrap_or_else(|| panic!("{set}: {t}"));
         assert!(line.contains('?') || line.contains("in kg"), "{line}");
     }
+    // a density in g/cm³ is refused, not warned of (tests/slips.rs)
+    let o = check_quarter(&["material.tnt.eos.rho0_kgm3=1.63"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).starts_with("error: material tnt: rho0_kgm3 = 1.63 kg/m³"), "{}", text(&o.stderr));
 }
 
 /// A quarter model whose charge is off its symmetry planes' intersection (a docs-only engineer's

@@ -139,6 +139,7 @@ pub fn all(case: &Case, p: &Particles, region: &[u32]) -> Vec<String> {
         .chain(several_charges(case))
         .chain(gauge_in_charge_warnings(case, p))
         .chain(wall_reflection_warning(case))
+        .chain(crate::case::slips::charge_gap_warning(case, p))
         .collect()
 }
 

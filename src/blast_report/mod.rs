@@ -165,10 +165,10 @@ fn draw_surface_map(path: &Path, case: &Case, t: f64, m: &SurfaceMap) -> Result<
         path,
         &MapSpec {
             title: format!(
-                "{}  t = {}: ground surface s − s0, plan view (cells {:.1} cm)",
+                "{}  t = {}: ground surface s − s0, plan view (cells {})",
                 case.name(),
                 TimeUnit::for_end(t).text(t),
-                100.0 * ds
+                crate::converge::spacing_text(ds)
             ),
             x: &x,
             y: &y,
@@ -442,7 +442,7 @@ fn draw_crater(
     // ejecta flying far above a crater (a long run: metres against decimetres) would flatten
     // the crater's curves: then they get a plot of their own
     let widest = ok_hist.iter().map(|(_, c)| c.diameter_m).fold(0.0, f64::max);
-    // (no crater at all, a contained charge: the highest soil is the dome over it, drawn
+    // (no crater at all, a contained charge: the dome over it, the surface's rise, is drawn
     // beside the zero crater so that the plot has a scale)
     let ejecta_apart = widest > 0.0 && ok_hist.iter().any(|(_, c)| c.ejecta_height_m > 5.0 * widest);
     if ejecta_apart {
@@ -458,7 +458,10 @@ fn draw_crater(
     } else if widest > 0.0 {
         grow.push(("ejecta height (cm)".to_string(), ejecta));
     } else {
-        grow.push(("highest soil above the original ground: no crater, the dome (cm)".to_string(), ejecta));
+        // no crater: the dome, the ground surface's highest rise (the text's figure), not
+        // the highest soil particle (a grain thrown off the dome)
+        let dome = ok_hist.iter().map(|(t, c)| (tu.of(*t), 100.0 * c.mound_height_m)).collect();
+        grow.push(("no crater: the dome, the ground surface's highest rise (cm)".to_string(), dome));
     }
     let mut refs = Vec::new();
     let rows = case.analysis.thesis_crater_history.clone().unwrap_or_default();
@@ -532,9 +535,9 @@ fn draw_crater(
             )
         } else {
             format!(
-                "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {:.1} cm wide)",
+                "{}: ground surface, the top soil particles' centres (Δx/2 under its face; columns {} wide)",
                 case.name(),
-                100.0 * c_end.column_m
+                crate::converge::spacing_text(c_end.column_m)
             )
         },
         if case.dim == 3 || case.axisymmetric() {
@@ -631,7 +634,11 @@ fn particle_maps(
     let (ylo, yhi) =
         (ys0.iter().cloned().fold(f64::INFINITY, f64::min), ys0.iter().cloned().fold(f64::NEG_INFINITY, f64::max));
     let wdt = (xhi - xlo).max(1e-9);
-    let bounds = ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt));
+    // `analysis.view_m` (or `report --window`) sets the window
+    let bounds = match case.analysis.view_m.as_deref() {
+        Some(&[x0, x1, y0, y1]) => ((x0, x1), (y0, y1)),
+        _ => ((xlo - 0.03 * wdt, xhi + 0.03 * wdt), (ylo - 0.03 * wdt, yhi + 0.4 * wdt)),
+    };
     let section_label =
         format!("x (m), on the vertical section y = {:.4} m", charge.centre.as_ref().map_or(0.0, |c| c[1]));
     let axes = match (case.dim, case.axisymmetric()) {

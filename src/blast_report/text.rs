@@ -154,13 +154,13 @@ fn crater_headline(
             let how = if case.dim == 3 { " (revolved about the charge's axis)" } else { "" };
             match &c.note {
                 None => println!(
-                    "crater{how} at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {:.1} cm wide, the soil's spacing)",
+                    "crater{how} at t = {}: diameter {} cm, depth {} cm (bowl {} cm wide at half depth), ejecta height {} (columns {} wide, the soil's spacing)",
                     t_end,
                     cm1(c.diameter_m),
                     cm1(c.depth_m),
                     cm1(c.width_half_depth_m),
                     height_text(c.ejecta_height_m),
-                    100.0 * c.column_m
+                    crate::converge::spacing_text(c.column_m)
                 ),
                 Some(why) => println!("crater{how} at t = {t_end}: {why}"),
             }
@@ -225,8 +225,8 @@ fn print_3d(
     match map {
         Some(Ok(m)) => match &m.note {
             None => println!(
-                "crater as a surface (the run's end, cells {:.1} cm, the whole scene): equivalent diameter {} cm (plan area {:.0} cm²), depth {} cm at ({}, {}) cm from the charge's axis, volume {:.2} L, its edge {} to {} cm from the axis",
-                100.0 * m.cell_m,
+                "crater as a surface (the run's end, cells {}, the whole scene): equivalent diameter {} cm (plan area {:.0} cm²), depth {} cm at ({}, {}) cm from the charge's axis, volume {:.2} L, its edge {} to {} cm from the axis",
+                crate::converge::spacing_text(m.cell_m),
                 cm1(m.equivalent_diameter_m),
                 m.plan_area_m2 * 1e4,
                 cm1(m.depth_m),

@@ -21,6 +21,7 @@ pub mod geometry;
 mod material;
 mod sets;
 pub mod size;
+pub mod slips;
 mod types;
 pub mod validate;
 

@@ -685,6 +685,9 @@ pub struct AnalysisCfg {
     pub diaphragm_m: Option<f64>,
     /// Riemann: the interval over which L1 errors are taken (m).
     pub window_m: Option<Vec<f64>>,
+    /// Crater: the window of the report's particle maps, [x_lo, x_hi, y_lo, y_hi] (m; r and z in
+    /// RZ, x and z of the vertical section in 3D); default the scene at t = 0 with room above.
+    pub view_m: Option<Vec<f64>>,
     /// Crater: the materials that count as soil (default: every material with strength).
     pub soil_materials: Option<Vec<String>>,
     /// Thesis values to report beside ours: final crater diameter and depth (m).

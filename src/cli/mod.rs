@@ -12,8 +12,10 @@ use std::path::{Path, PathBuf};
 
 mod folders;
 mod runs;
+mod validate_cmd;
 use folders::*;
 pub use runs::{check_text, dual_run, free_run};
+use validate_cmd::validate;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -226,6 +228,10 @@ pub enum Cmd {
         /// output step)
         #[arg(long)]
         animate: bool,
+        /// The window of the particle maps (m, X_LO,X_HI,Y_LO,Y_HI; r and z in RZ), in place of
+        /// the case's analysis.view_m
+        #[arg(long, value_delimiter = ',', value_name = "X_LO,X_HI,Y_LO,Y_HI", allow_hyphen_values = true)]
+        window: Vec<f64>,
     },
     /// The revolved 3D points of an axisymmetric run, for ParaView (revolved.h5, revolved.xmf
     /// in the run directory)
@@ -269,6 +275,12 @@ pub enum Cmd {
     Bench {
         #[command(flatten)]
         args: crate::bench::BenchArgs,
+    },
+    /// Error bars: the case at spacings Δx, Δx/2, Δx/4; each headline figure's observed order,
+    /// extrapolated value and grid convergence index (DIR/converge.json, a plot per figure; docs/converge.md)
+    Converge {
+        #[command(flatten)]
+        args: crate::converge::ConvergeArgs,
     },
 }
 
@@ -560,6 +572,17 @@ fn dispatch(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
+        Cmd::Converge { args } => {
+            let (case, o) = args.options()?;
+            own_folder(&o.out, crate::converge::JSON, "converge")?;
+            threads(args.threads)?;
+            let (table, files) = on_pool(|| crate::converge::converge(&case, &o))?;
+            print!("{table}");
+            for f in &files {
+                println!("written: {}", f.display());
+            }
+            Ok(0)
+        }
         Cmd::Legacy { cmd } => legacy(cmd),
         Cmd::Revolve { dir, sectors, angle } => {
             crate::rundir::check_existing(&dir, "revolve")?;
@@ -567,7 +590,7 @@ fn dispatch(cli: Cli) -> Result<i32> {
             println!("revolved: {} (open it in ParaView)", xmf.display());
             Ok(0)
         }
-        Cmd::Report { dir, times, animate } => {
+        Cmd::Report { dir, times, animate, window } => {
             if let Some(t) = times.iter().find(|t| !t.is_finite() || **t < 0.0 || **t > 1e6) {
                 return Err(input(format!("--times {t}: times must be finite, from 0 to 1e6 s")));
             }
@@ -575,7 +598,18 @@ fn dispatch(cli: Cli) -> Result<i32> {
                 return Err(input(format!("--times: {} times (at most 1000 snapshots)", times.len())));
             }
             crate::rundir::check_existing(&dir, "report")?;
-            crate::report::report_with(&dir, &times, animate)?;
+            let window = match window[..] {
+                [] => None,
+                [x0, x1, y0, y1] if [x0, x1, y0, y1].iter().all(|v| v.is_finite()) && x1 > x0 && y1 > y0 => {
+                    Some([x0, x1, y0, y1])
+                }
+                _ => {
+                    return Err(input(format!(
+                        "--window {window:?}: need four finite numbers X_LO,X_HI,Y_LO,Y_HI (m) with X_HI > X_LO and Y_HI > Y_LO"
+                    )));
+                }
+            };
+            crate::report::report_in(&dir, &times, animate, window)?;
             Ok(0)
         }
         Cmd::Dual { case, steps, out, free, sets, nnps, threads: th, case_dir, max_particles, legacy } => {
@@ -621,6 +655,7 @@ fn check(case: PathBuf, args: CaseArgs, case_dir: Option<PathBuf>, n: Option<usi
     // a legacy set-up routine runs in a scratch folder: check writes nothing of the user's
     ov.bridge = Some(crate::migration::attach::check_bridge(args.legacy.legacy.clone()));
     let sim = Sim::new(c, &ov)?;
+    case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
     print!("{}", check_text(&sim));
     // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
     // come at the first step)
@@ -648,39 +683,6 @@ fn check(case: PathBuf, args: CaseArgs, case_dir: Option<PathBuf>, n: Option<usi
             None => format!("limit: {} of memory, {from}", case::size::bytes_text(limit)),
         }
     );
-    Ok(0)
-}
-
-/// `blastsph validate`: the thesis scenes run and compared with the thesis.
-fn validate(
-    out: PathBuf,
-    cases: Option<PathBuf>,
-    only: Vec<String>,
-    args: CaseArgs,
-    th: Option<usize>,
-    quiet: bool,
-) -> Result<i32> {
-    let cases = crate::casedir::folder(cases.as_deref())?;
-    own_folder(&out, "validation.md", "validate")?;
-    threads(th)?;
-    for o in &only {
-        if !crate::validate::SCENES.contains(&o.as_str()) {
-            return Err(input(format!("--only {o}: not a thesis scene ({})", crate::validate::SCENES.join(", "))));
-        }
-    }
-    // the scenes' folders are the validation's own: each run replaces its last
-    let opts = RunOptions {
-        out: None,
-        sets: args.sets.clone(),
-        ov: overrides(&args)?,
-        quiet,
-        threads: th,
-        force: true,
-        ..Default::default()
-    };
-    let md = on_pool(|| crate::validate::validate(&cases, &out, &opts, &only))?;
-    println!("{md}");
-    println!("written: {}", out.join("validation.md").display());
     Ok(0)
 }
 

@@ -207,8 +207,17 @@ pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
 
 /// The report, with snapshots at `times` and, when `animate`, animation.gif.
 pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
+    report_in(dir, times, animate, None)
+}
+
+/// [`report_with`], the particle maps in `window` ([x_lo, x_hi, y_lo, y_hi], m) when given, in
+/// place of the case's `analysis.view_m` (`report --window`).
+pub fn report_in(dir: &Path, times: &[f64], animate: bool, window: Option<[f64; 4]>) -> Result<Value> {
     let _lock = crate::rundir::lock_read(dir, "report")?;
-    let (case, mut summary) = load_case(dir)?;
+    let (mut case, mut summary) = load_case(dir)?;
+    if let Some(w) = window {
+        case.analysis.view_m = Some(w.to_vec());
+    }
     let (frames, skipped) = crate::output::read_complete_frames(&dir.join("particles.h5"))?;
     let last = frames.last().ok_or_else(|| input(format!("{}: particles.h5 holds no step", dir.display())))?;
     // the file is this run's: its first step holds the run's particles, of the case's materials
@@ -258,6 +267,10 @@ pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
         summary["backend"].as_str().unwrap_or("?"),
         summary["status"].as_str().unwrap_or("?")
     );
+    // the error bars of a `converge` ladder this run is a level of
+    for l in crate::converge::report_lines(dir) {
+        println!("{l}");
+    }
     let m0 = summary["mass"]["initial"].as_f64().unwrap_or(0.0);
     let m1 = summary["mass"]["final"].as_f64().unwrap_or(0.0);
     let (mu, eu) = extensive_units(&case);

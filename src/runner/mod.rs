@@ -129,6 +129,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
         }
     };
     let sim = Sim::new(case, &opts.ov)?;
+    crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
     rundir::prepare(&dir, clear)?;
     let _lock = match lock {
         Some(l) => l,

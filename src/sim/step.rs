@@ -139,8 +139,10 @@ impl Sim {
                 if self.nstep == 0 {
                     self.dt_first = dt;
                 }
-                let left = self.cfg.end - self.t;
-                if dt > left { left } else { dt }
+                // shortened to land on the next output time or the end (a step within 1e-6 of
+                // its own length short of it is stretched onto it: no sliver step follows)
+                let left = self.next_landing() - self.t;
+                if dt >= left * (1.0 - 1e-6) { left } else { dt }
             }
         };
         self.check_rates()?;
@@ -157,12 +159,26 @@ impl Sim {
             // the energy the floor e ≥ 0 added (theory.md §14)
             self.book.work_floor += self.w.efloor[0];
         }
-        self.t += dt;
+        // a step that lands on an output time or the end sets the clock to it exactly
+        let target = self.next_landing();
+        self.t = if self.cfg.step == StepRule::Cfl && dt == target - self.t { target } else { self.t + dt };
         self.dt_prev = dt;
         self.nstep += 1;
         self.check()?;
         self.check_pace()?;
         Ok(dt)
+    }
+
+    /// The time the next step must not pass (s): the first output time k·Δt_out after the clock
+    /// (k a whole number, Δt_out = `time.output_interval_s`), or the end, whichever is sooner. A
+    /// clock within 1e-9 Δt_out of an output time counts as on it.
+    pub fn next_landing(&self) -> f64 {
+        let (end, every) = (self.cfg.end, self.cfg.out_interval);
+        if !(every > 0.0 && every.is_finite()) {
+            return end;
+        }
+        let k = (self.t / every + 1e-9).floor() + 1.0;
+        (k * every).min(end)
     }
 
     /// Work of the wall, penalty and gravity forces over the step (v at t). One parallel pass;

@@ -509,6 +509,12 @@ impl Case {
                 return Err(input("analysis.window_m: need [lo, hi] with hi > lo"));
             }
         }
+        if let Some(w) = &an.view_m {
+            v.vec(&at, "view_m", w, 4, Range::abs(X_MAX))?;
+            if w[1] <= w[0] || w[3] <= w[2] {
+                return Err(input("analysis.view_m: need [x_lo, x_hi, y_lo, y_hi] with x_hi > x_lo and y_hi > y_lo"));
+            }
+        }
         let ideal = self.materials.iter().any(|m| matches!(m.eos, EosCfg::IdealGas { .. }));
         match an.kind {
             AnalysisKind::Sedov | AnalysisKind::Noh | AnalysisKind::Reflection if !ideal => {
