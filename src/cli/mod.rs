@@ -277,7 +277,7 @@ pub enum Cmd {
         args: crate::bench::BenchArgs,
     },
     /// Error bars: the case at spacings Δx, Δx/2, Δx/4; each headline figure's observed order,
-    /// extrapolated value and grid convergence index (DIR/converge.json, a plot per figure; docs/converge.md)
+    /// extrapolated value and grid convergence index (DIR/converge.json, a plot per figure; docs/howto/converge.md)
     Converge {
         #[command(flatten)]
         args: crate::converge::ConvergeArgs,
