@@ -4,12 +4,12 @@ use crate::error::Result;
 
 use super::options::BenchOptions;
 use super::options::nnps_name;
-use super::refine::refine;
 use crate::case;
 use crate::case::Case;
 use crate::case::KernelKind;
 use crate::case::NnpsKind;
 use crate::case::Shape;
+use crate::case::refine::refine;
 use crate::error::input;
 use crate::modules::Backend;
 use std::path::PathBuf;

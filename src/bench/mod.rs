@@ -35,14 +35,14 @@ mod analysis;
 mod matrix;
 mod options;
 mod output;
-mod refine;
+
 mod run;
 
+pub use crate::case::refine::{refine, refinement_sets};
 pub use analysis::{Family, Order, exact_order, self_order};
 pub use matrix::Planned;
 pub use options::{BenchArgs, BenchOptions};
 pub use output::CSV_COLUMNS;
-pub use refine::{refine, refinement_sets};
 pub use run::{GaugePeak, Row};
 
 use crate::error::{IoAt, Result};

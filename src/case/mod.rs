@@ -19,6 +19,7 @@
 mod dims;
 pub mod geometry;
 mod material;
+pub mod refine;
 mod sets;
 pub mod size;
 pub mod slips;

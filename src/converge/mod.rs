@@ -153,7 +153,7 @@ pub fn converge(case_path: &Path, opts: &ConvergeOptions) -> Result<(String, Vec
     let mut plan = Vec::new();
     for i in 0..opts.levels {
         let k = opts.base * f64::from(1u32 << i);
-        let (case, sets) = crate::bench::refine(&text, &origin, stem, &opts.sets, k)?;
+        let (case, sets) = crate::case::refine::refine(&text, &origin, stem, &opts.sets, k)?;
         let dx = case.regions.iter().map(|r| r.spacing_m).fold(f64::INFINITY, f64::min);
         plan.push((k, dx, sets, case.name().to_string()));
     }
