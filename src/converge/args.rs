@@ -15,7 +15,7 @@ pub struct ConvergeArgs {
     /// The first level's k (0.25: a ladder from four times as coarse as the case, k = 0.25, 0.5, 1)
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub base: f64,
-    /// Where converge.json, the plots and the level runs (level_K/) go (default: runs/<case name>_converge)
+    /// Where converge.json, the plots and the level runs (level_K/) go (default: `runs/<case name>_converge`)
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Override a case key at every level, before its refinement: --set time.end_s=0.1
