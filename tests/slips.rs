@@ -170,21 +170,33 @@ fn a_charge_that_touches_no_soil_is_warned_of_with_its_gap() {
     assert!(line.contains("0.2000 m (10.0 spacings)"), "{line}");
 }
 
-/// Every shipped case (cases/**.toml) and the README's complete case pass `check` with none of
-/// the slips above.
+/// Every shipped case (cases/**.toml) and every complete case in the docs (a ```toml block of
+/// README.md or docs/ with `dim =` and a `[[region]]`) pass `check` with none of the slips above.
 #[test]
-fn no_slip_fires_on_a_shipped_case_or_the_readme_case() {
+fn no_slip_fires_on_a_shipped_case_or_a_docs_case() {
     let mut cases: Vec<String> = glob::glob(common::root().join("cases/**/*.toml").to_str().unwrap())
         .unwrap()
         .map(|p| p.unwrap().to_str().unwrap().to_string())
         .collect();
     assert!(cases.len() > 40, "{cases:?}");
-    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
-    let from = readme.find("```toml\n").expect("a toml block") + 8;
-    let block = &readme[from..from + readme[from..].find("```").unwrap()];
-    assert!(block.contains("[[region]]"), "{block}");
+    let mut docs = vec![common::root().join("README.md")];
+    docs.extend(glob::glob(common::root().join("docs/**/*.md").to_str().unwrap()).unwrap().map(|p| p.unwrap()));
     let dir = tempfile::tempdir().unwrap();
-    cases.push(write(dir.path(), "readme.toml", &format!("name = \"readme\"\n{block}")));
+    let mut blocks = 0;
+    for d in &docs {
+        let text = std::fs::read_to_string(d).unwrap();
+        for (k, piece) in text.split("```toml\n").skip(1).enumerate() {
+            let block = &piece[..piece.find("```").unwrap()];
+            if block.contains("dim =") && block.contains("[[region]]") {
+                blocks += 1;
+                let name = format!("doc{blocks}_{k}.toml");
+                let body =
+                    if block.contains("name =") { block.to_string() } else { format!("name = \"doc\"\n{block}") };
+                cases.push(write(dir.path(), &name, &body));
+            }
+        }
+    }
+    assert!(blocks >= 1, "no complete case found in the docs");
     for c in &cases {
         let (code, out, err) = check(c, &[]);
         assert_eq!(code, Some(0), "{c}: {out}{err}");
