@@ -13,7 +13,7 @@
 //!
 //! | layer | modules |
 //! |---|---|
-//! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
+//! | core | `error`, `files`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
 //! | bridge | `migration` |
 //! | run | `casedir`, `rundir`, `progress`, `output`, `analysis`, `advice`, `gauges`, `runner` |
 //! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench` |
@@ -39,6 +39,7 @@ pub mod casedir;
 pub mod cli;
 pub mod dual;
 pub mod error;
+pub mod files;
 pub mod gauges;
 #[cfg(feature = "legacy")]
 pub mod migration;
