@@ -2,6 +2,7 @@
 //! each with its inward normal and the nodes it counts.
 
 use crate::case::{Case, WallKind};
+use super::WallFrame as Frame;
 use crate::modules::param::Segments;
 
 /// Wall segments of the kinds wanted, with inward normals (towards the particles' centroid) and
@@ -122,4 +123,19 @@ fn plane_walls(walls: &[&crate::case::WallCfg], cen: [f64; 3], segs: &mut Segmen
         }
         segs.endnode.push(mask);
     }
+}
+
+/// How far (m) the point `x` lies behind the line (plane, in 3D) of the wall `sg` (its first
+/// point, then its frame `fr`), if it is behind it and within the wall's extent along it.
+#[inline]
+pub fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
+    let (mut dn, mut tp, mut tp2) = (0.0, 0.0, 0.0);
+    for d in 0..dim {
+        let r = x[d] - sg[d];
+        dn += r * fr.nrm[d];
+        tp += r * fr.t[0][d];
+        tp2 += r * fr.t[1][d];
+    }
+    let along = tp >= 0.0 && tp <= fr.el[0] && (dim < 3 || (tp2 >= 0.0 && tp2 <= fr.el[1]));
+    (along && dn < 0.0).then_some(-dn)
 }
