@@ -13,7 +13,7 @@
 //!
 //! | layer | modules |
 //! |---|---|
-//! | core | `error`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
+//! | core | `error`, `files`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
 //! | bridge | `migration` |
 //! | run | `casedir`, `rundir`, `progress`, `stress_invariants`, `output`, `analysis`, `advice`, `gauges`, `runner` |
 //! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench`, `converge` |
@@ -41,6 +41,7 @@ pub mod cli;
 pub mod converge;
 pub mod dual;
 pub mod error;
+pub mod files;
 pub mod gauges;
 #[cfg(feature = "legacy")]
 pub mod migration;

@@ -16,6 +16,9 @@ use crate::error::{IoAt, Result, SphError, input};
 use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
 
+use crate::files::nofollow;
+pub use crate::files::{create_new, open_append, open_rw, write_atomic, write_atomic_with};
+
 /// The files blastsph writes into a run directory (and their temporaries).
 pub fn is_ours(name: &str) -> bool {
     let base = name.strip_suffix(".tmp").unwrap_or(name);
@@ -255,65 +258,6 @@ pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
         }
     }
     Ok(())
-}
-
-#[cfg(unix)]
-fn nofollow(o: &mut OpenOptions) {
-    use std::os::unix::fs::OpenOptionsExt;
-    o.custom_flags(libc::O_NOFOLLOW);
-}
-
-#[cfg(not(unix))]
-fn nofollow(_o: &mut OpenOptions) {}
-
-/// Creates a new file (refused when the name exists, as a file or a link: never follows one).
-pub fn create_new(path: &Path) -> Result<File> {
-    let mut o = OpenOptions::new();
-    o.write(true).create_new(true);
-    nofollow(&mut o);
-    o.open(path).io_at(path.display())
-}
-
-/// Opens an existing file to append to, refusing a link.
-pub fn open_append(path: &Path) -> Result<File> {
-    let mut o = OpenOptions::new();
-    o.append(true);
-    nofollow(&mut o);
-    o.open(path).map_err(|e| input(format!("{}: {e}", path.display())))
-}
-
-/// Opens an existing file to read and write, refusing a link.
-pub fn open_rw(path: &Path) -> Result<File> {
-    let mut o = OpenOptions::new();
-    o.read(true).write(true);
-    nofollow(&mut o);
-    o.open(path).map_err(|e| input(format!("{}: {e}", path.display())))
-}
-
-/// Writes `bytes` as `path` through a new temporary file beside it, synced, then renamed over
-/// `path`: a reader sees the old file or the new one, and a link at either name is replaced,
-/// never written through.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    write_atomic_with(path, |w| w.write_all(bytes))
-}
-
-/// As [`write_atomic`], with the bytes written by `fill` into a buffered writer (a large file is
-/// streamed, never held in memory whole).
-pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>) -> Result<()> {
-    use std::io::Write;
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    match std::fs::remove_file(&tmp) {
-        Ok(()) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(SphError::Io(format!("{}: {e}", tmp.display()))),
-    }
-    let f = create_new(&tmp)?;
-    let mut bw = std::io::BufWriter::with_capacity(1 << 20, f);
-    fill(&mut bw).and_then(|_| bw.flush()).and_then(|_| bw.get_ref().sync_all()).io_at(tmp.display())?;
-    drop(bw);
-    std::fs::rename(&tmp, path).io_at(path.display())
 }
 
 /// Refuses a run directory given to `report` or `resume` that is not one: missing, not a folder,

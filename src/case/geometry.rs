@@ -49,9 +49,9 @@ pub fn check(case: &Case, init: &Initial) -> Result<()> {
     for s in 0..segs.len() {
         let sg = segs.get(d, s);
         let fr = crate::modules::boundary::frame(d, sg);
-        if let Some(i) =
-            (0..n).find(|&i| crate::sim::behind_wall(d, &init.x[d * i..d * i + d], sg, &fr).is_some_and(|b| b > 0.0))
-        {
+        if let Some(i) = (0..n).find(|&i| {
+            crate::modules::boundary::walls::behind_wall(d, &init.x[d * i..d * i + d], sg, &fr).is_some_and(|b| b > 0.0)
+        }) {
             return Err(input(format!(
                 "{}: a particle at {} m lies behind wall[{s}] ({} to {} m; a wall's inner side faces the particles' centroid): the region crosses the wall or lies outside it",
                 region_of(i),

@@ -326,3 +326,13 @@ impl Case {
             .collect()
     }
 }
+
+/// Is the charge lit by a programmed burn?
+pub fn programmed(case: &Case) -> bool {
+    matches!(&case.detonation, Some(d) if d.mode == BurnMode::Programmed)
+}
+
+/// Does any material carry strength?
+pub fn has_strength(case: &Case) -> bool {
+    case.materials.iter().any(|m| m.strength.is_some())
+}

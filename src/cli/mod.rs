@@ -727,7 +727,7 @@ fn legacy(cmd: LegacyCmd) -> Result<i32> {
                 .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}_ledger", crate::rundir::sanitize(c.name()))));
             report_folder(&dir, &["ledger.json"], "ledger")?;
             crate::rundir::prepare(&dir, false)?;
-            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir))?;
+            let (rows, text) = on_pool(|| crate::migration::ledger::ledger(&c, &legacy, &dir, runs::ledger_l1))?;
             print!("{text}");
             let same = rows.first().is_some_and(|r| r.particles_differing == 0);
             println!(

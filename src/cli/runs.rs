@@ -228,3 +228,25 @@ pub fn free_run(c: case::Case, ov: &Overrides, steps: u64, dir: &Path) -> Result
         Some(s) => format!("free run: {} steps, first difference at step {s}; {}", a.nstep, path.display()),
     })
 }
+
+/// The L1 errors (ρ, v, p, e) of a ledger run's end state against the case's exact Riemann
+/// solution, in the ledger's window.
+pub(super) fn ledger_l1(
+    case: &crate::case::Case,
+    s: &crate::migration::ledger::EndState<'_>,
+) -> crate::error::Result<[f64; 4]> {
+    let (rs, x0) = crate::report::riemann_of(case)?;
+    let f = crate::output::Frame {
+        time: s.t,
+        x: s.x.to_vec(),
+        vx: s.v.to_vec(),
+        rho: s.rho.to_vec(),
+        p: s.p.to_vec(),
+        e: s.e.to_vec(),
+        mass: s.mass.to_vec(),
+        ..Default::default()
+    };
+    let w = case.analysis.window_m.clone().unwrap_or(vec![f64::NEG_INFINITY, f64::INFINITY]);
+    let l = crate::report::l1_errors(&f, &rs, x0, (w[0], w.get(1).copied().unwrap_or(f64::INFINITY)));
+    Ok([l.rho, l.v, l.p, l.e])
+}

@@ -138,7 +138,7 @@ fn mark_summary(path: &Path, what: &str) {
         obj.insert("time".into(), g.1.into());
     }
     let Ok(out) = serde_json::to_string_pretty(&v) else { return };
-    let _ = crate::rundir::write_atomic(path, out.as_bytes());
+    let _ = crate::files::write_atomic(path, out.as_bytes());
 }
 
 /// Flushes every Fortran unit (a legacy routine's WRITEs to standard output, which libgfortran

@@ -271,51 +271,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
     if raw.sources.is_empty() {
         return Err(err("sources", "no source given".into()));
     }
-    let mut excluded = Vec::new();
-    for pat in &raw.exclude {
-        let full: PathBuf = dir.join(pat).components().collect();
-        let paths =
-            glob::glob(&full.to_string_lossy()).map_err(|e| err("exclude", format!("\"{pat}\": bad pattern: {e}")))?;
-        let before = excluded.len();
-        excluded.extend(paths.filter_map(|p| p.ok()));
-        if excluded.len() == before {
-            return Err(err("exclude", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
-        }
-    }
-    let mut sources = Vec::new();
-    for pat in &raw.sources {
-        let full: PathBuf = dir.join(pat).components().collect();
-        let full_s = full.to_string_lossy().to_string();
-        let paths = glob::glob(&full_s).map_err(|e| err("sources", format!("\"{pat}\": bad pattern: {e}")))?;
-        let (mut found, mut left_out) = (0, 0);
-        for p in paths {
-            let p = p.map_err(|e| err("sources", format!("\"{pat}\": {e}")))?;
-            if !p.is_file() {
-                continue;
-            }
-            if excluded.contains(&p) {
-                left_out += 1;
-                continue;
-            }
-            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
-            if !FIXED_FORM.contains(&ext) && !FREE_FORM.contains(&ext) {
-                return Err(err(
-                    "sources",
-                    format!("{}: not a Fortran source (endings .f .for .f77 .F .f90 .F90)", p.display()),
-                ));
-            }
-            found += 1;
-            if !sources.contains(&p) {
-                sources.push(p);
-            }
-        }
-        // A pattern whose every file is excluded (the book's `*.f90`: its two dfport timers) is
-        // what the user asked for, not a typo.
-        if found == 0 && left_out == 0 {
-            return Err(err("sources", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
-        }
-    }
-    sources.sort();
+    let sources = sources_of(&raw, &dir, &err)?;
 
     let mut include_dirs = Vec::new();
     for d in &raw.include_dirs {
@@ -352,139 +308,8 @@ pub fn load(path: &Path) -> Result<Manifest> {
 
     let mut routines: Vec<Routine> = Vec::new();
     for (ix, r) in raw.routines.iter().enumerate() {
-        let key = format!("routine[{ix}] ({})", r.name);
-        let name = r.name.trim().to_ascii_lowercase();
-        if !is_ident(&name) {
-            return Err(err(&format!("routine[{ix}].name"), format!("\"{}\" is not a Fortran name", r.name)));
-        }
-        if routines.iter().any(|o| o.name == name) {
-            return Err(err(&key, "mapped twice".into()));
-        }
-        let call = match &r.call {
-            None => CallMode::Whole,
-            Some(c) => CallMode::parse(c.trim()).ok_or_else(|| {
-                err(&format!("{key}.call"), format!("\"{c}\": must be \"whole\", \"each_particle\" or \"each_pair\""))
-            })?,
-        };
-        let mut modules = Vec::new();
-        let known = vocab::modules();
-        for m in r.module.split(',').map(str::trim) {
-            if !known.contains(&m) {
-                return Err(err(
-                    &format!("{key}.module"),
-                    format!("\"{m}\" is not a blastsph module ({})", known.join(", ")),
-                ));
-            }
-            if !modules.iter().any(|x: &String| x == m) {
-                modules.push(m.to_string());
-            }
-        }
-        if modules.len() > 1 && modules.iter().any(|m| m == "init") {
-            return Err(err(
-                &format!("{key}.module"),
-                format!(
-                    "\"{}\": an init routine stands alone (it is called once, before the set-up and the first step)",
-                    r.module
-                ),
-            ));
-        }
-        let mut args: Vec<Arg> = Vec::new();
-        for a in &r.args {
-            let written = a.trim().to_ascii_lowercase();
-            let term = match call {
-                CallMode::EachPair => vocab::lookup_pair(&written).or_else(|| {
-                    // scalars keep their meaning in a per-pair call (dt, itimestep, ...)
-                    vocab::lookup(&written).filter(|t| t.shape == Shape::Scalar)
-                }),
-                _ => vocab::lookup(&written),
-            };
-            let term = term.ok_or_else(|| {
-                // a name of the per-pair call's own vocabulary, written in another call mode
-                if call != CallMode::EachPair && vocab::lookup_pair(&written).is_some() {
-                    return err(
-                        &format!("{key}.args"),
-                        format!(
-                            "\"{a}\" is an argument of an each_pair call only (one pair's r, dx, hsml, w, dwdx): set call = \"each_pair\", or name the whole arrays of a {} call (docs/reference/legacy.md)",
-                            call.name()
-                        ),
-                    );
-                }
-                let hint = match call {
-                    CallMode::EachPair => "in an each_pair call: r, dx, hsml, w, dwdx and scalars".to_string(),
-                    _ => "see the argument table of docs/reference/legacy.md".to_string(),
-                };
-                err(&format!("{key}.args"), format!("unknown argument name \"{a}\" ({hint})"))
-            })?;
-            if call == CallMode::EachParticle && term.shape.per_pair() {
-                return Err(err(
-                    &format!("{key}.args"),
-                    format!("\"{a}\" is a per-pair array: not an argument of an each_particle call"),
-                ));
-            }
-            if args.iter().any(|o| o.term.name == term.name) {
-                return Err(err(&format!("{key}.args"), format!("\"{a}\" given twice")));
-            }
-            args.push(Arg { written, term });
-        }
-        if call == CallMode::EachParticle && args.iter().any(|a| a.term.name == "ntotal") {
-            return Err(err(&format!("{key}.args"), "an each_particle call takes one particle: no \"ntotal\"".into()));
-        }
-        let mut globals: Vec<Global> = Vec::new();
-        for (v, n) in &r.globals {
-            let gkey = format!("{key}.globals.{v}");
-            let var = v.trim().to_ascii_lowercase();
-            if !is_ident(&var) {
-                return Err(err(&gkey, format!("\"{v}\" is not a Fortran name")));
-            }
-            if call != CallMode::Whole {
-                return Err(err(
-                    &gkey,
-                    format!(
-                        "globals are copied in and out once per call: a {} call cannot take them (map a whole-array routine)",
-                        call.name()
-                    ),
-                ));
-            }
-            let written = n.trim().to_ascii_lowercase();
-            let term = vocab::lookup(&written).ok_or_else(|| {
-                err(&gkey, format!("unknown name \"{n}\" (see the argument table of docs/reference/legacy.md)"))
-            })?;
-            if args.iter().any(|a| a.term.name == term.name) {
-                return Err(err(&gkey, format!("\"{n}\" is also an argument of the routine")));
-            }
-            if let Some(o) = globals.iter().find(|g| g.term.name == term.name) {
-                return Err(err(&gkey, format!("\"{n}\" is also the global {}", o.var)));
-            }
-            globals.push(Global { var, term });
-        }
-        // a vector's components: within the build's dim, and not beside the whole vector
-        let names: Vec<&str> = args.iter().map(|a| a.term.name).chain(globals.iter().map(|g| g.term.name)).collect();
-        for n in &names {
-            if let Some((base, k)) = vocab::vector_component(n) {
-                if k >= raw.dim as usize {
-                    return Err(err(
-                        &key,
-                        format!("\"{n}\" is component {} of {base}, but this build has dim = {}", k + 1, raw.dim),
-                    ));
-                }
-                if names.contains(&base) {
-                    return Err(err(
-                        &key,
-                        format!(
-                            "\"{n}\" is a component of \"{base}\", which the routine also takes whole: give one or the other"
-                        ),
-                    ));
-                }
-            }
-        }
-        if !globals.is_empty() && raw.global_includes.is_empty() && raw.global_modules.is_empty() {
-            return Err(err(
-                &format!("{key}.globals"),
-                "name the include file of their COMMON blocks (global_includes) or their module (global_modules)"
-                    .into(),
-            ));
-        }
-        routines.push(Routine { name, modules, call, args, globals });
+        let routine = routine_of(&raw, (ix, r), &routines, &err)?;
+        routines.push(routine);
     }
 
     let mut global_includes = Vec::new();
@@ -536,6 +361,215 @@ pub fn load(path: &Path) -> Result<Manifest> {
         global_includes,
         global_modules,
     })
+}
+
+/// The manifest's sources: the files its patterns match, less those `exclude` matches, sorted.
+fn sources_of(raw: &RawManifest, dir: &Path, err: &dyn Fn(&str, String) -> SphError) -> Result<Vec<PathBuf>> {
+    let mut excluded = Vec::new();
+    for pat in &raw.exclude {
+        let full: PathBuf = dir.join(pat).components().collect();
+        let paths =
+            glob::glob(&full.to_string_lossy()).map_err(|e| err("exclude", format!("\"{pat}\": bad pattern: {e}")))?;
+        let before = excluded.len();
+        excluded.extend(paths.filter_map(|p| p.ok()));
+        if excluded.len() == before {
+            return Err(err("exclude", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
+        }
+    }
+    let mut sources = Vec::new();
+    for pat in &raw.sources {
+        let full: PathBuf = dir.join(pat).components().collect();
+        let full_s = full.to_string_lossy().to_string();
+        let paths = glob::glob(&full_s).map_err(|e| err("sources", format!("\"{pat}\": bad pattern: {e}")))?;
+        let (mut found, mut left_out) = (0, 0);
+        for p in paths {
+            let p = p.map_err(|e| err("sources", format!("\"{pat}\": {e}")))?;
+            if !p.is_file() {
+                continue;
+            }
+            if excluded.contains(&p) {
+                left_out += 1;
+                continue;
+            }
+            let ext = p.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !FIXED_FORM.contains(&ext) && !FREE_FORM.contains(&ext) {
+                return Err(err(
+                    "sources",
+                    format!("{}: not a Fortran source (endings .f .for .f77 .F .f90 .F90)", p.display()),
+                ));
+            }
+            found += 1;
+            if !sources.contains(&p) {
+                sources.push(p);
+            }
+        }
+        // A pattern whose every file is excluded (the book's `*.f90`: its two dfport timers) is
+        // what the user asked for, not a typo.
+        if found == 0 && left_out == 0 {
+            return Err(err("sources", format!("\"{pat}\" matches no file (relative to {})", dir.display())));
+        }
+    }
+    sources.sort();
+    Ok(sources)
+}
+
+/// The `ix`-th routine of the manifest, checked (`routines`: those read before it).
+fn routine_of(
+    raw: &RawManifest,
+    (ix, r): (usize, &RawRoutine),
+    routines: &[Routine],
+    err: &dyn Fn(&str, String) -> SphError,
+) -> Result<Routine> {
+    let key = format!("routine[{ix}] ({})", r.name);
+    let name = r.name.trim().to_ascii_lowercase();
+    if !is_ident(&name) {
+        return Err(err(&format!("routine[{ix}].name"), format!("\"{}\" is not a Fortran name", r.name)));
+    }
+    if routines.iter().any(|o| o.name == name) {
+        return Err(err(&key, "mapped twice".into()));
+    }
+    let call = match &r.call {
+        None => CallMode::Whole,
+        Some(c) => CallMode::parse(c.trim()).ok_or_else(|| {
+            err(&format!("{key}.call"), format!("\"{c}\": must be \"whole\", \"each_particle\" or \"each_pair\""))
+        })?,
+    };
+    let mut modules = Vec::new();
+    let known = vocab::modules();
+    for m in r.module.split(',').map(str::trim) {
+        if !known.contains(&m) {
+            return Err(err(
+                &format!("{key}.module"),
+                format!("\"{m}\" is not a blastsph module ({})", known.join(", ")),
+            ));
+        }
+        if !modules.iter().any(|x: &String| x == m) {
+            modules.push(m.to_string());
+        }
+    }
+    if modules.len() > 1 && modules.iter().any(|m| m == "init") {
+        return Err(err(
+            &format!("{key}.module"),
+            format!(
+                "\"{}\": an init routine stands alone (it is called once, before the set-up and the first step)",
+                r.module
+            ),
+        ));
+    }
+    let args = args_of(r, &key, call, err)?;
+    if call == CallMode::EachParticle && args.iter().any(|a| a.term.name == "ntotal") {
+        return Err(err(&format!("{key}.args"), "an each_particle call takes one particle: no \"ntotal\"".into()));
+    }
+    let globals = globals_of(r, &key, call, &args, err)?;
+    // a vector's components: within the build's dim, and not beside the whole vector
+    let names: Vec<&str> = args.iter().map(|a| a.term.name).chain(globals.iter().map(|g| g.term.name)).collect();
+    for n in &names {
+        if let Some((base, k)) = vocab::vector_component(n) {
+            if k >= raw.dim as usize {
+                return Err(err(
+                    &key,
+                    format!("\"{n}\" is component {} of {base}, but this build has dim = {}", k + 1, raw.dim),
+                ));
+            }
+            if names.contains(&base) {
+                return Err(err(
+                    &key,
+                    format!(
+                        "\"{n}\" is a component of \"{base}\", which the routine also takes whole: give one or the other"
+                    ),
+                ));
+            }
+        }
+    }
+    if !globals.is_empty() && raw.global_includes.is_empty() && raw.global_modules.is_empty() {
+        return Err(err(
+            &format!("{key}.globals"),
+            "name the include file of their COMMON blocks (global_includes) or their module (global_modules)".into(),
+        ));
+    }
+    Ok(Routine { name, modules, call, args, globals })
+}
+
+/// The arguments of routine `r` (manifest key `key`), each a name of the vocabulary of its call.
+fn args_of(r: &RawRoutine, key: &str, call: CallMode, err: &dyn Fn(&str, String) -> SphError) -> Result<Vec<Arg>> {
+    let mut args: Vec<Arg> = Vec::new();
+    for a in &r.args {
+        let written = a.trim().to_ascii_lowercase();
+        let term = match call {
+            CallMode::EachPair => vocab::lookup_pair(&written).or_else(|| {
+                // scalars keep their meaning in a per-pair call (dt, itimestep, ...)
+                vocab::lookup(&written).filter(|t| t.shape == Shape::Scalar)
+            }),
+            _ => vocab::lookup(&written),
+        };
+        let term = term.ok_or_else(|| {
+            // a name of the per-pair call's own vocabulary, written in another call mode
+            if call != CallMode::EachPair && vocab::lookup_pair(&written).is_some() {
+                return err(
+                    &format!("{key}.args"),
+                    format!(
+                        "\"{a}\" is an argument of an each_pair call only (one pair's r, dx, hsml, w, dwdx): set call = \"each_pair\", or name the whole arrays of a {} call (docs/reference/legacy.md)",
+                        call.name()
+                    ),
+                );
+            }
+            let hint = match call {
+                CallMode::EachPair => "in an each_pair call: r, dx, hsml, w, dwdx and scalars".to_string(),
+                _ => "see the argument table of docs/reference/legacy.md".to_string(),
+            };
+            err(&format!("{key}.args"), format!("unknown argument name \"{a}\" ({hint})"))
+        })?;
+        if call == CallMode::EachParticle && term.shape.per_pair() {
+            return Err(err(
+                &format!("{key}.args"),
+                format!("\"{a}\" is a per-pair array: not an argument of an each_particle call"),
+            ));
+        }
+        if args.iter().any(|o| o.term.name == term.name) {
+            return Err(err(&format!("{key}.args"), format!("\"{a}\" given twice")));
+        }
+        args.push(Arg { written, term });
+    }
+    Ok(args)
+}
+
+/// The globals of routine `r` (manifest key `key`): names of the vocabulary not among `args`.
+fn globals_of(
+    r: &RawRoutine,
+    key: &str,
+    call: CallMode,
+    args: &[Arg],
+    err: &dyn Fn(&str, String) -> SphError,
+) -> Result<Vec<Global>> {
+    let mut globals: Vec<Global> = Vec::new();
+    for (v, n) in &r.globals {
+        let gkey = format!("{key}.globals.{v}");
+        let var = v.trim().to_ascii_lowercase();
+        if !is_ident(&var) {
+            return Err(err(&gkey, format!("\"{v}\" is not a Fortran name")));
+        }
+        if call != CallMode::Whole {
+            return Err(err(
+                &gkey,
+                format!(
+                    "globals are copied in and out once per call: a {} call cannot take them (map a whole-array routine)",
+                    call.name()
+                ),
+            ));
+        }
+        let written = n.trim().to_ascii_lowercase();
+        let term = vocab::lookup(&written).ok_or_else(|| {
+            err(&gkey, format!("unknown name \"{n}\" (see the argument table of docs/reference/legacy.md)"))
+        })?;
+        if args.iter().any(|a| a.term.name == term.name) {
+            return Err(err(&gkey, format!("\"{n}\" is also an argument of the routine")));
+        }
+        if let Some(o) = globals.iter().find(|g| g.term.name == term.name) {
+            return Err(err(&gkey, format!("\"{n}\" is also the global {}", o.var)));
+        }
+        globals.push(Global { var, term });
+    }
+    Ok(globals)
 }
 
 /// Checks that a case fits the arrays of a legacy build: `particles` (real and virtual) against

@@ -103,6 +103,39 @@ fn one(ri: usize, r: &Routine) -> String {
     let ix = |name: &str| b.iter().position(|t| t.name == name).map(|k| k + 1);
     let mut f = String::new();
     let sym = symbol(&r.name);
+    head(&mut f, r, &b, &sym);
+    // copy in: the scalars first, so that niac is known before the per-pair arrays
+    let niac = ix("niac");
+    copy_in(&mut f, &b, niac);
+    // the globals: blastsph's values into the COMMON or module variables
+    let global = |t: &Term| r.globals.iter().any(|g| g.term.name == t.name);
+    for (k, t) in b.iter().enumerate() {
+        if global(t) {
+            let _ = writeln!(f, "  call {}(v{}, sizes({}), 1, status)", global_symbol(ri, k), k + 1, k + 1);
+            let _ = writeln!(f, "  if (status /= 0) return");
+        }
+    }
+    // the call
+    call(&mut f, r, &ix);
+    // the globals back into their buffers (as many values as both hold)
+    for (k, t) in b.iter().enumerate() {
+        if global(t) {
+            let n = if t.shape == Shape::Scalar {
+                "1_c_int64_t".to_string()
+            } else {
+                format!("size(v{}, kind=c_int64_t)", k + 1)
+            };
+            let _ = writeln!(f, "  call {}(v{}, {n}, 2, status)", global_symbol(ri, k), k + 1);
+        }
+    }
+    // copy out
+    copy_out(&mut f, &b, niac);
+    let _ = writeln!(f, "end function {sym}");
+    f
+}
+
+/// The shim's declarations and the start of its body.
+fn head(f: &mut String, r: &Routine, b: &[&'static Term], sym: &str) {
     let _ = writeln!(f, "! {} ({}): {}", r.name, r.modules.join(","), r.call.name());
     let _ = writeln!(f, "function {sym}(ptrs, sizes) result(status) bind(C, name='{sym}')");
     let _ = writeln!(f, "  use iso_c_binding");
@@ -129,8 +162,10 @@ fn one(ri: usize, r: &Routine) -> String {
     }
     let _ = writeln!(f, "  status = 0");
     let _ = writeln!(f, "  iloop = 0; jloop = 0; kloop = 0; dloop = 0; nloop = 0");
-    // copy in: the scalars first, so that niac is known before the per-pair arrays
-    let niac = ix("niac");
+}
+
+/// The copy in: the scalars first, then the arrays (one-based indices made so).
+fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
     for (k, _) in b.iter().enumerate().filter(|(_, t)| t.shape == Shape::Scalar) {
         let k = k + 1;
         let _ = writeln!(f, "  if (sizes({k}) /= 1) then");
@@ -172,15 +207,10 @@ fn one(ri: usize, r: &Routine) -> String {
             let _ = writeln!(f, "  end if");
         }
     }
-    // the globals: blastsph's values into the COMMON or module variables
-    let global = |t: &Term| r.globals.iter().any(|g| g.term.name == t.name);
-    for (k, t) in b.iter().enumerate() {
-        if global(t) {
-            let _ = writeln!(f, "  call {}(v{}, sizes({}), 1, status)", global_symbol(ri, k), k + 1, k + 1);
-            let _ = writeln!(f, "  if (status /= 0) return");
-        }
-    }
-    // the call
+}
+
+/// The call of the routine: once, once per particle, or once per pair.
+fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
     let actual = |name: &str| -> String {
         let k = ix(name).expect("bound");
         format!("v{k}")
@@ -261,18 +291,10 @@ fn one(ri: usize, r: &Routine) -> String {
             let _ = writeln!(f, "  end do");
         }
     }
-    // the globals back into their buffers (as many values as both hold)
-    for (k, t) in b.iter().enumerate() {
-        if global(t) {
-            let n = if t.shape == Shape::Scalar {
-                "1_c_int64_t".to_string()
-            } else {
-                format!("size(v{}, kind=c_int64_t)", k + 1)
-            };
-            let _ = writeln!(f, "  call {}(v{}, {n}, 2, status)", global_symbol(ri, k), k + 1);
-        }
-    }
-    // copy out
+}
+
+/// The copy out: each buffer from the shim's copy (as many per-pair values as pairs in use).
+fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
         if t.shape == Shape::Scalar {
@@ -298,8 +320,6 @@ fn one(ri: usize, r: &Routine) -> String {
         }
         let _ = writeln!(f, "  end if");
     }
-    let _ = writeln!(f, "end function {sym}");
-    f
 }
 
 /// An argument list broken into lines of free-form Fortran.

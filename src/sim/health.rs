@@ -3,9 +3,10 @@
 //! per chunk, the first particle in trouble and the statistics; the chunks are combined in order,
 //! so the particle named is the lowest-numbered one whatever the thread count.
 
-use super::{CHUNK, Frame, Sim};
+use super::{CHUNK, Sim};
 use crate::case::{DT_MIN_FRACTION, StepRule};
 use crate::error::{Result, SphError};
+use crate::modules::boundary::walls::behind_wall;
 
 /// Steps of a window of the progress check.
 pub const PACE_WINDOW: u64 = 1000;
@@ -71,21 +72,6 @@ impl Part {
         self.out += q.out;
         self
     }
-}
-
-/// How far (m) the point `x` lies behind the line (plane, in 3D) of the wall `sg` (its first
-/// point, then its frame `fr`), if it is behind it and within the wall's extent along it.
-#[inline]
-pub fn behind_wall(dim: usize, x: &[f64], sg: &[f64], fr: &Frame) -> Option<f64> {
-    let (mut dn, mut tp, mut tp2) = (0.0, 0.0, 0.0);
-    for d in 0..dim {
-        let r = x[d] - sg[d];
-        dn += r * fr.nrm[d];
-        tp += r * fr.t[0][d];
-        tp2 += r * fr.t[1][d];
-    }
-    let along = tp >= 0.0 && tp <= fr.el[0] && (dim < 3 || (tp2 >= 0.0 && tp2 <= fr.el[1]));
-    (along && dn < 0.0).then_some(-dn)
 }
 
 /// The smoothing length's collapse that stops a run: h below this share of its initial value. A

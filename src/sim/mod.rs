@@ -11,9 +11,9 @@ pub mod hook;
 pub mod plan;
 mod step;
 
+pub use crate::modules::boundary::walls::behind_wall;
 pub use checkpoint::Blob;
 pub use config::{Config, Frame};
-pub use health::behind_wall;
 pub use hook::{Bridge, Hook};
 pub use plan::{Overrides, Plan};
 

@@ -14,6 +14,7 @@ mod ffi;
 #[cfg(test)]
 mod parity;
 mod rust;
+pub mod walls;
 
 pub(crate) use rust::frame;
 pub use rust::WallFrame;
@@ -251,8 +252,8 @@ impl Stage for WallStage {
 /// Runs when the case has walls: mirrors for type II, the force for type I.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
-    let mirror_segs = crate::setup::segments(case, ctx.x0, |k| k != WallKind::Repulsive);
-    let wall_segs = crate::setup::segments(case, ctx.x0, |k| k != WallKind::Mirror);
+    let mirror_segs = walls::segments(case, ctx.x0, |k| k != WallKind::Repulsive);
+    let wall_segs = walls::segments(case, ctx.x0, |k| k != WallKind::Mirror);
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
     if !mirror_segs.is_empty() {
         stages.push((Phase::Mirrors, Box::new(MakeStage { segs: mirror_segs.clone(), kappa: ctx.kappa })));

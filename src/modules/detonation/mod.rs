@@ -133,7 +133,7 @@ impl Stage for BurnStage {
 /// the burn fraction at every step.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
-    if !crate::setup::programmed(case) {
+    if !crate::case::programmed(case) {
         return Contribution::skip(if case.detonation.is_some() {
             "instantaneous burn: nothing to run"
         } else {

@@ -108,7 +108,7 @@ impl Stage for ForceStage {
 
 /// Every case has the internal force.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
-    let why = if crate::setup::has_strength(ctx.case) { "sigma = -p I + tau" } else { "pressure only" };
+    let why = if crate::case::has_strength(ctx.case) { "sigma = -p I + tau" } else { "pressure only" };
     let rz = ctx.case.axisymmetric();
     let asym = ctx.case.sph.energy_form == crate::case::EnergyForm::Asymmetric;
     let why = format!("{why}, {} energy form", if asym { "asymmetric" } else { "symmetric" });

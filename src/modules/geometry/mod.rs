@@ -184,7 +184,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         return Contribution::skip("plane geometry: no hoop terms");
     }
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = vec![(Phase::Mirrors, Box::new(RingStage))];
-    if crate::setup::has_strength(ctx.case) {
+    if crate::case::has_strength(ctx.case) {
         stages.push((Phase::Rates, Box::new(HoopStage { slots: Slots::default() })));
     }
     if ctx.case.sph.density == DensityKind::Continuity {

@@ -165,7 +165,7 @@ impl Stage for YieldStage {
 
 /// Runs when some material has strength.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
-    if !crate::setup::has_strength(ctx.case) {
+    if !crate::case::has_strength(ctx.case) {
         return Contribution::skip("fluids only: no stress arrays");
     }
     let mt = ctx.mt.clone();
