@@ -203,7 +203,7 @@ pub struct Manifest {
 pub const FIXED_FORM: &[&str] = &["f", "for", "f77", "F", "FOR"];
 pub const FREE_FORM: &[&str] = &["f90", "F90", "f95", "f03", "f08"];
 
-/// Flags that would change the arithmetic of the build against blastsph's own core (DESIGN.md:
+/// Flags that would change the arithmetic of the build against blastsph's own core (docs/design.md:
 /// no fast-math, no FMA contraction, no -march=native): refused in `fflags`.
 pub const REFUSED_FLAGS: &[&str] = &[
     "-ffast-math",

@@ -116,7 +116,7 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         Item::QuinticGradient,
         "quintic_gradient",
         "kernel",
-        "the book's quintic gradient below q = 1, (-120 + 120 q - 50 q^2) (§3; REFERENCES.md's defect)",
+        "the book's quintic gradient below q = 1, (-120 + 120 q - 50 q^2) (§3; a known defect of the book code)",
     ),
     (
         Item::PairTest,
