@@ -8,7 +8,7 @@
 use toml::{Table, Value};
 
 /// (name, source, keys as TOML).
-pub const PRESETS: [(&str, &str, &str); 8] = [
+pub const PRESETS: [(&str, &str, &str); 10] = [
     (
         "tnt",
         "thesis Table 4-2 after Liu (A as Liu publishes it, 3.712e11 Pa; B = 3.21e9 Pa as the thesis and Liu's cases use); unreacted TNT Us = 2390 + 2.05 Up m/s (cast TNT, Marsh 1980, LASL Shock Hugoniot Data), Gamma = 1 assumed (docs/theory.md s.9)",
@@ -26,6 +26,18 @@ e0_jkg = 4294478.5"#,
         "thesis Table 5-1 after An (2010), with the LLNL A = 609.77e9 Pa (the thesis prints 609,970 MPa), rho0 = 1601 and D = 8193 m/s (LLNL; the thesis gives neither); e0 = 9.0 GJ/m3 / 1601 kg/m3",
         r#"eos = { kind = "jwl", rho0_kgm3 = 1601.0, a_pa = 609.77e9, b_pa = 12.95e9, r1 = 4.5, r2 = 1.4, omega = 0.25, d_ms = 8193.0 }
 e0_jkg = 5.6215e6"#,
+    ),
+    (
+        "comp_b",
+        "Dobratz & Crawford, LLNL Explosives Handbook (1985): Composition B, grade A, at 1717 kg/m3, D = 7980 m/s, E0 = 8.5 GJ/m3 (e0 = E0/rho0)",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1717.0, a_pa = 524.2e9, b_pa = 7.678e9, r1 = 4.2, r2 = 1.1, omega = 0.34, d_ms = 7980.0 }
+e0_jkg = 4950495.0"#,
+    ),
+    (
+        "petn",
+        "Dobratz & Crawford, LLNL Explosives Handbook (1985): PETN at 1770 kg/m3, D = 8300 m/s, E0 = 10.1 GJ/m3 (e0 = E0/rho0)",
+        r#"eos = { kind = "jwl", rho0_kgm3 = 1770.0, a_pa = 617.0e9, b_pa = 16.926e9, r1 = 4.4, r2 = 1.2, omega = 0.25, d_ms = 8300.0 }
+e0_jkg = 5706215.0"#,
     ),
     (
         "water",
@@ -72,6 +84,11 @@ pub fn names() -> String {
     PRESETS.iter().map(|p| p.0).collect::<Vec<_>>().join(", ")
 }
 
+/// Where preset `name`'s constants come from, or None.
+pub fn source(name: &str) -> Option<&'static str> {
+    PRESETS.iter().find(|p| p.0 == name).map(|p| p.1)
+}
+
 /// The keys of preset `name`, or None.
 pub fn get(name: &str) -> Option<Table> {
     let (_, _, body) = PRESETS.iter().find(|p| p.0 == name)?;
@@ -108,6 +125,49 @@ mod tests {
             assert!(get(name).is_some(), "preset {name} does not parse");
             assert!(PRESETS[k + 1..].iter().all(|p| p.0 != *name), "{name} twice");
         }
+    }
+
+    /// The Chapman–Jouguet state of a JWL preset: the detonation speed D_CJ = min over V of
+    /// sqrt(p_H(V) / (ρ0 (1 − V))) (m/s), the tangent of the Rayleigh line to the products'
+    /// Hugoniot from (V = 1, p = 0, e = e0); V = ρ0/ρ. On the Hugoniot e = e0 + p (1 − V)/(2ρ0),
+    /// so the JWL p = f(V) + ω ρ0 e / V gives p_H = (f(V) + ω ρ0 e0 / V) / (1 − ω (1 − V)/(2V)).
+    fn cj_speed(t: &Table) -> f64 {
+        let e = &t["eos"];
+        let g = |k: &str| e[k].as_float().unwrap();
+        let (rho0, a, b, r1, r2, w) = (g("rho0_kgm3"), g("a_pa"), g("b_pa"), g("r1"), g("r2"), g("omega"));
+        let e0 = t["e0_jkg"].as_float().unwrap();
+        (1..60_000)
+            .map(|i| {
+                let v = 0.4 + 0.6 * i as f64 / 60_000.0;
+                let f = a * (1.0 - w / (r1 * v)) * (-r1 * v).exp() + b * (1.0 - w / (r2 * v)) * (-r2 * v).exp();
+                let p = (f + w * rho0 * e0 / v) / (1.0 - w * (1.0 - v) / (2.0 * v));
+                p / (rho0 * (1.0 - v))
+            })
+            .fold(f64::INFINITY, f64::min)
+            .sqrt()
+    }
+
+    /// A JWL set, its energy and its detonation speed come from one fit: the CJ point the
+    /// constants give must be the preset's D. A mistyped constant moves it by far more than 0.3 %.
+    #[test]
+    fn every_jwl_preset_detonates_at_its_own_speed() {
+        let mut n = 0;
+        for (name, src, _) in PRESETS {
+            let t = get(name).unwrap();
+            assert!(!src.is_empty() && source(name) == Some(src), "{name} names no source");
+            if t["eos"]["kind"].as_str() != Some("jwl") {
+                continue;
+            }
+            let d = t["eos"]["d_ms"].as_float().unwrap();
+            let dcj = cj_speed(&t);
+            assert!((dcj / d - 1.0).abs() < 3e-3, "{name}: the JWL constants detonate at {dcj:.0} m/s, not {d}");
+            n += 1;
+        }
+        assert_eq!(n, 5, "tnt, tnt_dobratz, c4, comp_b, petn");
+        // and the check can fail: PETN with Comp B's A is off by more than the tolerance
+        let mut t = get("petn").unwrap();
+        merge(&mut t, "eos = { a_pa = 524.2e9 }".parse().unwrap());
+        assert!((cj_speed(&t) / 8300.0 - 1.0).abs() > 3e-3);
     }
 
     #[test]

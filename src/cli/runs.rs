@@ -24,6 +24,11 @@ pub fn check_text(sim: &Sim) -> String {
     let parts: Vec<String> =
         c.materials.iter().zip(&by_mat).map(|(m, (k, mass))| format!("{} {k}: {mass:.4} {unit}", m.name)).collect();
     s += &format!(" ({}, in the model)\n", parts.join(", "));
+    for m in &c.materials {
+        if let Some(src) = m.preset.as_deref().and_then(crate::presets::source) {
+            s += &format!("material {}: preset {} ({src})\n", m.name, m.preset.as_deref().unwrap_or_default());
+        }
+    }
     s += &format!(
         "time: end {:e} s, {:?} step{}, output every {:e} s\n",
         c.time.end_s,
