@@ -1,12 +1,14 @@
 //! `blastsph run`: the time loop with outputs, progress, checkpoints and the summary
 //! ([`restart`] writes and reads the checkpoints and resumes a run).
 
+mod follow;
 pub mod restart;
 
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
 use crate::error::{IoAt, Result, SphError, input};
 use crate::gauges::Gauges;
+use crate::modules::ranks;
 use crate::output::{H5Part, Peaks};
 use crate::progress::{self, Progress};
 use crate::rundir::{self, Found, sha256_hex};
@@ -80,6 +82,48 @@ pub fn stop_flag() -> Arc<AtomicBool> {
 }
 
 pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
+    if !ranks::is_root() {
+        return follow::run(case_path, opts);
+    }
+    // under mpirun every rank learns whether the run starts: a refusal here is rank 0's alone
+    let (text, case, dir, as_run, lock, clear) = match follow::agreed(start(case_path, opts))? {
+        Start::Fresh { text, case, dir, as_run, lock, clear } => (text, case, dir, as_run, lock, clear),
+        Start::Resume(dir, ro) => return restart::resume(&dir, &ro),
+    };
+    let ready = (|| {
+        let sim = Sim::new(case, &opts.ov)?;
+        crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
+        rundir::prepare(&dir, clear)?;
+        let lock = match lock {
+            Some(l) => l,
+            None => rundir::lock_run(&dir, "--out")?,
+        };
+        Ok((sim, lock))
+    })();
+    let (sim, _lock) = follow::agreed(ready)?;
+    if !opts.quiet {
+        // the settings known to fail, as `blastsph check` lists them (once the run directory is
+        // ready: a refused run stays one line)
+        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
+            eprintln!("warning: {w}");
+        }
+    }
+    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
+    // as the user's code
+    for w in sim.plan.legacy_warnings() {
+        eprintln!("warning: {w}");
+    }
+    Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
+}
+
+/// How `run` starts: a new run into its folder, or the continuation of the same run.
+enum Start {
+    Fresh { text: String, case: case::Case, dir: PathBuf, as_run: String, lock: Option<rundir::DirLock>, clear: bool },
+    Resume(PathBuf, restart::ResumeOptions),
+}
+
+/// The checks of `run` before the solver is built: the case, and what its run directory holds.
+fn start(case_path: &Path, opts: &RunOptions) -> Result<Start> {
     let text = case::read_text(case_path)?;
     let origin = case_path.display().to_string();
     let case = case::parse(&text, &origin, &opts.sets, case_path.file_stem().and_then(|s| s.to_str()))?;
@@ -111,10 +155,15 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             if !opts.quiet {
                 eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
             }
+            if ranks::size() > 1 {
+                return Err(input(format!(
+                    "--out {shown}: continuing a stopped run under mpirun with more than one rank is not supported (run it in one process, or --force starts it anew)"
+                )));
+            }
             let ro = restart::ResumeOptions::of_run(opts);
             // (resume takes the lock itself)
             drop(lock);
-            return restart::resume(&dir, &ro);
+            return Ok(Start::Resume(dir, ro));
         }
         _ if opts.force => true,
         Found::Run { .. } => {
@@ -128,26 +177,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             )));
         }
     };
-    let sim = Sim::new(case, &opts.ov)?;
-    crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
-    rundir::prepare(&dir, clear)?;
-    let _lock = match lock {
-        Some(l) => l,
-        None => rundir::lock_run(&dir, "--out")?,
-    };
-    if !opts.quiet {
-        // the settings known to fail, as `blastsph check` lists them (once the run directory is
-        // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
-            eprintln!("warning: {w}");
-        }
-    }
-    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
-    // as the user's code
-    for w in sim.plan.legacy_warnings() {
-        eprintln!("warning: {w}");
-    }
-    Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
+    Ok(Start::Fresh { text, case, dir, as_run, lock, clear })
 }
 
 /// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
@@ -402,7 +432,9 @@ impl Loop {
                 }
             }
             // a clean stop, after the step and its outputs
-            if stop.load(Ordering::Relaxed) || opts.stop_after_step.is_some_and(|s| self.sim.nstep >= s) {
+            // (under mpirun every rank stops after the same step: a signal reaches each rank
+            // at its own moment)
+            if ranks::any(stop.load(Ordering::Relaxed) || opts.stop_after_step.is_some_and(|s| self.sim.nstep >= s)) {
                 stopped = true;
                 break;
             }
