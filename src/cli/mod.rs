@@ -348,7 +348,8 @@ fn threads(n: Option<usize>) -> Result<()> {
     }
     // the whole run executes on a worker (see `on_pool`): give it the main thread's stack room
     let per_rank = n.or_else(ranks::default_threads);
-    let built = rayon::ThreadPoolBuilder::new().num_threads(per_rank.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
+    let built =
+        rayon::ThreadPoolBuilder::new().num_threads(per_rank.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
     match (built, n) {
         (Err(e), Some(_)) => Err(input(format!("--threads: {e}"))),
         _ => Ok(()),

@@ -292,7 +292,8 @@ where
     let body = |c: usize, b1: &mut [f64], b2: &mut [f64], b3: &mut [f64]| {
         let n = b1.len() / w1;
         for r in 0..n {
-            let (r1, r2, r3) = (&mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
+            let (r1, r2, r3) =
+                (&mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
             f(first + c * CHUNK + r, r1, r2, r3);
         }
     };

@@ -15,6 +15,7 @@
 
 use std::cell::Cell;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The processes of a run, as the message-passing layer gives them.
 pub trait Ranks: Send + Sync {
@@ -31,6 +32,27 @@ pub trait Ranks: Send + Sync {
 }
 
 static RANKS: OnceLock<Box<dyn Ranks>> = OnceLock::new();
+
+/// The gathers so far: how many, the values gathered into this rank (8 bytes each), and the
+/// wall time spent in them (ns).
+static GATHERS: [AtomicU64; 3] = [AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)];
+
+/// What the gathers of this process have cost so far.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct Traffic {
+    /// Split row loops' gathers (one per output array of a loop).
+    pub gathers: u64,
+    /// Values received from the other ranks (f64, 8 bytes each).
+    pub values_received: u64,
+    /// Wall time inside the gathers, waiting included (s).
+    pub gather_seconds: f64,
+}
+
+/// The gathers' cost in this process so far.
+pub fn traffic() -> Traffic {
+    let g = |k: usize| GATHERS[k].load(Ordering::Relaxed);
+    Traffic { gathers: g(0), values_received: g(1), gather_seconds: g(2) as f64 * 1e-9 }
+}
 
 thread_local! {
     static SPLIT: Cell<bool> = const { Cell::new(false) };
@@ -107,5 +129,10 @@ pub(crate) fn gather(r: &dyn Ranks, out: &mut [f64], width: usize, counts: &[usi
         return;
     }
     let c: Vec<usize> = counts.iter().map(|k| k * width).collect();
+    let t0 = std::time::Instant::now();
     r.allgather(out, &c);
+    let received = c.iter().sum::<usize>() - c[r.rank()];
+    GATHERS[0].fetch_add(1, Ordering::Relaxed);
+    GATHERS[1].fetch_add(received as u64, Ordering::Relaxed);
+    GATHERS[2].fetch_add(t0.elapsed().as_nanos() as u64, Ordering::Relaxed);
 }

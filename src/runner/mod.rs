@@ -583,6 +583,10 @@ impl Loop {
         if !self.gauges.names.is_empty() {
             summary["gauges"] = json!(self.gauges.summary());
         }
+        if ranks::size() > 1 {
+            // rank 0's share of the work split across the ranks of an mpirun
+            summary["ranks"] = json!({ "count": ranks::size(), "rank0": ranks::traffic() });
+        }
         if made && sim.case.analysis.kind == AnalysisKind::Crater {
             match analysis::crater::measure(sim) {
                 Ok(c) => {
