@@ -54,6 +54,15 @@ impl Ranks for World {
         world.all_reduce_into(&mine, &mut all, SystemOperation::max());
         all != 0
     }
+
+    fn broadcast(&self, bytes: &mut Vec<u8>) {
+        let world = SimpleCommunicator::world();
+        let root = world.process_at_rank(0);
+        let mut len = bytes.len() as u64;
+        root.broadcast_into(&mut len);
+        bytes.resize(len as usize, 0);
+        root.broadcast_into(&mut bytes[..]);
+    }
 }
 
 /// MPI while it is up: dropping it finalises MPI (every rank must reach that point).

@@ -230,3 +230,31 @@ fn commands_other_than_run_are_refused_on_several_ranks_with_one_line() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.lines().filter(|l| l.starts_with("error:")).count(), 1, "{err}");
 }
+
+/// `resume DIR --end-time T` on `np` ranks (0: one process).
+fn resume(np: usize, dir: &Path, end: &str) -> Output {
+    let mut c = if np == 0 { serial() } else { mpirun(np) };
+    c.arg("resume").arg(dir).args(["--end-time", end, "--threads", "1", "--quiet"]);
+    let o = finish(c, 300, &format!("resume on {np} ranks"));
+    assert!(o.status.success(), "resume on {np} ranks: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+#[test]
+fn a_checkpoint_written_by_3_ranks_resumes_on_2_as_the_serial_run_resumed() {
+    let root = tempfile::tempdir().unwrap();
+    let (one, many) = (root.path().join("serial"), root.path().join("np3"));
+    let sets: Vec<&str> =
+        PLANE.iter().copied().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-5"]).collect();
+    run(0, "surface_loose_tnt6.toml", &sets, &one);
+    run(3, "surface_loose_tnt6.toml", &sets, &many);
+    resume(0, &one, "6e-5");
+    resume(2, &many, "6e-5");
+    let s = summary(&many);
+    let t = s["time"].as_f64().unwrap_or(0.0);
+    assert!((t - 6e-5).abs() < 1e-12, "the resumed run reached its new end: t = {t}");
+    assert_eq!(s["ranks"]["count"], 2, "the resume ran on 2 ranks");
+    if let Some(d) = difference(&one, &many) {
+        panic!("3 ranks then 2 differ from one process then one: {d}");
+    }
+}

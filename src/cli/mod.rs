@@ -566,7 +566,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| crate::runner::restart::resume(&dir, &o))?;
-            finished(&r, "wall in all");
+            if ranks::speaks() {
+                finished(&r, "wall in all");
+            }
             Ok(0)
         }
         Cmd::Check { case, args, case_dir, threads: n } => check(case, args, case_dir, n),

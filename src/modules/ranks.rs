@@ -15,7 +15,7 @@
 
 use std::cell::Cell;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// The processes of a run, as the message-passing layer gives them.
 pub trait Ranks: Send + Sync {
@@ -29,9 +29,14 @@ pub trait Ranks: Send + Sync {
     fn allgather(&self, out: &mut [f64], counts: &[usize]);
     /// True on every rank when `flag` is true on any (collective).
     fn any(&self, flag: bool) -> bool;
+    /// Rank 0's `bytes` into every rank's (collective).
+    fn broadcast(&self, bytes: &mut Vec<u8>);
 }
 
 static RANKS: OnceLock<Box<dyn Ranks>> = OnceLock::new();
+
+/// Set once every rank has built its solver and the run loop begins ([`arm`]).
+static ARMED: AtomicBool = AtomicBool::new(false);
 
 /// The gathers so far: how many, the values gathered into this rank (8 bytes each), and the
 /// wall time spent in them (ns).
@@ -89,6 +94,20 @@ pub fn any(flag: bool) -> bool {
     get().map_or(flag, |r| r.any(flag))
 }
 
+/// Rank 0's `bytes` on every rank (a single process: unchanged).
+pub fn broadcast(bytes: &mut Vec<u8>) {
+    if let Some(r) = get() {
+        r.broadcast(bytes);
+    }
+}
+
+/// Starts splitting: called by every rank as its time loop begins. Before it, while the ranks
+/// build their solvers and rank 0 checks and prepares the run directory alone, every row loop
+/// runs whole in each process, so a rank that stops there leaves no other waiting.
+pub fn arm() {
+    ARMED.store(true, Ordering::Relaxed);
+}
+
 /// Runs `f` with the row loops of this thread split across the ranks (see the module's text).
 pub fn split<R>(f: impl FnOnce() -> R) -> R {
     let before = SPLIT.with(|s| s.replace(true));
@@ -112,7 +131,7 @@ const MIN_ROWS: usize = 1024;
 /// The block of `rows` rows this rank computes, and the rows of every rank, when the loop is
 /// split; `None` when this rank computes every row.
 pub(crate) fn block(rows: usize) -> Option<(&'static dyn Ranks, std::ops::Range<usize>, Vec<usize>)> {
-    if rows < MIN_ROWS || !SPLIT.with(|s| s.get()) {
+    if rows < MIN_ROWS || !SPLIT.with(|s| s.get()) || !ARMED.load(Ordering::Relaxed) {
         return None;
     }
     let r = get()?;

@@ -85,12 +85,13 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
     if !ranks::is_root() {
         return follow::run(case_path, opts);
     }
-    // under mpirun every rank learns whether the run starts: a refusal here is rank 0's alone
-    let (text, case, dir, as_run, lock, clear) = match follow::agreed(start(case_path, opts))? {
-        Start::Fresh { text, case, dir, as_run, lock, clear } => (text, case, dir, as_run, lock, clear),
-        Start::Resume(dir, ro) => return restart::resume(&dir, &ro),
-    };
+    // under mpirun the other ranks wait while rank 0 checks the case and prepares the run
+    // directory alone: a refusal here ends them too (before the time loop no row loop is split)
     let ready = (|| {
+        let (text, case, dir, as_run, lock, clear) = match start(case_path, opts)? {
+            Start::Fresh { text, case, dir, as_run, lock, clear } => (text, case, dir, as_run, lock, clear),
+            Start::Resume(dir, ro) => return Ok(Err((dir, ro))),
+        };
         let sim = Sim::new(case, &opts.ov)?;
         crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
         rundir::prepare(&dir, clear)?;
@@ -98,22 +99,24 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             Some(l) => l,
             None => rundir::lock_run(&dir, "--out")?,
         };
-        Ok((sim, lock))
-    })();
-    let (sim, _lock) = follow::agreed(ready)?;
-    if !opts.quiet {
-        // the settings known to fail, as `blastsph check` lists them (once the run directory is
-        // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
+        if !opts.quiet {
+            // the settings known to fail, as `blastsph check` lists them (once the run directory
+            // is ready: a refused run stays one line)
+            for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
+                eprintln!("warning: {w}");
+            }
+        }
+        // a mapped routine that does not run is said even with --quiet: the run would otherwise
+        // read as the user's code
+        for w in sim.plan.legacy_warnings() {
             eprintln!("warning: {w}");
         }
+        Ok(Ok((Loop::fresh(sim, &dir, &text, &as_run, opts)?, lock)))
+    })();
+    match follow::settle_run(ready)? {
+        Ok((lp, _lock)) => lp.go(opts),
+        Err((dir, ro)) => restart::resume(&dir, &ro),
     }
-    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
-    // as the user's code
-    for w in sim.plan.legacy_warnings() {
-        eprintln!("warning: {w}");
-    }
-    Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
 }
 
 /// How `run` starts: a new run into its folder, or the continuation of the same run.
@@ -154,11 +157,6 @@ fn start(case_path: &Path, opts: &RunOptions) -> Result<Start> {
             }
             if !opts.quiet {
                 eprintln!("{shown} holds this run, stopped at its checkpoint: continuing it (--force starts it anew)");
-            }
-            if ranks::size() > 1 {
-                return Err(input(format!(
-                    "--out {shown}: continuing a stopped run under mpirun with more than one rank is not supported (run it in one process, or --force starts it anew)"
-                )));
             }
             let ro = restart::ResumeOptions::of_run(opts);
             // (resume takes the lock itself)
@@ -380,6 +378,8 @@ impl Loop {
         )
         .starting_at(self.sim.t, self.sim.nstep);
         let stop = stop_flag();
+        // every rank is at its time loop: the row loops split from here on
+        ranks::arm();
         // a legacy STOP ends the process inside a step: its exit handler marks this summary
         let _watch = legacy_watch::Watch::start(&self.sim, &self.dir);
         let cp = opts.checkpoints;
