@@ -92,7 +92,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             Start::Fresh { text, case, dir, as_run, lock, clear } => (text, case, dir, as_run, lock, clear),
             Start::Resume(dir, ro) => return Ok(Err((dir, ro))),
         };
-        let sim = Sim::new(case, &opts.ov)?;
+        let sim = Sim::new(*case, &opts.ov)?;
         crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
         rundir::prepare(&dir, clear)?;
         let lock = match lock {
@@ -121,7 +121,14 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
 
 /// How `run` starts: a new run into its folder, or the continuation of the same run.
 enum Start {
-    Fresh { text: String, case: case::Case, dir: PathBuf, as_run: String, lock: Option<rundir::DirLock>, clear: bool },
+    Fresh {
+        text: String,
+        case: Box<case::Case>,
+        dir: PathBuf,
+        as_run: String,
+        lock: Option<rundir::DirLock>,
+        clear: bool,
+    },
     Resume(PathBuf, restart::ResumeOptions),
 }
 
@@ -175,7 +182,7 @@ fn start(case_path: &Path, opts: &RunOptions) -> Result<Start> {
             )));
         }
     };
-    Ok(Start::Fresh { text, case, dir, as_run, lock, clear })
+    Ok(Start::Fresh { text, case: Box::new(case), dir, as_run, lock, clear })
 }
 
 /// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
