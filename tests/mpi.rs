@@ -1,6 +1,7 @@
-//! Runs under `mpirun` (Open MPI, which `scripts/setup` installs): 2 and 3 ranks give the
-//! serial run's particles.h5 bit for bit, with its gauges.csv and summary.json, on short 2D
-//! plane, RZ and 3D cases; a bad case ends every rank with one line and exit status 2.
+//! Runs under `mpirun` (Open MPI, which `scripts/setup` installs): 2 ranks of 2 threads and 3
+//! ranks of one give the one-thread serial run's particles.h5 bit for bit, with its gauges.csv
+//! and summary.json, on short 2D plane, RZ and 3D cases; a checkpoint written by 3 ranks
+//! resumes on 2; a bad case ends every rank with one line and exit status 2.
 #![cfg(feature = "mpi")]
 
 use serde_json::Value;
@@ -49,10 +50,12 @@ fn finish(mut c: Command, limit_s: u64, what: &str) -> Output {
     }
 }
 
-/// `blastsph run CASE` with `sets` into `out`, in one process (`np` = 0) or under mpirun.
+/// `blastsph run CASE` with `sets` into `out`, in one process (`np` = 0) or under mpirun; on 2
+/// ranks with 2 threads each (rayon inside each rank), else with one.
 fn run(np: usize, case: &str, sets: &[&str], out: &Path) -> Output {
     let mut c = if np == 0 { serial() } else { mpirun(np) };
-    c.arg("run").arg(case_path(case)).args(["--threads", "1", "--quiet", "--out"]).arg(out);
+    let threads = if np == 2 { "2" } else { "1" };
+    c.arg("run").arg(case_path(case)).args(["--threads", threads, "--quiet", "--out"]).arg(out);
     for s in sets {
         c.args(["--set", s]);
     }
@@ -222,7 +225,7 @@ fn a_bad_case_under_mpirun_ends_every_rank_with_one_line_and_status_2() {
 }
 
 #[test]
-fn commands_other_than_run_are_refused_on_several_ranks_with_one_line() {
+fn check_is_refused_on_several_ranks_with_one_line() {
     let mut c = mpirun(2);
     c.arg("check").arg(case_path("surface_loose_tnt6.toml"));
     let o = finish(c, 30, "check on 2 ranks");
