@@ -1,6 +1,6 @@
 //! Runs across processes: the one place where the core meets a message-passing layer. The core
-//! defines the [`Ranks`] trait and splits the row loops of [`super::par`] by it; it knows
-//! nothing of what implements it. The run layer's `ranks` module implements it with MPI.
+//! defines the [`Ranks`] trait and splits the parallel row loops of the Rust twins by it; it knows
+//! nothing of what implements it. The run layer's `mpirun` module implements it with MPI.
 //!
 //! The scheme is replicated data with partitioned compute. Every rank holds the whole state and
 //! runs the same plan. A row loop (one row per particle or per pair, each row computed whole by
@@ -9,9 +9,10 @@
 //! process, so the state stays bitwise equal to a single process's. Everything outside the
 //! split row loops (the pair search, sums, the health check) runs whole on every rank.
 //!
-//! A loop is split only on the thread that [`split`] marks, inside the solver's stages: every
-//! rank reaches the same loops in the same order there, which the gathers (collective calls)
-//! need. Elsewhere, and in a rayon worker, a row loop computes every row itself.
+//! A loop is split only on the thread that [`split`] marks, inside the solver's stages, and only
+//! once every rank has reached its time loop ([`arm`]): every rank reaches the same loops in the
+//! same order there, which the gathers (collective calls) need. Elsewhere, and in a rayon
+//! worker, a row loop computes every row itself.
 
 use std::cell::Cell;
 use std::sync::OnceLock;
@@ -24,7 +25,7 @@ pub trait Ranks: Send + Sync {
     /// The number of processes.
     fn size(&self) -> usize;
     /// Gathers into every rank's `out` the blocks of values each rank computed: rank r holds
-    /// `counts[r]` values at the offset Σ_{q<r} counts[q]. Collective: every rank calls it with
+    /// `counts[r]` values at the offset `Σ_{q<r} counts[q]`. Collective: every rank calls it with
     /// the same counts.
     fn allgather(&self, out: &mut [f64], counts: &[usize]);
     /// True on every rank when `flag` is true on any (collective).
