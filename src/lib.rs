@@ -15,7 +15,7 @@
 //! |---|---|
 //! | core | `error`, `files`, `presets`, `os_ffi`, `modules`, `state`, `case`, `setup`, `sim`, `pairs`, `dual` |
 //! | bridge | `migration` |
-//! | run | `casedir`, `rundir`, `progress`, `stress_invariants`, `output`, `analysis`, `advice`, `gauges`, `runner` |
+//! | run | `casedir`, `rundir`, `progress`, `stress_invariants`, `output`, `analysis`, `advice`, `gauges`, `runner`, `mpirun` |
 //! | post | `plot`, `report`, `blast_report`, `revolve`, `validate`, `bench`, `converge` |
 //! | cli | `cli` |
 //!
@@ -46,6 +46,8 @@ pub mod gauges;
 #[cfg(feature = "legacy")]
 pub mod migration;
 pub mod modules;
+#[cfg(feature = "mpi")]
+pub mod mpirun;
 pub mod os_ffi;
 #[cfg(feature = "io")]
 pub mod output;

@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
 mod folders;
+mod ranks;
 mod runs;
 mod validate_cmd;
 use folders::*;
@@ -346,7 +347,9 @@ fn threads(n: Option<usize>) -> Result<()> {
         return Err(input(format!("--threads {k}: need 1 to {MAX_THREADS} threads")));
     }
     // the whole run executes on a worker (see `on_pool`): give it the main thread's stack room
-    let built = rayon::ThreadPoolBuilder::new().num_threads(n.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
+    let per_rank = n.or_else(ranks::default_threads);
+    let built =
+        rayon::ThreadPoolBuilder::new().num_threads(per_rank.unwrap_or(0)).stack_size(STACK_BYTES).build_global();
     match (built, n) {
         (Err(e), Some(_)) => Err(input(format!("--threads: {e}"))),
         _ => Ok(()),
@@ -432,6 +435,8 @@ pub fn main() -> i32 {
     // output into a pipe that closes (`blastsph dual … | head -1`) ends the process quietly, as
     // it ends other command-line tools (Rust ignores SIGPIPE, and the failed write would panic)
     crate::os_ffi::default_sigpipe();
+    // MPI first under mpirun (it is finalised when this returns)
+    let _mpi = ranks::start();
     // a panic is a bug: one line saying so (never a backtrace on a user's terminal)
     std::panic::set_hook(Box::new(|info| {
         let msg = info
@@ -442,6 +447,7 @@ pub fn main() -> i32 {
             .unwrap_or_default();
         let at = info.location().map(|l| format!(" at {}:{}", l.file(), l.line())).unwrap_or_default();
         eprintln!("{}", one_line(&format!("internal error (a bug in blastsph, please report it): {msg}{at}")));
+        ranks::on_panic();
     }));
     let cli = match parse_args() {
         Ok(c) => c,
@@ -457,22 +463,27 @@ pub fn main() -> i32 {
                     2
                 }
                 _ => {
-                    eprintln!("{}", one_line(&clap_line(&e)));
+                    if ranks::speaks() {
+                        eprintln!("{}", one_line(&clap_line(&e)));
+                    }
                     2
                 }
             };
         }
     };
-    match dispatch(cli) {
+    let done = ranks::supported(&cli.cmd).and_then(|_| dispatch(cli));
+    if let Err(e) = &done {
+        if ranks::speaks() {
+            match e {
+                SphError::Stopped(m) => eprintln!("{}", one_line(&format!("stopped {m}"))),
+                e => eprintln!("{}", one_line(&format!("error: {e}"))),
+            }
+        }
+        ranks::end(e);
+    }
+    match done {
         Ok(code) => code,
-        Err(SphError::Stopped(m)) => {
-            eprintln!("{}", one_line(&format!("stopped {m}")));
-            5
-        }
-        Err(e) => {
-            eprintln!("{}", one_line(&format!("error: {e}")));
-            e.exit_code()
-        }
+        Err(e) => e.exit_code(),
     }
 }
 
@@ -528,7 +539,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| runner::run(&case, &opts))?;
-            finished(&r, "wall");
+            if ranks::speaks() {
+                finished(&r, "wall");
+            }
             Ok(0)
         }
         Cmd::Resume {
@@ -553,7 +566,9 @@ fn dispatch(cli: Cli) -> Result<i32> {
             };
             stop_on_signals()?;
             let r = on_pool(|| crate::runner::restart::resume(&dir, &o))?;
-            finished(&r, "wall in all");
+            if ranks::speaks() {
+                finished(&r, "wall in all");
+            }
             Ok(0)
         }
         Cmd::Check { case, args, case_dir, threads: n } => check(case, args, case_dir, n),

@@ -20,6 +20,7 @@
 
 mod par;
 pub mod param;
+pub mod ranks;
 mod stage;
 #[cfg(test)]
 pub(crate) mod testkit;

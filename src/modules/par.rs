@@ -2,7 +2,7 @@
 //! [`CHUNK`] rows; every row is computed whole by one task and writes only its own slot, so results
 //! never depend on the thread count. With one thread in the pool the loops run inline.
 
-use super::nnps;
+use super::{nnps, ranks};
 
 /// Rows (particles) or pairs per rayon task. At 10^4 particles a finer split costs more in task
 /// hand-offs than it gains; results never depend on it (every row is computed whole by one task).
@@ -15,18 +15,34 @@ pub(crate) fn serial() -> bool {
 }
 
 /// Runs `f(a, row)` over the rows of `out` (row `a` = particle `a`, `width` values), in parallel
-/// over tasks of [`CHUNK`] rows: each call writes only its own row.
+/// over tasks of [`CHUNK`] rows: each call writes only its own row. Across processes
+/// ([`super::ranks`]) each rank computes a block of the rows and the blocks are gathered.
 pub(crate) fn par_rows<F>(out: &mut [f64], width: usize, f: F)
 where
     F: Fn(usize, &mut [f64]) + Sync + Send,
 {
-    use rayon::prelude::*;
     if width == 0 {
         return;
     }
+    if out.len().is_multiple_of(width)
+        && let Some((r, b, counts)) = ranks::block(out.len() / width)
+    {
+        ranks::whole(|| rows_from(&mut out[width * b.start..width * b.end], width, b.start, &f));
+        ranks::gather(r, out, width, &counts);
+        return;
+    }
+    ranks::whole(|| rows_from(out, width, 0, &f));
+}
+
+/// [`par_rows`] on this process over the rows of `out`, the first of which is row `first`.
+fn rows_from<F>(out: &mut [f64], width: usize, first: usize, f: &F)
+where
+    F: Fn(usize, &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
     let body = |c: usize, blk: &mut [f64]| {
         for (r, row) in blk.chunks_mut(width).enumerate() {
-            f(c * CHUNK + r, row);
+            f(first + c * CHUNK + r, row);
         }
     };
     if serial() {
@@ -52,22 +68,39 @@ pub(crate) fn par_rows2<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: us
 where
     F: Fn(usize, &mut [f64], &mut [f64]) + Sync + Send,
 {
-    use rayon::prelude::*;
     if w1 == 0 {
         return;
     }
-    let rows = out1.len() / w1;
-    let out2 = &mut out2[..w2 * rows];
-    let body = |c: usize, b1: &mut [f64], b2: &mut [f64]| {
-        let n = b1.len() / w1;
-        for r in 0..n {
-            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2]);
-        }
-    };
     if w2 == 0 {
         par_rows(out1, w1, |a, r1| f(a, r1, &mut []));
         return;
     }
+    let rows = out1.len() / w1;
+    let out2 = &mut out2[..w2 * rows];
+    if out1.len().is_multiple_of(w1)
+        && let Some((r, b, counts)) = ranks::block(rows)
+    {
+        let (b1, b2) = (&mut out1[w1 * b.start..w1 * b.end], &mut out2[w2 * b.start..w2 * b.end]);
+        ranks::whole(|| rows2_from(b1, w1, b2, w2, b.start, &f));
+        ranks::gather(r, out1, w1, &counts);
+        ranks::gather(r, out2, w2, &counts);
+        return;
+    }
+    ranks::whole(|| rows2_from(out1, w1, out2, w2, 0, &f));
+}
+
+/// [`par_rows2`] on this process, the first row being row `first`.
+fn rows2_from<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: usize, first: usize, f: &F)
+where
+    F: Fn(usize, &mut [f64], &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    let body = |c: usize, b1: &mut [f64], b2: &mut [f64]| {
+        let n = b1.len() / w1;
+        for r in 0..n {
+            f(first + c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2]);
+        }
+    };
     if serial() {
         out1.chunks_mut(w1 * CHUNK)
             .zip(out2.chunks_mut(w2 * CHUNK))
@@ -229,16 +262,39 @@ pub(crate) fn par_rows3<F>(out1: &mut [f64], w1: usize, out2: &mut [f64], w2: us
 where
     F: Fn(usize, &mut [f64], &mut [f64], &mut [f64]) + Sync + Send,
 {
-    use rayon::prelude::*;
     if w1 == 0 {
         return;
     }
     let rows = out1.len() / w1;
     let (out2, out3) = (&mut out2[..w2 * rows], &mut out3[..w3 * rows]);
+    if out1.len().is_multiple_of(w1)
+        && let Some((r, b, counts)) = ranks::block(rows)
+    {
+        let (s, e) = (b.start, b.end);
+        let outs = [(&mut out1[w1 * s..w1 * e], w1), (&mut out2[w2 * s..w2 * e], w2), (&mut out3[w3 * s..w3 * e], w3)];
+        ranks::whole(|| rows3_from(outs, s, &f));
+        ranks::gather(r, out1, w1, &counts);
+        ranks::gather(r, out2, w2, &counts);
+        ranks::gather(r, out3, w3, &counts);
+        return;
+    }
+    ranks::whole(|| rows3_from([(out1, w1), (out2, w2), (out3, w3)], 0, &f));
+}
+
+/// [`par_rows3`] on this process over three (array, width) pairs, the first row being row `first`.
+fn rows3_from<F>(outs: [(&mut [f64], usize); 3], first: usize, f: &F)
+where
+    F: Fn(usize, &mut [f64], &mut [f64], &mut [f64]) + Sync + Send,
+{
+    use rayon::prelude::*;
+    let [(out1, w1), (out2, w2), (out3, w3)] = outs;
+    let rows = out1.len() / w1;
     let body = |c: usize, b1: &mut [f64], b2: &mut [f64], b3: &mut [f64]| {
         let n = b1.len() / w1;
         for r in 0..n {
-            f(c * CHUNK + r, &mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
+            let (r1, r2, r3) =
+                (&mut b1[w1 * r..w1 * r + w1], &mut b2[w2 * r..w2 * r + w2], &mut b3[w3 * r..w3 * r + w3]);
+            f(first + c * CHUNK + r, r1, r2, r3);
         }
     };
     // (an empty array gives one empty chunk per chunk of the first)

@@ -1,12 +1,14 @@
 //! `blastsph run`: the time loop with outputs, progress, checkpoints and the summary
 //! ([`restart`] writes and reads the checkpoints and resumes a run).
 
+mod follow;
 pub mod restart;
 
 use crate::analysis;
 use crate::case::{self, AnalysisKind, StepRule};
 use crate::error::{IoAt, Result, SphError, input};
 use crate::gauges::Gauges;
+use crate::modules::ranks;
 use crate::output::{H5Part, Peaks};
 use crate::progress::{self, Progress};
 use crate::rundir::{self, Found, sha256_hex};
@@ -80,6 +82,58 @@ pub fn stop_flag() -> Arc<AtomicBool> {
 }
 
 pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
+    if !ranks::is_root() {
+        return follow::run(case_path, opts);
+    }
+    // under mpirun the other ranks wait while rank 0 checks the case and prepares the run
+    // directory alone: a refusal here ends them too (before the time loop no row loop is split)
+    let ready = (|| {
+        let (text, case, dir, as_run, lock, clear) = match start(case_path, opts)? {
+            Start::Fresh { text, case, dir, as_run, lock, clear } => (text, case, dir, as_run, lock, clear),
+            Start::Resume(dir, ro) => return Ok(Err((dir, ro))),
+        };
+        let sim = Sim::new(*case, &opts.ov)?;
+        crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
+        rundir::prepare(&dir, clear)?;
+        let lock = match lock {
+            Some(l) => l,
+            None => rundir::lock_run(&dir, "--out")?,
+        };
+        if !opts.quiet {
+            // the settings known to fail, as `blastsph check` lists them (once the run directory
+            // is ready: a refused run stays one line)
+            for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
+                eprintln!("warning: {w}");
+            }
+        }
+        // a mapped routine that does not run is said even with --quiet: the run would otherwise
+        // read as the user's code
+        for w in sim.plan.legacy_warnings() {
+            eprintln!("warning: {w}");
+        }
+        Ok(Ok((Loop::fresh(sim, &dir, &text, &as_run, opts)?, lock)))
+    })();
+    match follow::settle_run(ready)? {
+        Ok((lp, _lock)) => lp.go(opts),
+        Err((dir, ro)) => restart::resume(&dir, &ro),
+    }
+}
+
+/// How `run` starts: a new run into its folder, or the continuation of the same run.
+enum Start {
+    Fresh {
+        text: String,
+        case: Box<case::Case>,
+        dir: PathBuf,
+        as_run: String,
+        lock: Option<rundir::DirLock>,
+        clear: bool,
+    },
+    Resume(PathBuf, restart::ResumeOptions),
+}
+
+/// The checks of `run` before the solver is built: the case, and what its run directory holds.
+fn start(case_path: &Path, opts: &RunOptions) -> Result<Start> {
     let text = case::read_text(case_path)?;
     let origin = case_path.display().to_string();
     let case = case::parse(&text, &origin, &opts.sets, case_path.file_stem().and_then(|s| s.to_str()))?;
@@ -114,7 +168,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             let ro = restart::ResumeOptions::of_run(opts);
             // (resume takes the lock itself)
             drop(lock);
-            return restart::resume(&dir, &ro);
+            return Ok(Start::Resume(dir, ro));
         }
         _ if opts.force => true,
         Found::Run { .. } => {
@@ -128,26 +182,7 @@ pub fn run(case_path: &Path, opts: &RunOptions) -> Result<RunResult> {
             )));
         }
     };
-    let sim = Sim::new(case, &opts.ov)?;
-    crate::case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
-    rundir::prepare(&dir, clear)?;
-    let _lock = match lock {
-        Some(l) => l,
-        None => rundir::lock_run(&dir, "--out")?,
-    };
-    if !opts.quiet {
-        // the settings known to fail, as `blastsph check` lists them (once the run directory is
-        // ready: a refused run stays one line)
-        for w in crate::advice::all(&sim.case, &sim.p, &sim.region) {
-            eprintln!("warning: {w}");
-        }
-    }
-    // a mapped routine that does not run is said even with --quiet: the run would otherwise read
-    // as the user's code
-    for w in sim.plan.legacy_warnings() {
-        eprintln!("warning: {w}");
-    }
-    Loop::fresh(sim, &dir, &text, &as_run, opts)?.go(opts)
+    Ok(Start::Fresh { text, case: Box::new(case), dir, as_run, lock, clear })
 }
 
 /// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
@@ -350,6 +385,8 @@ impl Loop {
         )
         .starting_at(self.sim.t, self.sim.nstep);
         let stop = stop_flag();
+        // every rank is at its time loop: the row loops split from here on
+        ranks::arm();
         // a legacy STOP ends the process inside a step: its exit handler marks this summary
         let _watch = legacy_watch::Watch::start(&self.sim, &self.dir);
         let cp = opts.checkpoints;
@@ -402,7 +439,9 @@ impl Loop {
                 }
             }
             // a clean stop, after the step and its outputs
-            if stop.load(Ordering::Relaxed) || opts.stop_after_step.is_some_and(|s| self.sim.nstep >= s) {
+            // (under mpirun every rank stops after the same step: a signal reaches each rank
+            // at its own moment)
+            if ranks::any(stop.load(Ordering::Relaxed) || opts.stop_after_step.is_some_and(|s| self.sim.nstep >= s)) {
                 stopped = true;
                 break;
             }
@@ -550,6 +589,10 @@ impl Loop {
         }
         if !self.gauges.names.is_empty() {
             summary["gauges"] = json!(self.gauges.summary());
+        }
+        if ranks::size() > 1 {
+            // rank 0's share of the work split across the ranks of an mpirun
+            summary["ranks"] = json!({ "count": ranks::size(), "rank0": ranks::traffic() });
         }
         if made && sim.case.analysis.kind == AnalysisKind::Crater {
             match analysis::crater::measure(sim) {

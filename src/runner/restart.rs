@@ -148,11 +148,41 @@ pub fn read(dir: &Path) -> Result<(Blob<'static>, Value)> {
 
 /// Continues the run in `dir` from its checkpoint (`blastsph resume DIR`).
 pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
+    let ro = RunOptions {
+        quiet: o.quiet,
+        checkpoints: o.checkpoints,
+        stop_after_step: o.stop_after_step,
+        ..Default::default()
+    };
+    if !crate::modules::ranks::is_root() {
+        return super::follow::resume(&ro);
+    }
+    // under mpirun the other ranks build their solvers from the case as rank 0 resumes it
+    let ready = prepare(dir, o);
+    let text = ready.as_ref().map(|r| r.1.clone()).unwrap_or_default();
+    let (lp, _, _lock) = super::follow::settle_resume(ready, dir, &text, o.max_particles)?;
+    lp.go(&ro)
+}
+
+/// The solver of a resumed run, as a rank other than 0 builds it: the case as rank 0 resumes
+/// it (`text`), the checkpoint of `dir`.
+pub(super) fn solver_of(dir: &Path, text: &str, max_particles: Option<u64>) -> Result<Sim> {
+    let (blob, meta) = read(dir)?;
+    let name = meta["case"].as_str().unwrap_or("case");
+    let case = crate::case::parse(text, &dir.join("case.toml").display().to_string(), &[], Some(name))?;
+    let mut sim = Sim::new(case, &overrides_of(&meta, max_particles))?;
+    sim.restore_state(&blob)?;
+    Ok(sim)
+}
+
+/// Everything `resume` checks and prepares before its time loop: the run, the case as resumed,
+/// and the lock held until the run ends.
+fn prepare(dir: &Path, o: &ResumeOptions) -> Result<(Loop, String, crate::rundir::DirLock)> {
     let shown = dir.display().to_string();
     crate::rundir::check_existing(dir, "resume")?;
     // held until the resumed run ends (two resumes of one folder both ran; the later one failed
     // at its end)
-    let _lock = crate::rundir::lock_run(dir, "resume")?;
+    let lock = crate::rundir::lock_run(dir, "resume")?;
     let (blob, meta) = read(dir)?;
     let case_path = dir.join("case.toml");
     let text = crate::case::read_text(&case_path).map_err(|e| input(format!("resume {shown}: {e}")))?;
@@ -274,13 +304,7 @@ pub fn resume(dir: &Path, o: &ResumeOptions) -> Result<RunResult> {
     // summary.json at once, as a fresh run writes it: a run killed before its first checkpoint
     // must not keep the summary (and case.toml hash) of the run before the resume
     lp.write_summary(crate::runner::Status::Running, None)?;
-    let ro = RunOptions {
-        quiet: o.quiet,
-        checkpoints: o.checkpoints,
-        stop_after_step: o.stop_after_step,
-        ..Default::default()
-    };
-    lp.go(&ro)
+    Ok((lp, text, lock))
 }
 
 /// What changed since the checkpoint: the case file (its SHA-256) and the binary.

@@ -15,7 +15,13 @@ impl Sim {
     }
 
     /// Runs every stage of phase `ph` (in a dual run, both implementations, compared).
+    /// Across processes each rank computes a block of every split row loop
+    /// ([`crate::modules::ranks`]); every rank runs every phase.
     pub(super) fn run_phase(&mut self, ph: Phase, dt: f64) {
+        crate::modules::ranks::split(|| self.run_phase_here(ph, dt));
+    }
+
+    fn run_phase_here(&mut self, ph: Phase, dt: f64) {
         let k = self.clock(dt);
         for e in self.plan.entries.iter_mut().filter(|e| e.phase == ph) {
             e.stage.prepare(&mut self.p, &mut self.w);

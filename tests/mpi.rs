@@ -1,0 +1,263 @@
+//! Runs under `mpirun` (Open MPI, which `scripts/setup` installs): 2 ranks of 2 threads and 3
+//! ranks of one give the one-thread serial run's particles.h5 bit for bit, with its gauges.csv
+//! and summary.json, on short 2D plane, RZ and 3D cases; a checkpoint written by 3 ranks
+//! resumes on 2; a bad case ends every rank with one line and exit status 2.
+#![cfg(feature = "mpi")]
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn case_path(name: &str) -> String {
+    format!("{}/cases/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `blastsph run` under `mpirun -np N` (Open MPI refuses root without its two variables, and
+/// more ranks than cores without --oversubscribe: both are set for this child only).
+fn mpirun(np: usize) -> Command {
+    let mut c = Command::new("mpirun");
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c.args(["--oversubscribe", "-np", &np.to_string(), env!("CARGO_BIN_EXE_blastsph")]);
+    c.env("OMPI_ALLOW_RUN_AS_ROOT", "1").env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
+    c
+}
+
+fn serial() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_blastsph"));
+    c.current_dir(env!("CARGO_MANIFEST_DIR"));
+    c
+}
+
+/// Runs `c` to its end, killed (and the test failed) after `limit_s` seconds: never a hang.
+fn finish(mut c: Command, limit_s: u64, what: &str) -> Output {
+    let mut child = c
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("{what}: cannot start ({e}); scripts/setup installs Open MPI"));
+    let t0 = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if t0.elapsed() > Duration::from_secs(limit_s) {
+            let _ = child.kill();
+            let o = child.wait_with_output().expect("output");
+            panic!("{what}: still running after {limit_s} s (a hang); stderr: {}", String::from_utf8_lossy(&o.stderr));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// `blastsph run CASE` with `sets` into `out`, in one process (`np` = 0) or under mpirun; on 2
+/// ranks with 2 threads each (rayon inside each rank), else with one.
+fn run(np: usize, case: &str, sets: &[&str], out: &Path) -> Output {
+    let mut c = if np == 0 { serial() } else { mpirun(np) };
+    let threads = if np == 2 { "2" } else { "1" };
+    c.arg("run").arg(case_path(case)).args(["--threads", threads, "--quiet", "--out"]).arg(out);
+    for s in sets {
+        c.args(["--set", s]);
+    }
+    let o = finish(c, 300, &format!("{case} on {np} ranks"));
+    assert!(o.status.success(), "{case} on {np} ranks: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+/// Every `Step#N` group of a particles.h5: (group, dataset) → the bits of its values.
+fn h5_bits(path: &Path) -> Vec<(String, String, Vec<u64>)> {
+    let f = hdf5::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut groups = f.member_names().unwrap();
+    groups.retain(|g| g.starts_with("Step#"));
+    let mut out = Vec::new();
+    for gname in groups {
+        let g = f.group(&gname).unwrap();
+        let t: f64 = g.attr("TimeValue").unwrap().read_scalar().unwrap();
+        out.push((gname.clone(), "TimeValue".into(), vec![t.to_bits()]));
+        for dname in g.member_names().unwrap() {
+            let d = g.dataset(&dname).unwrap();
+            let bits: Vec<u64> = match dname.as_str() {
+                "mat" => d.read_raw::<i32>().unwrap().iter().map(|v| *v as u64).collect(),
+                "id" => d.read_raw::<i64>().unwrap().iter().map(|v| *v as u64).collect(),
+                _ => d.read_raw::<f64>().unwrap().iter().map(|v| v.to_bits()).collect(),
+            };
+            out.push((gname.clone(), dname, bits));
+        }
+    }
+    out
+}
+
+fn summary(dir: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(dir.join("summary.json")).expect("summary.json")).expect("json")
+}
+
+/// A summary's physics: all but the wall times, the thread count and the ranks' traffic.
+fn physics(mut s: Value) -> Value {
+    let o = s.as_object_mut().expect("summary.json is an object");
+    for k in ["wall_seconds", "particle_steps_per_second", "module_seconds", "threads", "ranks"] {
+        o.remove(k);
+    }
+    s
+}
+
+/// How the run in `b` differs from the serial run in `a` (None: bitwise the same).
+fn difference(a: &Path, b: &Path) -> Option<String> {
+    let (ha, hb) = (h5_bits(&a.join("particles.h5")), h5_bits(&b.join("particles.h5")));
+    if ha.len() != hb.len() {
+        return Some(format!("particles.h5: {} vs {} datasets", ha.len(), hb.len()));
+    }
+    for (x, y) in ha.iter().zip(&hb) {
+        if (&x.0, &x.1) != (&y.0, &y.1) || x.2.len() != y.2.len() {
+            return Some(format!(
+                "particles.h5: {}/{} ({} values) vs {}/{} ({})",
+                x.0,
+                x.1,
+                x.2.len(),
+                y.0,
+                y.1,
+                y.2.len()
+            ));
+        }
+        if let Some(k) = x.2.iter().zip(&y.2).position(|(u, v)| u != v) {
+            return Some(format!(
+                "particles.h5 {}/{} differs at entry {k}: bits {:#x} vs {:#x}",
+                x.0, x.1, x.2[k], y.2[k]
+            ));
+        }
+    }
+    for f in ["gauges.csv", "particles.xmf"] {
+        if std::fs::read(a.join(f)).ok() != std::fs::read(b.join(f)).ok() {
+            return Some(format!("{f} differs"));
+        }
+    }
+    let (sa, sb) = (physics(summary(a)), physics(summary(b)));
+    if sa != sb {
+        let keys: Vec<&String> = sa.as_object().unwrap().keys().filter(|k| sa[k.as_str()] != sb[k.as_str()]).collect();
+        return Some(format!("summary.json differs in {keys:?}"));
+    }
+    None
+}
+
+/// The serial run of `case`, then the same under mpirun with each of `nps` ranks: each is
+/// bitwise the serial run, and each split its row loops (rank 0 received values from others).
+fn same_as_serial(case: &str, sets: &[&str], nps: &[usize]) {
+    let root = tempfile::tempdir().unwrap();
+    let one = root.path().join("serial");
+    run(0, case, sets, &one);
+    let outputs = h5_bits(&one.join("particles.h5")).iter().filter(|x| x.1 == "TimeValue").count();
+    assert!(outputs >= 3, "{case}: {outputs} outputs; the test wants several");
+    for &np in nps {
+        let dir: PathBuf = root.path().join(format!("np{np}"));
+        run(np, case, sets, &dir);
+        if let Some(d) = difference(&one, &dir) {
+            panic!("{case} on {np} ranks is not the serial run: {d}");
+        }
+        let s = summary(&dir);
+        if np > 1 {
+            assert_eq!(s["ranks"]["count"], np, "{case}: summary.json ranks");
+            let got = s["ranks"]["rank0"]["values_received"].as_u64().unwrap_or(0);
+            assert!(got > 0, "{case} on {np} ranks: rank 0 received nothing (no loop was split)");
+        } else {
+            assert!(s.get("ranks").is_none(), "{case}: one rank is a plain run");
+        }
+    }
+}
+
+/// S1 (TNT 6 × 6 cm on loose sand) in a 40 × 30 cm box at its 1 cm spacing (1200 particles),
+/// reordered in memory every 10 steps, to 50 µs.
+const PLANE: [&str; 13] = [
+    "region.soil.lo_m=[0.3,0.7]",
+    "region.soil.hi_m=[0.7,1.0]",
+    "wall.0.from_m=[0.3,1.0]",
+    "wall.0.to_m=[0.3,0.7]",
+    "wall.1.from_m=[0.3,0.7]",
+    "wall.1.to_m=[0.7,0.7]",
+    "wall.2.from_m=[0.7,0.7]",
+    "wall.2.to_m=[0.7,1.0]",
+    "gauge.D.point_m=[0.5,0.75]",
+    "gauge.E.point_m=[0.5,0.73]",
+    "time.output_interval_s=1e-5",
+    "time.end_s=5e-5",
+    "sph.reorder_every=10",
+];
+
+#[test]
+fn plane_2d_on_1_2_and_3_ranks_is_the_serial_run_bitwise() {
+    same_as_serial("surface_loose_tnt6.toml", &PLANE, &[1, 2, 3]);
+}
+
+#[test]
+fn rz_on_2_and_3_ranks_is_the_serial_run_bitwise() {
+    let sets = [
+        "region.charge.spacing_m=0.023",
+        "region.soil.spacing_m=0.023",
+        "time.end_s=6e-5",
+        "time.output_interval_s=2e-5",
+    ];
+    same_as_serial("surface_loose_tnt1kg_rz.toml", &sets, &[2, 3]);
+}
+
+#[test]
+fn three_d_on_2_and_3_ranks_is_the_serial_run_bitwise() {
+    let sets = [
+        "region.charge.spacing_m=0.046",
+        "region.soil.spacing_m=0.046",
+        "time.end_s=3e-5",
+        "time.output_interval_s=1e-5",
+    ];
+    same_as_serial("surface_loose_tnt1kg_3d.toml", &sets, &[2, 3]);
+}
+
+#[test]
+fn a_bad_case_under_mpirun_ends_every_rank_with_one_line_and_status_2() {
+    let root = tempfile::tempdir().unwrap();
+    let bad = root.path().join("bad.toml");
+    std::fs::write(&bad, "[time]\nend_s = \"soon\"\n").unwrap();
+    let mut c = mpirun(3);
+    c.arg("run").arg(&bad).arg("--out").arg(root.path().join("out"));
+    let o = finish(c, 30, "a bad case on 3 ranks");
+    assert_eq!(o.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(ours.len(), 1, "one line from rank 0, not one per rank: {err}");
+    assert!(ours[0].contains("bad.toml"), "the line names the file: {}", ours[0]);
+    assert!(!root.path().join("out").exists(), "a refused run writes nothing");
+}
+
+#[test]
+fn check_is_refused_on_several_ranks_with_one_line() {
+    let mut c = mpirun(2);
+    c.arg("check").arg(case_path("surface_loose_tnt6.toml"));
+    let o = finish(c, 30, "check on 2 ranks");
+    assert_eq!(o.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().filter(|l| l.starts_with("error:")).count(), 1, "{err}");
+}
+
+/// `resume DIR --end-time T` on `np` ranks (0: one process).
+fn resume(np: usize, dir: &Path, end: &str) -> Output {
+    let mut c = if np == 0 { serial() } else { mpirun(np) };
+    c.arg("resume").arg(dir).args(["--end-time", end, "--threads", "1", "--quiet"]);
+    let o = finish(c, 300, &format!("resume on {np} ranks"));
+    assert!(o.status.success(), "resume on {np} ranks: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+#[test]
+fn a_checkpoint_written_by_3_ranks_resumes_on_2_as_the_serial_run_resumed() {
+    let root = tempfile::tempdir().unwrap();
+    let (one, many) = (root.path().join("serial"), root.path().join("np3"));
+    let sets: Vec<&str> =
+        PLANE.iter().copied().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-5"]).collect();
+    run(0, "surface_loose_tnt6.toml", &sets, &one);
+    run(3, "surface_loose_tnt6.toml", &sets, &many);
+    resume(0, &one, "6e-5");
+    resume(2, &many, "6e-5");
+    let s = summary(&many);
+    let t = s["time"].as_f64().unwrap_or(0.0);
+    assert!((t - 6e-5).abs() < 1e-12, "the resumed run reached its new end: t = {t}");
+    assert_eq!(s["ranks"]["count"], 2, "the resume ran on 2 ranks");
+    if let Some(d) = difference(&one, &many) {
+        panic!("3 ranks then 2 differ from one process then one: {d}");
+    }
+}
