@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 mod differences;
+pub mod host;
 mod plan;
 
 use differences::state_differences;
@@ -90,7 +91,17 @@ pub struct Legacy {
     dt: Option<f64>,
     flags: Flags,
     shared: Mutex<Shared>,
+    /// Host mode ([`super::host`]): the user's program makes the calls.
+    pub(crate) host: bool,
+    /// Host mode: what the stage's "Fortran" side does at its next run (puts the outputs the
+    /// user's routine gave into the state).
+    pub(crate) host_fill: Mutex<Option<HostFill>>,
+    /// Host mode: each legacy stage's rate-term slots, by stage name, as the plan assigned them.
+    pub(crate) host_slots: Mutex<BTreeMap<String, Slots>>,
 }
+
+/// Puts a host call's legacy outputs into the state.
+pub(crate) type HostFill = Box<dyn FnOnce(&mut Particles, &mut Work) + Send>;
 
 /// The book's type code of an EOS kind.
 fn book_code(kind: &str) -> Option<i32> {
@@ -238,8 +249,13 @@ impl Legacy {
             dt,
             flags,
             shared: Mutex::new(Shared::default()),
+            host: how.host,
+            host_fill: Mutex::new(None),
+            host_slots: Mutex::new(BTreeMap::new()),
         });
-        l.init(case.dim)?;
+        if !how.host {
+            l.init(case.dim)?;
+        }
         Ok(l)
     }
 
@@ -513,6 +529,13 @@ impl ReplayKey {
 
 impl LegacyStage {
     fn call(&self, p: &mut Particles, w: &mut Work, k: &Clock) {
+        if self.lg.host {
+            // host mode: the user's program called the routine; its outputs go into the state
+            if let Some(fill) = self.lg.host_fill.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                fill(p, w);
+            }
+            return;
+        }
         let key = ReplayKey::of(k, p, w, self.writes.contains(&Field::PairI));
         {
             // a second evaluation at the same time over the same particles and pairs replays the
@@ -699,6 +722,9 @@ impl Stage for LegacyStage {
     }
     fn assign(&mut self, slots: Slots) {
         self.slots = slots;
+        if self.lg.host {
+            self.lg.host_slots.lock().unwrap_or_else(|e| e.into_inner()).insert(self.name.to_string(), slots);
+        }
         for s in &mut self.chain {
             s.assign(slots);
         }
