@@ -16,7 +16,15 @@ use std::path::Path;
 
 /// What the wrappers call: the routine's index in the build, 0 before the call and 1 after
 /// it, and the addresses of its arguments.
-pub type Hook = extern "C" fn(routine: c_int, phase: c_int, args: *mut *mut c_void);
+pub type Hook = extern "C" fn(routine: c_int, phase: c_int, args: RawArgs);
+
+/// The wrapper's array of argument addresses, as the hook receives it.
+#[repr(transparent)]
+pub struct RawArgs(*mut *mut c_void);
+
+/// The address of one actual argument, as a wrapper handed it over (made only by [`arg_ptrs`]).
+#[derive(Clone, Copy)]
+pub struct ArgPtr(*mut c_void);
 
 /// Loads the host library `lib`, sets its hook and runs its main program with `argv` (the
 /// program's name first): the main program's return value. A `STOP` in the program ends the
@@ -50,19 +58,20 @@ pub fn run_main(lib: &Path, argv: &[String], hook: Hook) -> Result<i32> {
 }
 
 /// The `n` argument addresses a wrapper hands over.
-pub fn arg_ptrs(args: *mut *mut c_void, n: usize) -> Vec<*mut c_void> {
-    if args.is_null() || n == 0 {
+pub fn arg_ptrs(args: RawArgs, n: usize) -> Vec<ArgPtr> {
+    if args.0.is_null() || n == 0 {
         return Vec::new();
     }
     // SAFETY: the wrapper's array `a` holds exactly the routine's number of arguments (the
     // build generated it from the same routine list), and lives for the hook's call.
-    unsafe { std::slice::from_raw_parts(args, n).to_vec() }
+    unsafe { std::slice::from_raw_parts(args.0, n).iter().map(|p| ArgPtr(*p)).collect() }
 }
 
 /// `n` values of `kind` at the address `p` of an actual argument (None for a null address).
 /// The caller bounds `n` by what the routine's own counts (`ntotal`, `niac`) say the array
 /// holds, at most the build's `maxn` or `max_interaction` (times `dim`).
-pub fn read(p: *mut c_void, kind: Kind, n: usize) -> Option<Buf> {
+pub fn read(p: ArgPtr, kind: Kind, n: usize) -> Option<Buf> {
+    let p = p.0;
     if p.is_null() {
         return None;
     }
@@ -79,7 +88,8 @@ pub fn read(p: *mut c_void, kind: Kind, n: usize) -> Option<Buf> {
 
 /// Writes `b` at the address `p` of an actual argument (the Rust twins' outputs in place of
 /// the routine's); nothing for a null address.
-pub fn write(p: *mut c_void, b: &Buf) {
+pub fn write(p: ArgPtr, b: &Buf) {
+    let p = p.0;
     if p.is_null() {
         return;
     }

@@ -14,9 +14,9 @@ use super::*;
 use crate::dual::Comparator;
 use crate::migration::builder::{BuildInfo, RoutineInfo};
 use crate::migration::host_ffi as hffi;
+use crate::migration::host_ffi::ArgPtr;
 use crate::migration::vocab::{self, Base, CallMode, Kind};
 use crate::sim::{Overrides, Sim};
-use std::ffi::c_void;
 use std::fmt::Write as _;
 use std::os::raw::c_int;
 
@@ -166,7 +166,7 @@ fn mapped(sim: &Sim, info: &BuildInfo) -> Result<Vec<Mapped>> {
 }
 
 /// The wrappers' hook: phase 0 before the routine's call, 1 after it.
-extern "C" fn hook(routine: c_int, phase: c_int, args: *mut *mut c_void) {
+extern "C" fn hook(routine: c_int, phase: c_int, args: hffi::RawArgs) {
     let mut g = run_lock();
     let Some(run) = g.as_mut() else { return };
     let k = routine as usize;
@@ -213,7 +213,7 @@ fn finish() -> i32 {
 
 impl Run {
     /// The counts a call's arrays hold: (particles, pairs), from its `ntotal` and `niac`.
-    fn counts(&self, r: &RoutineInfo, ptrs: &[*mut c_void]) -> (usize, usize) {
+    fn counts(&self, r: &RoutineInfo, ptrs: &[ArgPtr]) -> (usize, usize) {
         let scalar = |n: &str, max: usize| -> usize {
             r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(_, p)| match hffi::read(*p, Kind::Int, 1) {
                 Some(Buf::I(v)) => (v[0].max(0) as usize).min(max),
@@ -229,7 +229,7 @@ impl Run {
 
     /// The values of every argument of `r` at `ptrs`, `nt` particles and `np` pairs (indices
     /// made 0-based, as blastsph holds them).
-    fn read(&self, r: &RoutineInfo, ptrs: &[*mut c_void], (nt, np): (usize, usize)) -> Vec<Option<Buf>> {
+    fn read(&self, r: &RoutineInfo, ptrs: &[ArgPtr], (nt, np): (usize, usize)) -> Vec<Option<Buf>> {
         let dim = self.sim.case.dim;
         r.args
             .iter()
@@ -249,14 +249,14 @@ impl Run {
             .collect()
     }
 
-    fn before(&self, k: usize, ptrs: &[*mut c_void]) -> Option<Pending> {
+    fn before(&self, k: usize, ptrs: &[ArgPtr]) -> Option<Pending> {
         let m = &self.mapped[k];
         m.entry?;
         let (nt, np) = self.counts(&m.info, ptrs);
         Some(Pending { inputs: self.read(&m.info, ptrs, (nt, np)), nt, np })
     }
 
-    fn after(&mut self, k: usize, ptrs: &[*mut c_void], pend: Pending) {
+    fn after(&mut self, k: usize, ptrs: &[ArgPtr], pend: Pending) {
         let Some(e) = self.mapped[k].entry else { return };
         let r = self.mapped[k].info.clone();
         let call = self.mapped[k].calls;
@@ -286,10 +286,10 @@ impl Run {
         self.mapped[k].compared += 1;
         if let Some((mut p, mut w)) = kept {
             stage.run(Backend::Rust, &mut p, &mut w, &clock);
-            if let Err(msg) = self.give_back(&r, ptrs, slots, &p, &w) {
-                if self.failed.len() < 10 {
-                    self.failed.push(format!("routine {} call {call}: {msg}", r.name));
-                }
+            if let Err(msg) = self.give_back(&r, ptrs, slots, &p, &w)
+                && self.failed.len() < 10
+            {
+                self.failed.push(format!("routine {} call {call}: {msg}", r.name));
             }
         }
     }
@@ -374,7 +374,7 @@ impl Run {
     fn give_back(
         &self,
         r: &RoutineInfo,
-        ptrs: &[*mut c_void],
+        ptrs: &[ArgPtr],
         slots: Slots,
         p: &Particles,
         w: &Work,
