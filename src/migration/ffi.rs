@@ -149,6 +149,36 @@ pub fn flush_fortran() {
     unsafe { _gfortran_flush_i4(std::ptr::null()) }
 }
 
+/// Runs `f` with the process's standard output (file descriptor 1) sent to `file`: what a
+/// legacy routine prints there (a set-up routine's banner) stays out of blastsph's own output.
+/// Returns `f`'s result and the number of lines it printed (0 when the file cannot be made:
+/// then the output is not redirected).
+pub fn quiet_stdout<R>(file: &Path, f: impl FnOnce() -> R) -> (R, usize) {
+    use std::io::Write;
+    use std::os::fd::AsRawFd;
+    let _ = std::io::stdout().flush();
+    flush_fortran();
+    let Ok(out) = std::fs::File::create(file) else { return (f(), 0) };
+    // SAFETY: `dup` of descriptor 1 gives a new descriptor that this function owns and closes
+    // below; `out` is open for the whole redirection.
+    let saved = unsafe { libc::dup(1) };
+    // SAFETY: `dup2` onto descriptor 1 replaces the process's standard output with `out`.
+    if saved < 0 || unsafe { libc::dup2(out.as_raw_fd(), 1) } < 0 {
+        return (f(), 0);
+    }
+    let r = f();
+    let _ = std::io::stdout().flush();
+    flush_fortran();
+    // SAFETY: puts the saved standard output back on descriptor 1 and closes the copy, which
+    // this function made.
+    unsafe {
+        libc::dup2(saved, 1);
+        libc::close(saved);
+    }
+    let lines = std::fs::read_to_string(file).map_or(0, |t| t.lines().count());
+    (r, lines)
+}
+
 /// Names the summary.json that the exit handler marks when a legacy routine ends the process
 /// during a run (`None`: none, e.g. between runs or in a dual run, which keeps no summary).
 pub fn report_exit_to(path: Option<PathBuf>) {

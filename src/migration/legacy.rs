@@ -267,7 +267,7 @@ impl Legacy {
         let info = self.lib.info();
         for r in info.routines.iter().filter(|r| r.modules.iter().any(|m| m == "init")) {
             let mut bufs = self.start_bufs(r, dim);
-            self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+            self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
             *self.shared().calls.entry(r.name.clone()).or_default() += 1;
         }
         Ok(())
@@ -338,7 +338,7 @@ impl Legacy {
         let info = self.lib.info();
         let (dim, maxn) = (case.dim, info.maxn);
         let mut bufs = self.start_bufs(r, dim);
-        self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+        self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
         let get = |n: &str| r.bindings.iter().position(|b| b.name == n).map(|k| &bufs[k]);
         let n = match get("ntotal") {
             Some(Buf::I(v)) => v[0],
@@ -401,6 +401,23 @@ impl Legacy {
             ));
         }
         Ok(made)
+    }
+
+    /// [`Self::call_raw`] for an init or set-up routine. In a scratch folder (`check`) what it
+    /// prints on standard output is kept out of `check`'s text and said once as a count.
+    fn call_quiet(&self, name: &str, bindings: &[super::builder::BindingInfo], bufs: &mut [Buf]) -> Result<()> {
+        if !self.scratch {
+            return self.call_raw(name, bindings, bufs);
+        }
+        let file = self.cwd.join(format!("{name}.stdout"));
+        let (r, lines) = super::ffi::quiet_stdout(&file, || self.call_raw(name, bindings, bufs));
+        if lines > 0 && self.said.lock().unwrap_or_else(|e| e.into_inner()).insert(format!("quiet {name}")) {
+            let n = if lines == 1 { "1 line".to_string() } else { format!("{lines} lines") };
+            eprintln!(
+                "note: legacy {name} printed {n} on standard output, not shown here (check runs it in a scratch folder); run and dual show them"
+            );
+        }
+        r
     }
 
     /// Calls routine `name` on `bufs` (one per binding), in the work folder.
