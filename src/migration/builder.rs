@@ -350,7 +350,9 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
 
     // the user's own program, if the sources have one
     let (program, program_note) = link_program(&out, &free, &objects, &is_program, &mut log)?;
-    let host = host::link_host(&out, &free, &objects, &is_program, &routines, &mut log)?;
+    // (a host program that cannot be made leaves the library and `program` as they are)
+    let host = host::link_host(&out, &free, &objects, &is_program, &routines, &mut log)
+        .unwrap_or_else(|e| host::Host { library: None, note: Some(e.to_string()), refused: Vec::new() });
 
     let info = BuildInfo {
         format: 1,

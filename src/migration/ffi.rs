@@ -25,7 +25,7 @@
 //! one line naming the routine (and what the caller said of the call, [`set_context`]) and exit
 //! status 3, since libgfortran's `STOP 'text'` exits with status 0, which would read as success.
 //!
-//! This file holds the only `unsafe` code of the migration path.
+//! This file and `host_ffi.rs` (host mode) hold the only `unsafe` code of the migration path.
 #![allow(unsafe_code)]
 
 use super::builder::{BUILD_JSON, BindingInfo, BuildInfo, RoutineInfo};
