@@ -23,7 +23,12 @@ fn writing_setup() -> &'static Path {
 fn check_runs_the_users_setup_in_a_scratch_folder_and_says_so() {
     let d = writing_setup();
     let build = d.join("build");
-    let so = blastsph_ok(&["check", "shock_tube", "--legacy", build.to_str().unwrap()], 0);
+    let o = blastsph(&["check", "shock_tube", "--legacy", build.to_str().unwrap()]);
+    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert_eq!(o.status.code(), Some(0), "{so}{se}");
+    // the routine's banner is not in check's text, and is said once
+    assert!(!so.lines().any(|l| l.trim_start().starts_with("particles:")), "{so}");
+    assert_eq!(se.matches("note: legacy input printed 1 line on standard output").count(), 1, "{se}");
     assert!(so.contains("they run in a scratch folder"), "{so}");
     assert!(so.contains("nothing is written in"), "{so}");
     assert!(!build.join("work").join("ini_count.dat").exists(), "check wrote the routine's file in the build");

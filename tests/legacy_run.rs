@@ -956,52 +956,6 @@ fn a_density_and_force_routine_runs_after_the_eos_whose_p_it_reads() {
     }
 }
 
-/// The fixture's art_visc with its arrays in COMMON blocks instead of arguments (a routine with
-/// no arguments, as many old codes write them): the include file that declares the blocks.
-const AVSTATE_INC: &str = "      include 'param.inc'
-      integer ntotal, niac, pair_i(max_interaction),
-     &        pair_j(max_interaction)
-      double precision hsml(maxn), mass(maxn), x(dim,maxn),
-     &        vx(dim,maxn), rho(maxn), c(maxn), w(max_interaction),
-     &        dwdx(dim,max_interaction), dvxdt(dim,maxn), dedt(maxn)
-      common /avst/ hsml, mass, x, vx, rho, c, w, dwdx, dvxdt, dedt
-      common /avcnt/ ntotal, niac, pair_i, pair_j
-";
-
-/// The globals of the COMMON and module variants: every legacy name is the vocabulary's.
-const AV_GLOBALS: &str = "globals = { ntotal = \"ntotal\", hsml = \"hsml\", mass = \"mass\", x = \"x\", vx = \"vx\", niac = \"niac\", rho = \"rho\", c = \"c\", pair_i = \"pair_i\", pair_j = \"pair_j\", w = \"w\", dwdx = \"dwdx\", dvxdt = \"dvxdt\", dedt = \"dedt\" }";
-
-/// The fixture with art_visc's arguments moved into globals: its source edited by `src`, the
-/// manifest's entry by `entry` (the text after `module = "viscosity"`), and `head` added to
-/// the manifest's top.
-fn av_globals_variant(name: &str, head: &str, entry: &str, src: impl Fn(&str) -> String) -> PathBuf {
-    let v = variant(name, |m| {
-        let old = "module = \"viscosity\"\nargs = [\"ntotal\", \"hsml\", \"mass\", \"x\", \"vx\", \"niac\", \"rho\", \"c\", \"pair_i\", \"pair_j\", \"w\", \"dwdx\",\n        \"dvxdt\", \"dedt\"]";
-        assert!(m.contains(old), "art_visc's entry");
-        let m = m.replace(old, &format!("module = \"viscosity\"\n{entry}"));
-        m.replacen("[[routine]]", &format!("{head}\n\n[[routine]]"), 1)
-    });
-    let f = v.join("art_visc.f");
-    let text = std::fs::read_to_string(&f).unwrap();
-    let new = src(&text);
-    assert_ne!(new, text);
-    std::fs::write(&f, new).unwrap();
-    v
-}
-
-/// art_visc.f with its argument list and declarations replaced by `decl` (fixed form).
-fn av_without_arguments(text: &str, decl: &str) -> String {
-    let (head, rest) =
-        text.split_once("      implicit none\n      include 'param.inc'\n").expect("art_visc's declarations");
-    let body = rest.split_once("dedt(maxn)\n").expect("the last declaration line").1;
-    let head = head.replace(
-        "      subroutine art_visc(ntotal, hsml, mass, x, vx, niac, rho, c,\n     &                    pair_i, pair_j, w, dwdx, dvxdt, dedt)",
-        "      subroutine art_visc",
-    );
-    assert!(head.starts_with("      subroutine art_visc\n"), "{head}");
-    format!("{head}{decl}{body}")
-}
-
 /// The dual run's rows of art_visc (field, max_ulp) of a build, with the book's profile.
 fn art_visc_rows(lg: &Path, out: &str) -> Vec<(String, String)> {
     let d = scratch(out);

@@ -25,6 +25,21 @@ pub struct LegacyBridge {
     pub scratch: bool,
     /// The warnings said so far: a run opened again through the same bridge says each once.
     pub said: Arc<Mutex<BTreeSet<String>>>,
+    /// Host mode (`blastsph legacy host`): the user's own program calls the routines; the plan
+    /// only gives each its Rust twins. No init or set-up routine is called.
+    pub host: bool,
+    /// The build as opened (host mode hands each call's values to its stages through it).
+    pub opened: Opened,
+}
+
+/// The legacy build a bridge opened, for the caller that made the bridge.
+#[derive(Clone, Default)]
+pub struct Opened(pub Arc<Mutex<Option<Arc<Legacy>>>>);
+
+impl std::fmt::Debug for Opened {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Opened")
+    }
 }
 
 /// The bridge for a run: `dir` the legacy build, if any.
@@ -50,6 +65,9 @@ impl Bridge for LegacyBridge {
             Some(d) => Some(Legacy::open(d, case, self)?),
             None => None,
         };
+        if self.host {
+            *self.opened.0.lock().unwrap_or_else(|e| e.into_inner()) = legacy.clone();
+        }
         Ok(Arc::new(Attached { legacy }))
     }
 }
@@ -57,6 +75,10 @@ impl Bridge for LegacyBridge {
 impl Hook for Attached {
     fn setup(&self, case: &Case, init: Initial) -> Result<Initial> {
         let Some(l) = &self.legacy else { return Ok(init) };
+        if l.host {
+            // the user's program makes its own particles
+            return Ok(init);
+        }
         // before the set-up routine fills maxn-long arrays with the case's particles
         l.check_capacity(init.mass.len())?;
         let init = l.setup(case, init)?;

@@ -23,7 +23,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 mod check;
+mod host;
 mod text;
+
+pub use host::{HOOK_SYMBOL, HOST_LIBRARY};
 
 use text::*;
 
@@ -149,6 +152,15 @@ pub struct BuildInfo {
     /// named as another argument of the manifest's list (swapped arguments?).
     #[serde(default)]
     pub warnings: Vec<String>,
+    /// The host program (`libhost.so`: the main program with every mapped routine interposed,
+    /// run by `blastsph legacy host`), or `null` and `host_note` saying why there is none.
+    #[serde(default)]
+    pub host: Option<String>,
+    #[serde(default)]
+    pub host_note: Option<String>,
+    /// The mapped routines the host program cannot interpose, one line each with why.
+    #[serde(default)]
+    pub host_refused: Vec<String>,
 }
 
 impl BuildInfo {
@@ -338,6 +350,9 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
 
     // the user's own program, if the sources have one
     let (program, program_note) = link_program(&out, &free, &objects, &is_program, &mut log)?;
+    // (a host program that cannot be made leaves the library and `program` as they are)
+    let host = host::link_host(&out, &free, &objects, &is_program, &routines, &mut log)
+        .unwrap_or_else(|e| host::Host { library: None, note: Some(e.to_string()), refused: Vec::new() });
 
     let info = BuildInfo {
         format: 1,
@@ -366,6 +381,9 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         itype: m.itype.clone(),
         run_dirs: m.run_dirs.clone(),
         warnings,
+        host: host.library,
+        host_note: host.note,
+        host_refused: host.refused,
     };
     let jp = out.join(BUILD_JSON);
     std::fs::write(&jp, serde_json::to_string_pretty(&info).unwrap_or_default())

@@ -25,7 +25,7 @@
 //! one line naming the routine (and what the caller said of the call, [`set_context`]) and exit
 //! status 3, since libgfortran's `STOP 'text'` exits with status 0, which would read as success.
 //!
-//! This file holds the only `unsafe` code of the migration path.
+//! This file and `host_ffi.rs` (host mode) hold the only `unsafe` code of the migration path.
 #![allow(unsafe_code)]
 
 use super::builder::{BUILD_JSON, BindingInfo, BuildInfo, RoutineInfo};
@@ -147,6 +147,36 @@ pub fn flush_fortran() {
     // SAFETY: FLUSH with no unit (NULL) takes no pointer of ours and flushes every open unit; it
     // is called between legacy calls, on the thread that makes them.
     unsafe { _gfortran_flush_i4(std::ptr::null()) }
+}
+
+/// Runs `f` with the process's standard output (file descriptor 1) sent to `file`: what a
+/// legacy routine prints there (a set-up routine's banner) stays out of blastsph's own output.
+/// Returns `f`'s result and the number of lines it printed (0 when the file cannot be made:
+/// then the output is not redirected).
+pub fn quiet_stdout<R>(file: &Path, f: impl FnOnce() -> R) -> (R, usize) {
+    use std::io::Write;
+    use std::os::fd::AsRawFd;
+    let _ = std::io::stdout().flush();
+    flush_fortran();
+    let Ok(out) = std::fs::File::create(file) else { return (f(), 0) };
+    // SAFETY: `dup` of descriptor 1 gives a new descriptor that this function owns and closes
+    // below; `out` is open for the whole redirection.
+    let saved = unsafe { libc::dup(1) };
+    // SAFETY: `dup2` onto descriptor 1 replaces the process's standard output with `out`.
+    if saved < 0 || unsafe { libc::dup2(out.as_raw_fd(), 1) } < 0 {
+        return (f(), 0);
+    }
+    let r = f();
+    let _ = std::io::stdout().flush();
+    flush_fortran();
+    // SAFETY: puts the saved standard output back on descriptor 1 and closes the copy, which
+    // this function made.
+    unsafe {
+        libc::dup2(saved, 1);
+        libc::close(saved);
+    }
+    let lines = std::fs::read_to_string(file).map_or(0, |t| t.lines().count());
+    (r, lines)
 }
 
 /// Names the summary.json that the exit handler marks when a legacy routine ends the process

@@ -212,7 +212,13 @@ pub fn ledger(case: &Case, legacy: &Path, out: &Path, l1_errors: L1) -> Result<(
     // one bridge for every run of the ledger: a set-up warning is said once, not once per row
     let said = std::sync::Arc::new(std::sync::Mutex::new(std::collections::BTreeSet::new()));
     let ov = |setup_only: bool| -> Overrides {
-        let b = super::LegacyBridge { dir: Some(legacy.to_path_buf()), setup_only, scratch: false, said: said.clone() };
+        let b = super::LegacyBridge {
+            dir: Some(legacy.to_path_buf()),
+            setup_only,
+            scratch: false,
+            said: said.clone(),
+            ..Default::default()
+        };
         Overrides { bridge: Some(std::sync::Arc::new(b)), ..Default::default() }
     };
     // the legacy code first: its SAVEd locals and COMMON blocks start as in its own program

@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 mod differences;
+pub mod host;
 mod plan;
 
 use differences::state_differences;
@@ -90,7 +91,17 @@ pub struct Legacy {
     dt: Option<f64>,
     flags: Flags,
     shared: Mutex<Shared>,
+    /// Host mode ([`super::host`]): the user's program makes the calls.
+    pub(crate) host: bool,
+    /// Host mode: what the stage's "Fortran" side does at its next run (puts the outputs the
+    /// user's routine gave into the state).
+    pub(crate) host_fill: Mutex<Option<HostFill>>,
+    /// Host mode: each legacy stage's rate-term slots, by stage name, as the plan assigned them.
+    pub(crate) host_slots: Mutex<BTreeMap<String, Slots>>,
 }
+
+/// Puts a host call's legacy outputs into the state.
+pub(crate) type HostFill = Box<dyn FnOnce(&mut Particles, &mut Work) + Send>;
 
 /// The book's type code of an EOS kind.
 fn book_code(kind: &str) -> Option<i32> {
@@ -238,8 +249,13 @@ impl Legacy {
             dt,
             flags,
             shared: Mutex::new(Shared::default()),
+            host: how.host,
+            host_fill: Mutex::new(None),
+            host_slots: Mutex::new(BTreeMap::new()),
         });
-        l.init(case.dim)?;
+        if !how.host {
+            l.init(case.dim)?;
+        }
         Ok(l)
     }
 
@@ -251,7 +267,7 @@ impl Legacy {
         let info = self.lib.info();
         for r in info.routines.iter().filter(|r| r.modules.iter().any(|m| m == "init")) {
             let mut bufs = self.start_bufs(r, dim);
-            self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+            self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
             *self.shared().calls.entry(r.name.clone()).or_default() += 1;
         }
         Ok(())
@@ -322,7 +338,7 @@ impl Legacy {
         let info = self.lib.info();
         let (dim, maxn) = (case.dim, info.maxn);
         let mut bufs = self.start_bufs(r, dim);
-        self.call_raw(&r.name, &r.bindings, &mut bufs)?;
+        self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
         let get = |n: &str| r.bindings.iter().position(|b| b.name == n).map(|k| &bufs[k]);
         let n = match get("ntotal") {
             Some(Buf::I(v)) => v[0],
@@ -385,6 +401,23 @@ impl Legacy {
             ));
         }
         Ok(made)
+    }
+
+    /// [`Self::call_raw`] for an init or set-up routine. In a scratch folder (`check`) what it
+    /// prints on standard output is kept out of `check`'s text and said once as a count.
+    fn call_quiet(&self, name: &str, bindings: &[super::builder::BindingInfo], bufs: &mut [Buf]) -> Result<()> {
+        if !self.scratch {
+            return self.call_raw(name, bindings, bufs);
+        }
+        let file = self.cwd.join(format!("{name}.stdout"));
+        let (r, lines) = super::ffi::quiet_stdout(&file, || self.call_raw(name, bindings, bufs));
+        if lines > 0 && self.said.lock().unwrap_or_else(|e| e.into_inner()).insert(format!("quiet {name}")) {
+            let n = if lines == 1 { "1 line".to_string() } else { format!("{lines} lines") };
+            eprintln!(
+                "note: legacy {name} printed {n} on standard output, not shown here (check runs it in a scratch folder); run and dual show them"
+            );
+        }
+        r
     }
 
     /// Calls routine `name` on `bufs` (one per binding), in the work folder.
@@ -513,6 +546,13 @@ impl ReplayKey {
 
 impl LegacyStage {
     fn call(&self, p: &mut Particles, w: &mut Work, k: &Clock) {
+        if self.lg.host {
+            // host mode: the user's program called the routine; its outputs go into the state
+            if let Some(fill) = self.lg.host_fill.lock().unwrap_or_else(|e| e.into_inner()).take() {
+                fill(p, w);
+            }
+            return;
+        }
         let key = ReplayKey::of(k, p, w, self.writes.contains(&Field::PairI));
         {
             // a second evaluation at the same time over the same particles and pairs replays the
@@ -699,6 +739,9 @@ impl Stage for LegacyStage {
     }
     fn assign(&mut self, slots: Slots) {
         self.slots = slots;
+        if self.lg.host {
+            self.lg.host_slots.lock().unwrap_or_else(|e| e.into_inner()).insert(self.name.to_string(), slots);
+        }
         for s in &mut self.chain {
             s.assign(slots);
         }

@@ -10,6 +10,7 @@ pub mod bind;
 pub mod builder;
 pub mod compat;
 pub mod ffi;
+pub mod host_ffi;
 #[cfg(feature = "plot")]
 pub mod ledger;
 pub mod legacy;
