@@ -1,6 +1,9 @@
 //! A material's table: its equation of state ([`EosCfg`]) and, for soils, its strength.
 
-use crate::modules::param::EosKind;
+use super::validate::{At, C_MAX, Checker, P_MAX, RHO_MAX, RHO_MIN, Range};
+use crate::error::{Result, input};
+use crate::param::EosKind;
+use crate::param::row::{E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
 use serde::Deserialize;
 
 /// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
@@ -97,13 +100,42 @@ pub enum EosCfg {
     Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
 }
 
+/// What a material of an equation of state is, for the checks and the advice that read a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Matter {
+    Gas,
+    Explosive,
+    Water,
+    Soil,
+}
+
+impl Matter {
+    /// As messages name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Matter::Gas => "gas",
+            Matter::Explosive => "condensed explosive",
+            Matter::Water => "water",
+            Matter::Soil => "soil",
+        }
+    }
+    /// An explosive, water or a soil: densities of 1000–3000 kg/m³.
+    pub fn condensed(self) -> bool {
+        self != Matter::Gas
+    }
+    /// Water or a soil: the medium a blast moves.
+    pub fn ground(self) -> bool {
+        matches!(self, Matter::Water | Matter::Soil)
+    }
+}
+
 impl EosCfg {
     pub fn rho0(&self) -> Option<f64> {
         match self {
             EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
-            EosCfg::Jwl { rho0_kgm3, .. } | EosCfg::Water { rho0_kgm3, .. } | EosCfg::Soil { rho0_kgm3, .. } => {
-                Some(*rho0_kgm3)
-            }
+            EosCfg::Jwl { rho0_kgm3, .. }
+            | EosCfg::Water { rho0_kgm3, .. }
+            | EosCfg::Soil { rho0_kgm3, .. } => Some(*rho0_kgm3),
         }
     }
     /// Every name [`EosCfg::kind`] gives: the material table's kinds
@@ -129,6 +161,124 @@ impl EosCfg {
             EosCfg::Water { .. } => EosKind::Water,
             EosCfg::Soil { .. } => EosKind::Soil,
         }
+    }
+
+    /// What a material of this equation of state is.
+    pub fn matter(&self) -> Matter {
+        match self {
+            EosCfg::IdealGas { .. } => Matter::Gas,
+            EosCfg::Jwl { .. } => Matter::Explosive,
+            EosCfg::Water { .. } => Matter::Water,
+            EosCfg::Soil { .. } => Matter::Soil,
+        }
+    }
+
+    /// The bulk sound speed at rest of water or a soil (m/s); None for a gas or an explosive.
+    pub fn bulk_sound_speed(&self) -> Option<f64> {
+        match self {
+            EosCfg::Soil { c_ms, .. } => Some(*c_ms),
+            EosCfg::Water { c0_ms, .. } => Some(*c0_ms),
+            EosCfg::IdealGas { .. } | EosCfg::Jwl { .. } => None,
+        }
+    }
+
+    /// Writes this equation of state's rows of a material-table column (`col`, the rows of
+    /// `fortran/include/material_table.txt`): ρ0 and the EOS constants; for a JWL with an
+    /// unreacted explosive, its Hugoniot and `e_rest`, the specific energy of the explosive at
+    /// rest (J/kg). The other rows are the caller's.
+    pub fn fill_column(&self, col: &mut [f64], e_rest: f64) {
+        match self {
+            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                col[RHO0] = rho0_kgm3.unwrap_or(1.0);
+                col[E1] = *gamma;
+            }
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+                unreacted_c_ms,
+                unreacted_s,
+                unreacted_gamma,
+            } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 6].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
+                if let (Some(c), Some(s), Some(g)) = (unreacted_c_ms, unreacted_s, unreacted_gamma) {
+                    col[UNR_C] = *c;
+                    col[UNR_S] = *s;
+                    col[UNR_GAMMA] = *g;
+                    col[ECHEM] = e_rest;
+                }
+            }
+            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 6].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
+            }
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 3].copy_from_slice(&[*c_ms, *s, *gamma]);
+            }
+        }
+    }
+
+    /// Checks this equation of state's keys (`e`: the `material[k].eos` table), recording each.
+    pub(crate) fn check(&self, v: &mut Checker, e: &At) -> Result<()> {
+        let rho = Range::within(RHO_MIN, RHO_MAX);
+        match self {
+            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                v.num(e, "gamma", *gamma, Range::above(1.0, 10.0))?;
+                v.opt(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+            }
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+                unreacted_c_ms,
+                unreacted_s,
+                unreacted_gamma,
+            } => {
+                let u = [unreacted_c_ms, unreacted_s, unreacted_gamma];
+                if u.iter().any(|x| x.is_some()) && !u.iter().all(|x| x.is_some()) {
+                    return Err(input(format!(
+                        "{}: unreacted_c_ms, unreacted_s and unreacted_gamma go together (all three or none)",
+                        e.label()
+                    )));
+                }
+                v.opt(e, "unreacted_c_ms", *unreacted_c_ms, Range::above(0.0, C_MAX))?;
+                v.opt(e, "unreacted_s", *unreacted_s, Range::above(0.0, 100.0))?;
+                v.opt(e, "unreacted_gamma", *unreacted_gamma, Range::within(0.0, 100.0))?;
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "a_pa", *a_pa, Range::within(0.0, P_MAX))?;
+                v.num(e, "b_pa", *b_pa, Range::within(0.0, P_MAX))?;
+                v.num(e, "r1", *r1, Range::above(0.0, 100.0))?;
+                v.num(e, "r2", *r2, Range::above(0.0, 100.0))?;
+                v.num(e, "omega", *omega, Range::above(0.0, 10.0))?;
+                v.num(e, "d_ms", *d_ms, Range::above(0.0, C_MAX))?;
+            }
+            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "a1_pa", *a1_pa, Range::above(0.0, P_MAX))?;
+                v.num(e, "a2_pa", *a2_pa, Range::abs(P_MAX))?;
+                v.num(e, "a3_pa", *a3_pa, Range::abs(P_MAX))?;
+                v.num(e, "b0", *b0, Range::within(0.0, 100.0))?;
+                v.num(e, "b1", *b1, Range::within(0.0, 100.0))?;
+                v.num(e, "c0_ms", *c0_ms, Range::above(0.0, C_MAX))?;
+            }
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
+                v.num(e, "s", *s, Range::above(0.0, 100.0))?;
+                v.num(e, "gamma", *gamma, Range::within(0.0, 100.0))?;
+            }
+        }
+        Ok(())
     }
 
     /// The kind's name, as the case file's `type` writes it.

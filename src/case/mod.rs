@@ -17,7 +17,6 @@
 //! validation).
 
 mod dims;
-pub mod geometry;
 mod material;
 pub mod refine;
 mod sets;

@@ -8,8 +8,10 @@
 //! names: a module declares which fields its stages read and write, and nothing else needs to know
 //! which array a field is.
 
-use crate::modules::nnps::PairList;
-use crate::modules::param::NSTR;
+use crate::param::NSTR;
+
+pub(crate) mod pair_list;
+pub use pair_list::PairList;
 use serde::Serialize;
 
 #[derive(Debug, Clone, Default)]
