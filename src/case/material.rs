@@ -98,6 +98,36 @@ pub enum EosCfg {
     Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
     /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
     Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
+    /// Tait, for weakly compressible water: p = B ((ρ/ρ0)^γ − 1) (Pa), independent of e, with a
+    /// constant sound speed c (m/s). Every key defaults to the artificial water of G.R. Liu and
+    /// M.B. Liu, *Smoothed Particle Hydrodynamics: a Meshfree Particle Method* (World Scientific,
+    /// 2003): [`TAIT_WATER`].
+    Tait {
+        #[serde(default = "tait_rho0")]
+        rho0_kgm3: f64,
+        #[serde(default = "tait_b")]
+        b_pa: f64,
+        #[serde(default = "tait_gamma")]
+        gamma: f64,
+        #[serde(default = "tait_c")]
+        c_ms: f64,
+    },
+}
+
+/// The Tait defaults, the artificial water of Liu and Liu (2003): ρ0 = 1000 kg/m³, B = 1.013e5 Pa,
+/// γ = 7, c = 1480 m/s.
+pub const TAIT_WATER: [f64; 4] = [1000.0, 1.013e5, 7.0, 1480.0];
+fn tait_rho0() -> f64 {
+    TAIT_WATER[0]
+}
+fn tait_b() -> f64 {
+    TAIT_WATER[1]
+}
+fn tait_gamma() -> f64 {
+    TAIT_WATER[2]
+}
+fn tait_c() -> f64 {
+    TAIT_WATER[3]
 }
 
 /// What a material of an equation of state is, for the checks and the advice that read a scene.
@@ -135,7 +165,8 @@ impl EosCfg {
             EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
             EosCfg::Jwl { rho0_kgm3, .. }
             | EosCfg::Water { rho0_kgm3, .. }
-            | EosCfg::Soil { rho0_kgm3, .. } => Some(*rho0_kgm3),
+            | EosCfg::Soil { rho0_kgm3, .. }
+            | EosCfg::Tait { rho0_kgm3, .. } => Some(*rho0_kgm3),
         }
     }
     /// Every name [`EosCfg::kind`] gives: the material table's kinds
@@ -160,6 +191,7 @@ impl EosCfg {
             EosCfg::Jwl { .. } => EosKind::Jwl,
             EosCfg::Water { .. } => EosKind::Water,
             EosCfg::Soil { .. } => EosKind::Soil,
+            EosCfg::Tait { .. } => EosKind::Tait,
         }
     }
 
@@ -168,7 +200,7 @@ impl EosCfg {
         match self {
             EosCfg::IdealGas { .. } => Matter::Gas,
             EosCfg::Jwl { .. } => Matter::Explosive,
-            EosCfg::Water { .. } => Matter::Water,
+            EosCfg::Water { .. } | EosCfg::Tait { .. } => Matter::Water,
             EosCfg::Soil { .. } => Matter::Soil,
         }
     }
@@ -176,7 +208,7 @@ impl EosCfg {
     /// The bulk sound speed at rest of water or a soil (m/s); None for a gas or an explosive.
     pub fn bulk_sound_speed(&self) -> Option<f64> {
         match self {
-            EosCfg::Soil { c_ms, .. } => Some(*c_ms),
+            EosCfg::Soil { c_ms, .. } | EosCfg::Tait { c_ms, .. } => Some(*c_ms),
             EosCfg::Water { c0_ms, .. } => Some(*c0_ms),
             EosCfg::IdealGas { .. } | EosCfg::Jwl { .. } => None,
         }
@@ -220,6 +252,10 @@ impl EosCfg {
             EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
                 col[RHO0] = *rho0_kgm3;
                 col[E1..E1 + 3].copy_from_slice(&[*c_ms, *s, *gamma]);
+            }
+            EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 3].copy_from_slice(&[*b_pa, *gamma, *c_ms]);
             }
         }
     }
@@ -276,6 +312,12 @@ impl EosCfg {
                 v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
                 v.num(e, "s", *s, Range::above(0.0, 100.0))?;
                 v.num(e, "gamma", *gamma, Range::within(0.0, 100.0))?;
+            }
+            EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "b_pa", *b_pa, Range::above(0.0, P_MAX))?;
+                v.num(e, "gamma", *gamma, Range::within(1.0, 100.0))?;
+                v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
             }
         }
         Ok(())
