@@ -34,7 +34,7 @@
 //! | [`case::load`] | reads a case file (with `--set` overrides) and checks it: a [`case::Case`] |
 //! | [`setup::particles`], [`setup::material_table`] | the case's initial particles and its material table |
 //! | [`sim::Sim`] with [`sim::Overrides`] | the solver: [`sim::Sim::new`], then step it |
-//! | [`runner::run`] with [`runner::RunOptions`] | a whole run into a run directory (particles.h5, summary.json, gauges.csv) |
+//! | [`runner::run`] with [`runner::RunOptions`] | a whole run into a run directory (particles.h5, summary.json, gauges.csv); [`runner::run_sim`] runs a [`sim::Sim`] built by the caller |
 //! | [`cli::dual_run`], [`dual::Comparator`] | the dual run: every stage in both twins, compared field by field |
 //! | [`modules`] | each module's argument lists ([`modules::Twin`]), stages ([`modules::Stage`]) and [`modules::Module`] registry |
 //! | [`state`] | the particle state ([`state::Particles`], [`state::Work`]) the stages read and write |
@@ -42,12 +42,16 @@
 //! | [`output::read_frames`], [`report::report`], [`revolve::revolve`] | reading a run's frames back, its report, an RZ run revolved to 3D |
 //! | [`analysis`] | exact solutions and measures (Riemann, Sedov, crater) |
 //! | [`migration`] | the legacy bridge: build and run a user's own Liu-style Fortran |
-//! | [`bench`] | the benchmark matrix |
+//! | [`mod@bench`] | the benchmark matrix |
 #![deny(unsafe_code)]
+// The core-only build (no `io`) leaves out the run layer, whose helpers in the core's modules
+// (files, run folders, crate-private measures) then have no caller.
+#![cfg_attr(not(feature = "io"), allow(dead_code, unused_imports))]
 // The Rust twins index arrays in loops written as the Fortran writes them (same order of
 // operations, for bit-for-bit parity); iterator rewrites would obscure that correspondence.
 #![allow(clippy::needless_range_loop)]
 
+#[cfg(feature = "io")]
 pub(crate) mod advice;
 pub mod analysis;
 #[cfg(feature = "plot")]
@@ -55,6 +59,7 @@ pub mod bench;
 #[cfg(feature = "plot")]
 pub(crate) mod blast_report;
 pub mod case;
+#[cfg(feature = "io")]
 pub(crate) mod casedir;
 #[cfg(feature = "cli")]
 pub mod cli;
@@ -63,10 +68,12 @@ pub(crate) mod converge;
 pub mod dual;
 pub mod error;
 pub(crate) mod files;
+#[cfg(feature = "io")]
 pub(crate) mod gauges;
 #[cfg(feature = "legacy")]
 pub mod migration;
 pub mod modules;
+#[cfg(feature = "cli")]
 pub(crate) mod os_ffi;
 #[cfg(feature = "io")]
 pub mod output;
@@ -87,6 +94,7 @@ pub mod runner;
 pub mod setup;
 pub mod sim;
 pub mod state;
+#[cfg(feature = "io")]
 pub(crate) mod stress_invariants;
 #[cfg(feature = "plot")]
 pub(crate) mod validate;

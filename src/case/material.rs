@@ -7,7 +7,7 @@ use crate::param::row::{E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
 use serde::Deserialize;
 
 /// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
-/// the table does not give ([`crate::presets`]).
+/// the table does not give (`crate::presets`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(try_from = "toml::Table")]
 pub struct MaterialCfg {

@@ -138,7 +138,9 @@ fn inside_shape(case: &Case, r: usize, p: &[f64]) -> bool {
 }
 
 /// The box a region fills (a box's `lo_m`..`hi_m`; a cylinder's or sphere's bounding box clipped
-/// to its `lo_m`..`hi_m`), for the first `case.dim` axes; None for other shapes.
+/// to its `lo_m`..`hi_m`), for the first `case.dim` axes; None for other shapes. (For the
+/// advice on a run's charges.)
+#[cfg(feature = "io")]
 pub(crate) fn region_box(case: &Case, r: usize) -> Option<([f64; 3], [f64; 3])> {
     let rc = &case.regions[r];
     let d = case.dim;
@@ -275,7 +277,7 @@ pub fn particles(case: &Case) -> Result<Initial> {
 }
 
 /// [`particles`], with `max_particles` (`--max-particles`) as the limit instead of the memory.
-pub fn particles_limited(case: &Case, max_particles: Option<u64>) -> Result<Initial> {
+pub(crate) fn particles_limited(case: &Case, max_particles: Option<u64>) -> Result<Initial> {
     crate::case::size::check(case, max_particles)?;
     let init = generate(case)?;
     geometry::check(case, &init)?;
@@ -392,11 +394,6 @@ fn unit_noise(region: usize, point: usize, axis: usize) -> f64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
     (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-}
-
-/// Is any JWL material used?
-pub fn has_jwl(mt: &MatTable) -> bool {
-    mt.has_jwl()
 }
 
 #[cfg(test)]
