@@ -74,7 +74,7 @@ pub struct Stat {
     /// (the user's routine, `dual --legacy`) or "none" (a compat variant, not compared).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub counterpart: Option<String>,
-    /// Pair lists compared as sets (see [`crate::pairs`]); absent when both sides
+    /// Pair lists compared as sets (see `crate::pairs`); absent when both sides
     /// returned the same list in the same order.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pair_order: Option<crate::pairs::OrderStat>,
@@ -186,7 +186,7 @@ impl Comparator {
 
     /// Stages that ran without being compared (compat variants, legacy routines with no twin),
     /// each once.
-    pub fn uncompared(&self) -> Vec<String> {
+    pub(crate) fn uncompared(&self) -> Vec<String> {
         let mut v: Vec<String> = self.stats.values().filter(|s| s.not_compared).map(|s| s.stage.clone()).collect();
         v.dedup();
         v

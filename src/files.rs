@@ -7,17 +7,17 @@ use std::path::{Path, PathBuf};
 
 /// Makes `o` refuse to open a symbolic link.
 #[cfg(unix)]
-pub fn nofollow(o: &mut OpenOptions) {
+pub(crate) fn nofollow(o: &mut OpenOptions) {
     use std::os::unix::fs::OpenOptionsExt;
     o.custom_flags(libc::O_NOFOLLOW);
 }
 
 /// Makes `o` refuse to open a symbolic link (nothing to do here).
 #[cfg(not(unix))]
-pub fn nofollow(_o: &mut OpenOptions) {}
+pub(crate) fn nofollow(_o: &mut OpenOptions) {}
 
 /// Creates a new file (refused when the name exists, as a file or a link: never follows one).
-pub fn create_new(path: &Path) -> Result<File> {
+pub(crate) fn create_new(path: &Path) -> Result<File> {
     let mut o = OpenOptions::new();
     o.write(true).create_new(true);
     nofollow(&mut o);
@@ -25,7 +25,7 @@ pub fn create_new(path: &Path) -> Result<File> {
 }
 
 /// Opens an existing file to append to, refusing a link.
-pub fn open_append(path: &Path) -> Result<File> {
+pub(crate) fn open_append(path: &Path) -> Result<File> {
     let mut o = OpenOptions::new();
     o.append(true);
     nofollow(&mut o);
@@ -43,13 +43,16 @@ pub fn open_rw(path: &Path) -> Result<File> {
 /// Writes `bytes` as `path` through a new temporary file beside it, synced, then renamed over
 /// `path`: a reader sees the old file or the new one, and a link at either name is replaced,
 /// never written through.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_with(path, |w| w.write_all(bytes))
 }
 
 /// As [`write_atomic`], with the bytes written by `fill` into a buffered writer (a large file is
 /// streamed, never held in memory whole).
-pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>) -> Result<()> {
+pub(crate) fn write_atomic_with(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<()> {
     use std::io::Write;
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");

@@ -69,7 +69,7 @@ impl Peaks {
     }
 
     /// Folds the current state into the maxima (every step).
-    pub fn update(&mut self, sim: &Sim) {
+    pub(crate) fn update(&mut self, sim: &Sim) {
         let p = &sim.p;
         let d = p.dim;
         for i in 0..p.nreal {
@@ -140,13 +140,6 @@ impl H5Part {
         })
     }
 
-    /// A writer without the XDMF sidecar.
-    pub fn create_without_xdmf(path: &Path) -> Result<H5Part> {
-        let mut h = H5Part::create(path)?;
-        h.xmf = None;
-        Ok(h)
-    }
-
     /// Writes the real particles of `sim` as group `Step#<steps>` (with the running peaks, when
     /// given), then rewrites the XDMF.
     pub fn write(&mut self, sim: &Sim, peaks: Option<&Peaks>) -> Result<()> {
@@ -214,7 +207,7 @@ impl H5Part {
 
     /// Rewrites the XDMF sidecar when steps were written since its last rewrite (at a
     /// checkpoint and at the end of a run: the module doc).
-    pub fn sync_xdmf(&mut self) -> Result<()> {
+    pub(crate) fn sync_xdmf(&mut self) -> Result<()> {
         if !self.xmf_dirty {
             return Ok(());
         }
@@ -236,7 +229,7 @@ impl H5Part {
 
     /// What a checkpoint keeps of the writer: the steps written (time, particles, which
     /// optional datasets).
-    pub fn save(&self, b: &mut Blob) {
+    pub(crate) fn save(&self, b: &mut Blob) {
         b.put_f64("h5.time", &self.written.iter().map(|s| s.time).collect::<Vec<_>>());
         b.put("h5.n", checkpoint::Item::U64(self.written.iter().map(|s| s.n as u64).collect()));
         let flags = |s: &StepInfo| u32::from(s.stress) | u32::from(s.burn) << 1 | u32::from(s.peaks) << 2;
@@ -600,7 +593,7 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
 
 /// Reads the groups of a particles.h5 up to the last complete one: a last group that cannot be
 /// read (a run killed while writing it) is left out and named in the second value.
-pub fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)> {
+pub(crate) fn read_complete_frames(path: &Path) -> Result<(Vec<Frame>, Option<String>)> {
     match read_frames(path) {
         Ok(f) => Ok((f, None)),
         Err(e) => {

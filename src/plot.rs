@@ -141,49 +141,6 @@ pub fn lines(
     Ok(())
 }
 
-/// A colour for value t in [0, 1] (blue → red).
-pub fn heat(t: f64) -> RGBColor {
-    let t = t.clamp(0.0, 1.0);
-    let r = (255.0 * (1.5 * t).min(1.0)) as u8;
-    let g = (255.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8;
-    let b = (255.0 * (1.5 * (1.0 - t)).min(1.0)) as u8;
-    RGBColor(r, g, b)
-}
-
-/// A 2D particle snapshot coloured by `colour(i)`, with a title.
-pub fn snapshot(
-    path: &Path,
-    title: &str,
-    x: &[f64],
-    y: &[f64],
-    colour: &dyn Fn(usize) -> RGBColor,
-    bounds: ((f64, f64), (f64, f64)),
-) -> Result<()> {
-    let ((x0, x1), (y0, y1)) = bounds;
-    let w = 800u32;
-    let hgt = ((w as f64) * (y1 - y0) / (x1 - x0)).clamp(300.0, 1600.0) as u32 + 60;
-    let root = BitMapBackend::new(path, (w + 80, hgt)).into_drawing_area();
-    root.fill(&WHITE).map_err(perr)?;
-    let mut ch = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 18))
-        .margin(8)
-        .x_label_area_size(30)
-        .y_label_area_size(50)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(perr)?;
-    ch.configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
-        .x_label_formatter(&axis_label)
-        .y_label_formatter(&axis_label)
-        .disable_mesh()
-        .draw()
-        .map_err(perr)?;
-    ch.draw_series((0..x.len()).map(|i| Circle::new((x[i], y[i]), 2, colour(i).filled()))).map_err(perr)?;
-    root.present().map_err(perr)?;
-    Ok(())
-}
-
 /// A named series of points (x, y, label) for [`loglog_panels`].
 pub type LogSeries = (String, Vec<(f64, f64, String)>);
 

@@ -17,10 +17,11 @@ use std::fs::{File, OpenOptions};
 use std::path::{Path, PathBuf};
 
 use crate::files::nofollow;
-pub use crate::files::{create_new, open_append, open_rw, write_atomic, write_atomic_with};
+pub use crate::files::open_rw;
+pub(crate) use crate::files::{create_new, open_append, write_atomic, write_atomic_with};
 
 /// The files blastsph writes into a run directory (and their temporaries).
-pub fn is_ours(name: &str) -> bool {
+pub(crate) fn is_ours(name: &str) -> bool {
     let base = name.strip_suffix(".tmp").unwrap_or(name);
     matches!(
         base,
@@ -43,7 +44,7 @@ pub fn is_ours(name: &str) -> bool {
 }
 
 /// The file a run locks (flock) in its run directory while it writes it.
-pub const LOCK: &str = "run.lock";
+pub(crate) const LOCK: &str = "run.lock";
 
 /// A lock on a run directory, held until it is dropped (or the process ends, however it ends).
 pub struct DirLock(#[allow(dead_code)] File);
@@ -51,7 +52,7 @@ pub struct DirLock(#[allow(dead_code)] File);
 /// Takes the run directory `dir` (which exists) for a run or a resume: an exclusive lock on
 /// `dir/run.lock`; refused with one line when another process holds it (a run writing the
 /// folder). A file system without locks is not refused (nothing to lock with).
-pub fn lock_run(dir: &Path, what: &str) -> Result<DirLock> {
+pub(crate) fn lock_run(dir: &Path, what: &str) -> Result<DirLock> {
     let path = dir.join(LOCK);
     let mut o = OpenOptions::new();
     o.read(true).write(true).create(true).truncate(false);
@@ -70,7 +71,7 @@ pub fn lock_run(dir: &Path, what: &str) -> Result<DirLock> {
 /// For a reader of a run directory (`report`, `revolve`): refused with one line while a run
 /// holds the folder's lock (its particles.h5 is open for writing and its summary not final);
 /// `None` where the folder has no lock file.
-pub fn lock_read(dir: &Path, what: &str) -> Result<Option<DirLock>> {
+pub(crate) fn lock_read(dir: &Path, what: &str) -> Result<Option<DirLock>> {
     let path = dir.join(LOCK);
     let mut o = OpenOptions::new();
     o.read(true);
@@ -88,7 +89,7 @@ pub fn lock_read(dir: &Path, what: &str) -> Result<Option<DirLock>> {
 
 /// A folder name from a case name: at most 100 characters of `[A-Za-z0-9._-]`, others `_`, no
 /// leading `.`; "case" when nothing is left.
-pub fn sanitize(name: &str) -> String {
+pub(crate) fn sanitize(name: &str) -> String {
     let mut s: String = name
         .chars()
         .take(100)
@@ -101,7 +102,7 @@ pub fn sanitize(name: &str) -> String {
 }
 
 /// The default run directory of a case: `runs/<sanitised name>`.
-pub fn default_dir(case_name: &str) -> PathBuf {
+pub(crate) fn default_dir(case_name: &str) -> PathBuf {
     PathBuf::from("runs").join(sanitize(case_name))
 }
 
@@ -148,7 +149,7 @@ pub fn is_report_plot(name: &str) -> bool {
 /// Removes what `blastsph revolve` wrote into a run directory (revolved.h5, revolved.xmf, and a
 /// revolve's unfinished `revolved.h5.part`): when a run is resumed, since they hold the frames of
 /// the run as it was.
-pub fn remove_revolved(dir: &Path) -> Result<()> {
+pub(crate) fn remove_revolved(dir: &Path) -> Result<()> {
     for name in ["revolved.h5", "revolved.h5.part", "revolved.xmf", "revolved.xmf.tmp"] {
         remove_stale(&dir.join(name))?;
     }
@@ -159,7 +160,7 @@ pub fn remove_revolved(dir: &Path) -> Result<()> {
 /// animation.gif, and their `.tmp`; a PNG of another name is left): before a new report (its
 /// snapshot names follow its times, so an earlier report's would stay beside it) and when a run
 /// is resumed.
-pub fn remove_report(dir: &Path) -> Result<()> {
+pub(crate) fn remove_report(dir: &Path) -> Result<()> {
     for e in std::fs::read_dir(dir).map_err(|e| io(dir, e))? {
         let e = e.map_err(|e| io(dir, e))?;
         let name = e.file_name().to_string_lossy().into_owned();
@@ -173,7 +174,7 @@ pub fn remove_report(dir: &Path) -> Result<()> {
 }
 
 /// Looks at `dir` without writing: refuses a path that is a link, a file, or lies under a file.
-pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
+pub(crate) fn inspect(dir: &Path, flag: &str) -> Result<Found> {
     let shown = dir.display();
     // a new folder's name with a control character (a newline from a shell's $(...)) is a
     // mistake, and breaks every line that names it
@@ -232,7 +233,7 @@ pub fn inspect(dir: &Path, flag: &str) -> Result<Found> {
 
 /// Makes `dir` (and its parents); with `clear`, removes blastsph's files from it first (links
 /// are removed, never followed). Call after [`inspect`] accepted it.
-pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
+pub(crate) fn prepare(dir: &Path, clear: bool) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| input(format!("cannot make the run directory {}: {e}", dir.display())))?;
     if clear {
         // every entry is looked at before any is removed: a refusal leaves the folder whole
@@ -262,7 +263,7 @@ pub fn prepare(dir: &Path, clear: bool) -> Result<()> {
 
 /// Refuses a run directory given to `report` or `resume` that is not one: missing, not a folder,
 /// a link, or holding a link.
-pub fn check_existing(dir: &Path, what: &str) -> Result<()> {
+pub(crate) fn check_existing(dir: &Path, what: &str) -> Result<()> {
     let shown = dir.display();
     let m = std::fs::symlink_metadata(dir).map_err(|e| input(format!("{what} {shown}: {e}")))?;
     if m.file_type().is_symlink() {
@@ -293,7 +294,7 @@ pub(crate) fn remove_stale(tmp: &Path) -> Result<()> {
 }
 
 /// The SHA-256 digest of `bytes` in lower-case hexadecimal (the case files' fingerprints).
-pub fn sha256_hex(bytes: &[u8]) -> String {
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::{Digest, Sha256};
     let d = Sha256::digest(bytes);
     d.iter().map(|b| format!("{b:02x}")).collect()

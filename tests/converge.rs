@@ -17,53 +17,24 @@ fn text(b: &[u8]) -> String {
 
 /// A TNT cylinder (R = 3 cm, H = 6 cm, 0.28 kg) flush with the top of a 0.3 × 0.3 m block of
 /// dense sand, RZ, rings of 1.5 cm; a gauge on the axis 10 cm below the charge.
-const TINY: &str = r#"name = "tiny_rz"
-dim = 2
-geometry = "axisymmetric"
-[time]
-end_s = 1.0e-4
-output_interval_s = 2.0e-5
-[[material]]
-name = "tnt"
-preset = "tnt"
-[[material]]
-name = "sand"
-preset = "dense_sand"
-[[region]]
-name = "charge"
-material = "tnt"
-shape = "box"
-lo_m = [0.0, 0.24]
-hi_m = [0.03, 0.3]
-spacing_m = 0.015
-[[region]]
-name = "soil"
-material = "sand"
-shape = "box"
-lo_m = [0.0, 0.0]
-hi_m = [0.3, 0.3]
-spacing_m = 0.015
-subtract = ["charge"]
-[[wall]]
-from_m = [0.0, 0.0]
-to_m = [0.3, 0.0]
-[[wall]]
-from_m = [0.3, 0.0]
-to_m = [0.3, 0.3]
-[detonation]
-mode = "programmed"
-point_m = [0.0, 0.27]
-[[gauge]]
-name = "A"
-point_m = [0.0, 0.14]
-kind = "point"
-[analysis]
-kind = "crater"
-"#;
+fn tiny_text() -> String {
+    common::rz_charge_case(&common::RzCharge {
+        name: "tiny_rz",
+        end_s: 1.0e-4,
+        output_s: 2.0e-5,
+        charge_r: 0.03,
+        charge_z: (0.24, 0.3),
+        block: (0.3, 0.3),
+        wall_top: 0.3,
+        spacing: 0.015,
+        det_z: 0.27,
+        gauge_z: Some(0.14),
+    })
+}
 
 fn tiny(dir: &Path) -> String {
     let p = dir.join("tiny_rz.toml");
-    std::fs::write(&p, TINY).unwrap();
+    std::fs::write(&p, tiny_text()).unwrap();
     p.to_str().unwrap().to_string()
 }
 

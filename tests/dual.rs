@@ -280,6 +280,24 @@ fn dual_every_module_on_a_synthetic_case() {
     }
 }
 
+/// The synthetic case with its water as Tait water (`kind = "tait"`, the defaults: Liu & Liu's
+/// artificial water): the EOS stage, and every stage after it, at 0 ULP.
+#[test]
+fn dual_tait_water_at_zero_ulp() {
+    let dir = tempfile::tempdir().unwrap();
+    let polynomial = r#"eos = { kind = "water", rho0_kgm3 = 1000.0, a1_pa = 2.19e9, a2_pa = 9.224e9, a3_pa = 8.767e9, b0 = 0.4934, b1 = 1.3937, c0_ms = 1480.0 }"#;
+    assert!(ALL_MODULES.contains(polynomial));
+    let path = dir.path().join("dual_tait.toml");
+    std::fs::write(&path, ALL_MODULES.replace(polynomial, r#"eos = { kind = "tait" }"#)).unwrap();
+    let c = case::load(&path, &[]).expect("the Tait case loads");
+    let water = c.materials.iter().find(|m| m.name == "water").unwrap();
+    assert_eq!(water.eos.kind(), "tait");
+    let code = cli::dual_run(c, &Overrides::default(), 15, dir.path()).expect("dual run");
+    assert_eq!(code, 0, "exit status of a dual run within tolerance");
+    let modules = check_report(&dir.path().join("dual_report.json"), 15);
+    assert!(modules.contains("eos"), "compared {modules:?}");
+}
+
 /// The thesis's blast scenes: V1 (JWL charge in water, mirrors on all four walls) and S1 (TNT on
 /// loose sand: strength, penalty, programmed burn), a few steps each, every module compared.
 #[test]

@@ -21,59 +21,18 @@ fn text(b: &[u8]) -> String {
 fn rz_charge(s: f64, lift: f64) -> String {
     let (c0, c1) = (0.7 + lift, 0.8 + lift);
     let top = if lift > 0.0 { 1.0 + lift + 0.2 } else { 1.0 };
-    format!(
-        r#"name = "slip"
-dim = 2
-geometry = "axisymmetric"
-[time]
-end_s = 1.0e-4
-output_interval_s = 5.0e-5
-[[material]]
-name = "tnt"
-preset = "tnt"
-[[material]]
-name = "sand"
-preset = "dense_sand"
-[[region]]
-name = "charge"
-material = "tnt"
-shape = "box"
-lo_m = [0.0, {}]
-hi_m = [{}, {}]
-spacing_m = {}
-[[region]]
-name = "soil"
-material = "sand"
-shape = "box"
-lo_m = [0.0, 0.0]
-hi_m = [{}, {}]
-spacing_m = {}
-subtract = ["charge"]
-[[wall]]
-from_m = [0.0, 0.0]
-to_m = [{}, 0.0]
-[[wall]]
-from_m = [{}, 0.0]
-to_m = [{}, {}]
-[detonation]
-mode = "programmed"
-point_m = [0.0, {}]
-[analysis]
-kind = "crater"
-"#,
-        c0 * s,
-        0.06 * s,
-        c1 * s,
-        0.02 * s,
-        1.0 * s,
-        1.0 * s,
-        0.02 * s,
-        1.0 * s,
-        1.0 * s,
-        1.0 * s,
-        top * s,
-        0.75 * s + lift * s,
-    )
+    common::rz_charge_case(&common::RzCharge {
+        name: "slip",
+        end_s: 1.0e-4,
+        output_s: 5.0e-5,
+        charge_r: 0.06 * s,
+        charge_z: (c0 * s, c1 * s),
+        block: (1.0 * s, 1.0 * s),
+        wall_top: top * s,
+        spacing: 0.02 * s,
+        det_z: 0.75 * s + lift * s,
+        gauge_z: None,
+    })
 }
 
 fn write(dir: &Path, name: &str, body: &str) -> String {

@@ -17,6 +17,8 @@
 !     p = (1 - G mu/2) pH + G rho e,
 !     pH = a0 mu + b0 mu^2 + c0 mu^3 (mu > 0), a0 mu (mu <= 0),
 !     a0 = rho0 C^2, b0 = a0 (1 + 2(S-1)), c0 = a0 (2(S-1) + 3(S-1)^2)
+!   Tait (weakly compressible water; Liu & Liu 2003, their artificial water):
+!     p = B ((rho/rho0)^gamma - 1),  c = the constant c of the table
 !  c^2 = dp/drho|e + (p/rho^2) dp/de|rho  (isentropic), floored at a
 !  small fraction of the reference speed so that c stays real.
 !  p is floored at the material's pmin (tension cut-off, cavitation).
@@ -123,6 +125,12 @@ contains
       dpdr = ((1.0d0 - 0.5d0*gam*mu)*dph - 0.5d0*gam*ph)/rho0 + gam*e
       dpde = gam*rho
       c2 = dpdr + p/(rho*rho)*dpde
+    case (eos_tait)
+      b = par(mp_e1)
+      gam = par(mp_e1 + 1)
+      cref = par(mp_e1 + 2)
+      p = b*((rho/rho0)**gam - 1.0d0)
+      c2 = cref*cref
     case (eos_none)
       ! no equation of state: p = 0 before the floor, c = 0
     case default

@@ -9,6 +9,7 @@ pub mod crater;
 pub mod noh;
 pub mod riemann;
 pub mod sedov;
+#[cfg(feature = "io")]
 pub mod sedov_edge;
 #[cfg(feature = "io")]
 pub mod verify;

@@ -78,7 +78,7 @@ impl Noh {
 /// The state at rest behind the shock reflected from a rigid wall by gas of density `rho1`
 /// (kg/m³) and pressure `p1` (Pa, ≥ 0) arriving at speed `u1` (m/s, > 0), for the ideal gas γ.
 /// `None` if u1 ≤ 0 or the data are not finite.
-pub fn reflect(gamma: f64, rho1: f64, p1: f64, u1: f64) -> Option<Shocked> {
+pub(crate) fn reflect(gamma: f64, rho1: f64, p1: f64, u1: f64) -> Option<Shocked> {
     let g = gamma;
     if !(u1 > 0.0 && rho1 > 0.0 && p1 >= 0.0 && g > 1.0 && u1.is_finite()) {
         return None;

@@ -38,7 +38,7 @@ use crate::output::Frame;
 use serde_json::{Value, json};
 
 /// A frame of the current state of a simulation (real particles), for the end-of-run summary.
-pub fn frame_of(sim: &crate::sim::Sim) -> Frame {
+pub(crate) fn frame_of(sim: &crate::sim::Sim) -> Frame {
     let p = &sim.p;
     let (d, n) = (sim.cfg.dim, p.nreal);
     let comp = |a: &[f64], k: usize| -> Vec<f64> { (0..n).map(|i| if k < d { a[k + d * i] } else { 0.0 }).collect() };
@@ -64,7 +64,7 @@ pub fn frame_of(sim: &crate::sim::Sim) -> Frame {
 
 /// The part of a frame a detonation's history reads (time, positions, pressure, material),
 /// kept at every output of a run so that its summary has the history `blastsph report` gives.
-pub fn slim(f: Frame) -> Frame {
+pub(crate) fn slim(f: Frame) -> Frame {
     Frame {
         time: f.time,
         x: f.x,

@@ -189,11 +189,11 @@ fn material_colours(case: &Case) -> Vec<RGBColor> {
     case.materials
         .iter()
         .map(|m| {
-            let (r, g, b) = match m.eos {
-                crate::case::EosCfg::Jwl { .. } => (210, 30, 30),
-                crate::case::EosCfg::Water { .. } => (40, 110, 210),
-                crate::case::EosCfg::Soil { .. } => (196, 164, 96),
-                crate::case::EosCfg::IdealGas { .. } => (140, 140, 140),
+            let (r, g, b) = match m.eos.matter() {
+                crate::case::Matter::Explosive => (210, 30, 30),
+                crate::case::Matter::Water => (40, 110, 210),
+                crate::case::Matter::Soil => (196, 164, 96),
+                crate::case::Matter::Gas => (140, 140, 140),
             };
             let k = seen.entry(m.eos.kind()).or_insert(0u32);
             let f = 1.0 - 0.3 * (*k as f64).min(2.0);

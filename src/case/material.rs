@@ -1,10 +1,13 @@
 //! A material's table: its equation of state ([`EosCfg`]) and, for soils, its strength.
 
-use crate::modules::param::EosKind;
+use super::validate::{At, C_MAX, Checker, P_MAX, RHO_MAX, RHO_MIN, Range};
+use crate::error::{Result, input};
+use crate::param::EosKind;
+use crate::param::row::{E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
 use serde::Deserialize;
 
 /// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
-/// the table does not give ([`crate::presets`]).
+/// the table does not give (`crate::presets`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(try_from = "toml::Table")]
 pub struct MaterialCfg {
@@ -95,15 +98,75 @@ pub enum EosCfg {
     Water { rho0_kgm3: f64, a1_pa: f64, a2_pa: f64, a3_pa: f64, b0: f64, b1: f64, c0_ms: f64 },
     /// Soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46).
     Soil { rho0_kgm3: f64, c_ms: f64, s: f64, gamma: f64 },
+    /// Tait, for weakly compressible water: p = B ((ρ/ρ0)^γ − 1) (Pa), independent of e, with a
+    /// constant sound speed c (m/s). Every key defaults to the artificial water of G.R. Liu and
+    /// M.B. Liu, *Smoothed Particle Hydrodynamics: a Meshfree Particle Method* (World Scientific,
+    /// 2003): [`TAIT_WATER`].
+    Tait {
+        #[serde(default = "tait_rho0")]
+        rho0_kgm3: f64,
+        #[serde(default = "tait_b")]
+        b_pa: f64,
+        #[serde(default = "tait_gamma")]
+        gamma: f64,
+        #[serde(default = "tait_c")]
+        c_ms: f64,
+    },
+}
+
+/// The Tait defaults, the artificial water of Liu and Liu (2003): ρ0 = 1000 kg/m³, B = 1.013e5 Pa,
+/// γ = 7, c = 1480 m/s.
+pub const TAIT_WATER: [f64; 4] = [1000.0, 1.013e5, 7.0, 1480.0];
+fn tait_rho0() -> f64 {
+    TAIT_WATER[0]
+}
+fn tait_b() -> f64 {
+    TAIT_WATER[1]
+}
+fn tait_gamma() -> f64 {
+    TAIT_WATER[2]
+}
+fn tait_c() -> f64 {
+    TAIT_WATER[3]
+}
+
+/// What a material of an equation of state is, for the checks and the advice that read a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Matter {
+    Gas,
+    Explosive,
+    Water,
+    Soil,
+}
+
+impl Matter {
+    /// As messages name it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Matter::Gas => "gas",
+            Matter::Explosive => "condensed explosive",
+            Matter::Water => "water",
+            Matter::Soil => "soil",
+        }
+    }
+    /// An explosive, water or a soil: densities of 1000–3000 kg/m³.
+    pub fn condensed(self) -> bool {
+        self != Matter::Gas
+    }
+    /// Water or a soil: the medium a blast moves.
+    pub fn ground(self) -> bool {
+        matches!(self, Matter::Water | Matter::Soil)
+    }
 }
 
 impl EosCfg {
     pub fn rho0(&self) -> Option<f64> {
         match self {
             EosCfg::IdealGas { rho0_kgm3, .. } => *rho0_kgm3,
-            EosCfg::Jwl { rho0_kgm3, .. } | EosCfg::Water { rho0_kgm3, .. } | EosCfg::Soil { rho0_kgm3, .. } => {
-                Some(*rho0_kgm3)
-            }
+            EosCfg::Jwl { rho0_kgm3, .. }
+            | EosCfg::Water { rho0_kgm3, .. }
+            | EosCfg::Soil { rho0_kgm3, .. }
+            | EosCfg::Tait { rho0_kgm3, .. } => Some(*rho0_kgm3),
         }
     }
     /// Every name [`EosCfg::kind`] gives: the material table's kinds
@@ -128,7 +191,136 @@ impl EosCfg {
             EosCfg::Jwl { .. } => EosKind::Jwl,
             EosCfg::Water { .. } => EosKind::Water,
             EosCfg::Soil { .. } => EosKind::Soil,
+            EosCfg::Tait { .. } => EosKind::Tait,
         }
+    }
+
+    /// What a material of this equation of state is.
+    pub fn matter(&self) -> Matter {
+        match self {
+            EosCfg::IdealGas { .. } => Matter::Gas,
+            EosCfg::Jwl { .. } => Matter::Explosive,
+            EosCfg::Water { .. } | EosCfg::Tait { .. } => Matter::Water,
+            EosCfg::Soil { .. } => Matter::Soil,
+        }
+    }
+
+    /// The bulk sound speed at rest of water or a soil (m/s); None for a gas or an explosive.
+    pub fn bulk_sound_speed(&self) -> Option<f64> {
+        match self {
+            EosCfg::Soil { c_ms, .. } | EosCfg::Tait { c_ms, .. } => Some(*c_ms),
+            EosCfg::Water { c0_ms, .. } => Some(*c0_ms),
+            EosCfg::IdealGas { .. } | EosCfg::Jwl { .. } => None,
+        }
+    }
+
+    /// Writes this equation of state's rows of a material-table column (`col`, the rows of
+    /// `fortran/include/material_table.txt`): ρ0 and the EOS constants; for a JWL with an
+    /// unreacted explosive, its Hugoniot and `e_rest`, the specific energy of the explosive at
+    /// rest (J/kg). The other rows are the caller's.
+    pub fn fill_column(&self, col: &mut [f64], e_rest: f64) {
+        match self {
+            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                col[RHO0] = rho0_kgm3.unwrap_or(1.0);
+                col[E1] = *gamma;
+            }
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+                unreacted_c_ms,
+                unreacted_s,
+                unreacted_gamma,
+            } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 6].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
+                if let (Some(c), Some(s), Some(g)) = (unreacted_c_ms, unreacted_s, unreacted_gamma) {
+                    col[UNR_C] = *c;
+                    col[UNR_S] = *s;
+                    col[UNR_GAMMA] = *g;
+                    col[ECHEM] = e_rest;
+                }
+            }
+            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 6].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
+            }
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 3].copy_from_slice(&[*c_ms, *s, *gamma]);
+            }
+            EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1..E1 + 3].copy_from_slice(&[*b_pa, *gamma, *c_ms]);
+            }
+        }
+    }
+
+    /// Checks this equation of state's keys (`e`: the `material[k].eos` table), recording each.
+    pub(crate) fn check(&self, v: &mut Checker, e: &At) -> Result<()> {
+        let rho = Range::within(RHO_MIN, RHO_MAX);
+        match self {
+            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
+                v.num(e, "gamma", *gamma, Range::above(1.0, 10.0))?;
+                v.opt(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+            }
+            EosCfg::Jwl {
+                rho0_kgm3,
+                a_pa,
+                b_pa,
+                r1,
+                r2,
+                omega,
+                d_ms,
+                unreacted_c_ms,
+                unreacted_s,
+                unreacted_gamma,
+            } => {
+                let u = [unreacted_c_ms, unreacted_s, unreacted_gamma];
+                if u.iter().any(|x| x.is_some()) && !u.iter().all(|x| x.is_some()) {
+                    return Err(input(format!(
+                        "{}: unreacted_c_ms, unreacted_s and unreacted_gamma go together (all three or none)",
+                        e.label()
+                    )));
+                }
+                v.opt(e, "unreacted_c_ms", *unreacted_c_ms, Range::above(0.0, C_MAX))?;
+                v.opt(e, "unreacted_s", *unreacted_s, Range::above(0.0, 100.0))?;
+                v.opt(e, "unreacted_gamma", *unreacted_gamma, Range::within(0.0, 100.0))?;
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "a_pa", *a_pa, Range::within(0.0, P_MAX))?;
+                v.num(e, "b_pa", *b_pa, Range::within(0.0, P_MAX))?;
+                v.num(e, "r1", *r1, Range::above(0.0, 100.0))?;
+                v.num(e, "r2", *r2, Range::above(0.0, 100.0))?;
+                v.num(e, "omega", *omega, Range::above(0.0, 10.0))?;
+                v.num(e, "d_ms", *d_ms, Range::above(0.0, C_MAX))?;
+            }
+            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "a1_pa", *a1_pa, Range::above(0.0, P_MAX))?;
+                v.num(e, "a2_pa", *a2_pa, Range::abs(P_MAX))?;
+                v.num(e, "a3_pa", *a3_pa, Range::abs(P_MAX))?;
+                v.num(e, "b0", *b0, Range::within(0.0, 100.0))?;
+                v.num(e, "b1", *b1, Range::within(0.0, 100.0))?;
+                v.num(e, "c0_ms", *c0_ms, Range::above(0.0, C_MAX))?;
+            }
+            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
+                v.num(e, "s", *s, Range::above(0.0, 100.0))?;
+                v.num(e, "gamma", *gamma, Range::within(0.0, 100.0))?;
+            }
+            EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
+                v.num(e, "b_pa", *b_pa, Range::above(0.0, P_MAX))?;
+                v.num(e, "gamma", *gamma, Range::within(1.0, 100.0))?;
+                v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
+            }
+        }
+        Ok(())
     }
 
     /// The kind's name, as the case file's `type` writes it.
@@ -153,9 +345,14 @@ pub struct StrengthCfg {
 #[test]
 fn every_kind_of_the_table_is_a_case_kind() {
     // a kind of the material table that the case's `EosCfg` cannot read would be refused as an
-    // unknown variant; a known one only lacks its keys here
+    // unknown variant; a known one lacks its keys here, or (Tait) takes every key's default
     for k in EosCfg::KINDS {
-        let e = toml::from_str::<EosCfg>(&format!("kind = \"{k}\"")).unwrap_err().to_string();
-        assert!(!e.contains("unknown variant"), "{k}: {e}");
+        match toml::from_str::<EosCfg>(&format!("kind = \"{k}\"")) {
+            Ok(e) => assert_eq!(e.kind(), k),
+            Err(e) => assert!(!e.to_string().contains("unknown variant"), "{k}: {e}"),
+        }
     }
+    let tait = toml::from_str::<EosCfg>("kind = \"tait\"").unwrap();
+    let EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } = tait else { panic!("{tait:?}") };
+    assert_eq!([rho0_kgm3, b_pa, gamma, c_ms], TAIT_WATER);
 }

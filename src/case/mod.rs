@@ -10,14 +10,14 @@
 //!   generated, and the limit it must stay under;
 //! - `dims`: what depends on the dimension and the geometry: round shapes (cylinder, sphere),
 //!   3D walls (planes), the axisymmetric geometry (RZ);
-//! - [`geometry`]: the checks that need the generated particles (regions behind a wall or outside
-//!   the domain, a detonation point outside every charge, a gauge outside the material).
+//! - the checks that need the generated particles (regions behind a wall or outside the domain, a
+//!   detonation point outside every charge, a gauge outside the material) are the set-up's
+//!   (`setup/geometry.rs`), run once the particles are made.
 //!
 //! Loading is [`load`] (the file, read with a size limit) then [`parse`] (overrides, serde,
 //! validation).
 
 mod dims;
-pub mod geometry;
 mod material;
 pub mod refine;
 mod sets;

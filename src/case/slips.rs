@@ -14,7 +14,7 @@
 //!   charge too small to move its scene (the scene's size over W^(1/3) above
 //!   [`MAX_SCALED_EXTENT`] m/kg^(1/3)).
 
-use super::{AnalysisKind, Case, EosCfg, Geometry};
+use super::{AnalysisKind, Case, EosCfg, Geometry, Matter};
 use crate::error::{Result, input};
 use crate::state::Particles;
 
@@ -35,7 +35,7 @@ pub const CHARGE_KG_PER_M: (f64, f64) = (1e-3, 1e6);
 pub const MAX_SCALED_EXTENT: f64 = 200.0;
 
 fn condensed(e: &EosCfg) -> bool {
-    matches!(e, EosCfg::Jwl { .. } | EosCfg::Water { .. } | EosCfg::Soil { .. })
+    e.matter().condensed()
 }
 
 /// What the slips are measured on: the real particles' extent, the charge's mass and volume, the
@@ -70,16 +70,16 @@ pub fn scene(case: &Case, p: &Particles, dx_m: f64) -> Scene {
         }
         let Some(m) = case.materials.get(p.mat[i] as usize) else { continue };
         let vol = if p.rho[i] > 0.0 { p.mass[i] / p.rho[i] } else { 0.0 };
-        match m.eos {
-            EosCfg::Jwl { .. } => {
+        match m.eos.matter() {
+            Matter::Explosive => {
                 s.charge_kg += p.mass[i];
                 s.charge_vol += vol;
             }
-            EosCfg::Water { .. } | EosCfg::Soil { .. } => {
+            Matter::Water | Matter::Soil => {
                 s.other_vol += vol;
                 s.ground = true;
             }
-            EosCfg::IdealGas { .. } => s.other_vol += vol,
+            Matter::Gas => s.other_vol += vol,
         }
     }
     s.extent_m = (0..d).map(|a| hi[a] - lo[a]).fold(0.0, f64::max);
@@ -178,11 +178,7 @@ fn charge_refusal(case: &Case, s: &Scene) -> Option<String> {
 }
 
 fn kind_name(e: &EosCfg) -> &'static str {
-    match e {
-        EosCfg::Jwl { .. } => "condensed explosive",
-        EosCfg::Water { .. } => "water",
-        _ => "soil",
-    }
+    e.matter().name()
 }
 
 /// [`refusal`] as an error (exit status 2).
@@ -201,8 +197,7 @@ pub fn charge_gap_warning(case: &Case, p: &Particles) -> Option<String> {
     let n = p.nreal;
     let kind = |i: usize| case.materials.get(p.mat[i] as usize).map(|m| &m.eos);
     let charge: Vec<usize> = (0..n).filter(|&i| matches!(kind(i), Some(EosCfg::Jwl { .. }))).collect();
-    let ground: Vec<usize> =
-        (0..n).filter(|&i| matches!(kind(i), Some(EosCfg::Water { .. } | EosCfg::Soil { .. }))).collect();
+    let ground: Vec<usize> = (0..n).filter(|&i| kind(i).is_some_and(|e| e.matter().ground())).collect();
     if charge.is_empty() || ground.is_empty() {
         return None;
     }

@@ -17,7 +17,8 @@ mod runs;
 mod validate_cmd;
 use folders::*;
 use legacy_cmd::LegacyCmd;
-pub use runs::{check_text, dual_run, free_run};
+pub(crate) use runs::check_text;
+pub use runs::{dual_run, free_run};
 use validate_cmd::validate;
 
 #[derive(Parser, Debug)]

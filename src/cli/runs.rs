@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// The text of `blastsph check`: the case, the time rule, and the plan (modules and the
 /// ordered stages of a step).
-pub fn check_text(sim: &Sim) -> String {
+pub(crate) fn check_text(sim: &Sim) -> String {
     let c = &sim.case;
     let mut s = format!("case {}: dim {}, {} particles", c.name(), c.dim, sim.p.nreal);
     let mut by_mat = vec![(0usize, 0.0f64); c.materials.len()];

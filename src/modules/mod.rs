@@ -19,7 +19,8 @@
 //! same order, so the sums agree bit for bit and results do not depend on the thread count.
 
 mod par;
-pub mod param;
+/// The legacy interface's constants and the material table, from the core's leaf [`crate::param`].
+pub use crate::param;
 pub mod ranks;
 mod stage;
 #[cfg(test)]

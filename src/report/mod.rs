@@ -23,7 +23,7 @@ pub struct L1 {
 
 /// The units of a mass and an energy of the model (kg, J): per m² of the plane in 1D, per metre
 /// of depth in 2D plane; whole in RZ and 3D (of the modelled part, with symmetry planes).
-pub fn extensive_units(case: &Case) -> (&'static str, &'static str) {
+pub(crate) fn extensive_units(case: &Case) -> (&'static str, &'static str) {
     match (case.dim, case.axisymmetric()) {
         (1, _) => ("kg/m²", "J/m²"),
         (2, false) => ("kg/m", "J/m"),
@@ -34,7 +34,7 @@ pub fn extensive_units(case: &Case) -> (&'static str, &'static str) {
 /// Loads the case of a run directory (case.toml with the run's --set overrides) and its
 /// summary. A run killed before it wrote summary.json gets a summary that says so
 /// (`"status": "killed"`, `"partial": true`).
-pub fn load_case(dir: &Path) -> Result<(Case, Value)> {
+pub(crate) fn load_case(dir: &Path) -> Result<(Case, Value)> {
     let sp = dir.join("summary.json");
     let summary: Value = match std::fs::read(&sp) {
         Ok(bytes) => {
@@ -201,18 +201,18 @@ pub fn report(dir: &Path) -> Result<Value> {
 }
 
 /// The report, with particle snapshots at `times` (s; empty: the start, the quarters, the end).
-pub fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
+pub(crate) fn report_at(dir: &Path, times: &[f64]) -> Result<Value> {
     report_with(dir, times, false)
 }
 
 /// The report, with snapshots at `times` and, when `animate`, animation.gif.
-pub fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
+pub(crate) fn report_with(dir: &Path, times: &[f64], animate: bool) -> Result<Value> {
     report_in(dir, times, animate, None)
 }
 
 /// [`report_with`], the particle maps in `window` ([x_lo, x_hi, y_lo, y_hi], m) when given, in
 /// place of the case's `analysis.view_m` (`report --window`).
-pub fn report_in(dir: &Path, times: &[f64], animate: bool, window: Option<[f64; 4]>) -> Result<Value> {
+pub(crate) fn report_in(dir: &Path, times: &[f64], animate: bool, window: Option<[f64; 4]>) -> Result<Value> {
     let _lock = crate::rundir::lock_read(dir, "report")?;
     let (mut case, mut summary) = load_case(dir)?;
     if let Some(w) = window {
@@ -345,11 +345,11 @@ pub fn report_in(dir: &Path, times: &[f64], animate: bool, window: Option<[f64; 
 /// Above this share of the initial energy, a run's energy balance residual is warned of (the
 /// blasts and verification problems of docs/validation.md stay below 0.2 %; a run at
 /// `time.cfl = 1` gained 28 % and finished "ok"; the run stops as unstable only at 100 %).
-pub const ENERGY_WARN: f64 = 0.05;
+pub(crate) const ENERGY_WARN: f64 = 0.05;
 
 /// The warning for a summary.json whose energy balance residual is above [`ENERGY_WARN`] of
 /// the initial energy.
-pub fn energy_warning(summary: &serde_json::Value) -> Option<String> {
+pub(crate) fn energy_warning(summary: &serde_json::Value) -> Option<String> {
     let r = summary["energy"]["balance_residual_relative"].as_f64()?;
     (r.abs() > ENERGY_WARN).then(|| {
         format!(

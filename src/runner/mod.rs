@@ -76,7 +76,7 @@ pub struct RunResult {
 
 /// The flag a SIGINT or SIGTERM sets (the command line installs the handlers): the run finishes
 /// its step, writes a checkpoint and stops with exit status 5.
-pub fn stop_flag() -> Arc<AtomicBool> {
+pub(crate) fn stop_flag() -> Arc<AtomicBool> {
     static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
     FLAG.get_or_init(|| Arc::new(AtomicBool::new(false))).clone()
 }
@@ -188,7 +188,7 @@ fn start(case_path: &Path, opts: &RunOptions) -> Result<Start> {
 /// The text of the run directory's `case.toml`: the case file with every `--set` applied (and
 /// `--end-time`, `--nnps` as the keys they replace), each changed value marked, and a header
 /// that lists the overrides and the flags that do not change the results (backends).
-pub fn case_as_run(text: &str, origin: &str, opts: &RunOptions) -> Result<String> {
+pub(crate) fn case_as_run(text: &str, origin: &str, opts: &RunOptions) -> Result<String> {
     let mut sets = opts.sets.clone();
     let mut body = case::apply_sets(text, &opts.sets)?;
     // the flags that stand for a key, each marked with its own name

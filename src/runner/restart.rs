@@ -24,7 +24,7 @@ use std::time::Instant;
 pub const FILE: &str = "checkpoint.bin";
 
 /// SHA-256 of this program's executable (what "the binary changed" compares), or "unknown".
-pub fn binary_sha256() -> String {
+pub(crate) fn binary_sha256() -> String {
     static SUM: std::sync::OnceLock<String> = std::sync::OnceLock::new();
     SUM.get_or_init(|| {
         use sha2::{Digest, Sha256};
@@ -115,7 +115,7 @@ pub struct ResumeOptions {
 
 impl ResumeOptions {
     /// A `run` that finds its own restart in its folder continues it with its own options.
-    pub fn of_run(o: &RunOptions) -> ResumeOptions {
+    pub(crate) fn of_run(o: &RunOptions) -> ResumeOptions {
         ResumeOptions {
             end_time: None,
             allow_changed: false,

@@ -97,3 +97,85 @@ pub fn refine_sets(k: u32, fixed_step: bool) -> Vec<String> {
     }
     s
 }
+
+/// A TNT charge (preset `tnt`) in a block of dense sand (preset `dense_sand`), in RZ: the charge a
+/// box from the axis to r = `charge_r`, from z = `charge_z.0` to `charge_z.1`; the sand r ≤
+/// `block.0`, z ≤ `block.1`, the charge cut out of it; walls along the bottom and at r = `block.0`
+/// up to z = `wall_top`; a programmed burn lit on the axis at z = `det_z`; a crater analysis. All
+/// lengths in metres, one `spacing` for both regions.
+pub struct RzCharge {
+    pub name: &'static str,
+    pub end_s: f64,
+    pub output_s: f64,
+    pub charge_r: f64,
+    pub charge_z: (f64, f64),
+    pub block: (f64, f64),
+    pub wall_top: f64,
+    pub spacing: f64,
+    pub det_z: f64,
+    /// A point gauge on the axis at this z, named `A`.
+    pub gauge_z: Option<f64>,
+}
+
+/// The case file of an [`RzCharge`].
+pub fn rz_charge_case(c: &RzCharge) -> String {
+    let gauge = c
+        .gauge_z
+        .map_or(String::new(), |z| format!("[[gauge]]\nname = \"A\"\npoint_m = [0.0, {z}]\nkind = \"point\"\n"));
+    format!(
+        r#"name = "{}"
+dim = 2
+geometry = "axisymmetric"
+[time]
+end_s = {:e}
+output_interval_s = {:e}
+[[material]]
+name = "tnt"
+preset = "tnt"
+[[material]]
+name = "sand"
+preset = "dense_sand"
+[[region]]
+name = "charge"
+material = "tnt"
+shape = "box"
+lo_m = [0.0, {}]
+hi_m = [{}, {}]
+spacing_m = {}
+[[region]]
+name = "soil"
+material = "sand"
+shape = "box"
+lo_m = [0.0, 0.0]
+hi_m = [{}, {}]
+spacing_m = {}
+subtract = ["charge"]
+[[wall]]
+from_m = [0.0, 0.0]
+to_m = [{}, 0.0]
+[[wall]]
+from_m = [{}, 0.0]
+to_m = [{}, {}]
+[detonation]
+mode = "programmed"
+point_m = [0.0, {}]
+{gauge}[analysis]
+kind = "crater"
+"#,
+        c.name,
+        c.end_s,
+        c.output_s,
+        c.charge_z.0,
+        c.charge_r,
+        c.charge_z.1,
+        c.spacing,
+        c.block.0,
+        c.block.1,
+        c.spacing,
+        c.block.0,
+        c.block.0,
+        c.block.0,
+        c.wall_top,
+        c.det_z,
+    )
+}

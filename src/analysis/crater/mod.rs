@@ -26,12 +26,12 @@
 //! - the cavity (reported apart) = the largest enclosed void of the soil raster below the
 //!   surface: its width, height and area;
 //! - ejecta height = highest soil particle above the highest point of the original surface;
-//! - 3D: the crater also in vertical sections through the charge's axis ([`sections_3d`]) and as
+//! - 3D: the crater also in vertical sections through the charge's axis (`sections_3d`) and as
 //!   a surface, the ground's height on a horizontal grid of Δs × Δs cells read by the same rules
-//!   with a voxel raster for the voids ([`surface_map`]: depth, volume, plan area, equivalent
+//!   with a voxel raster for the voids (`surface_map`: depth, volume, plan area, equivalent
 //!   diameter, the edge's distance from the axis).
 //!
-//! A quantity that cannot be measured is not reported as a number: [`measure_xy`] returns the
+//! A quantity that cannot be measured is not reported as a number: `measure_xy` returns the
 //! reason (no soil particles, positions that are not finite after an unstable run, not 2D).
 
 use crate::sim::Sim;
@@ -133,7 +133,7 @@ impl SurfaceMap {
     /// True when the original ground about the charge is level to within one cell
     /// ([`SurfaceMap::ground_relief_m`] ≤ Δs): then the crater of revolution about the charge's
     /// axis reads the crater; on a slope or a step it does not.
-    pub fn ground_is_level(&self) -> bool {
+    pub(crate) fn ground_is_level(&self) -> bool {
         self.ground_relief_m <= self.cell_m
     }
 }
@@ -162,7 +162,7 @@ pub struct Crater {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub crack: Option<String>,
     /// Why the measure is the box's rather than the crater's, when the crater reaches the edge
-    /// or the bottom of the soil the scene models ([`box_bound`]): its diameter or depth is then
+    /// or the bottom of the soil the scene models (`box_bound`): its diameter or depth is then
     /// a lower bound.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bounded: Option<String>,
@@ -190,7 +190,7 @@ pub struct Crater {
 }
 
 /// Which materials count as soil (per material index).
-pub fn soil_mask(case: &crate::case::Case) -> Vec<bool> {
+pub(crate) fn soil_mask(case: &crate::case::Case) -> Vec<bool> {
     match &case.analysis.soil_materials {
         Some(list) => case.materials.iter().map(|m| list.contains(&m.name)).collect(),
         None => case.materials.iter().map(|m| m.strength.is_some()).collect(),
@@ -198,12 +198,12 @@ pub fn soil_mask(case: &crate::case::Case) -> Vec<bool> {
 }
 
 /// Which materials are explosives (JWL).
-pub fn explosive_mask(case: &crate::case::Case) -> Vec<bool> {
+pub(crate) fn explosive_mask(case: &crate::case::Case) -> Vec<bool> {
     case.materials.iter().map(|m| matches!(m.eos, crate::case::EosCfg::Jwl { .. })).collect()
 }
 
 /// Δs: the coarsest initial spacing of the regions of soil materials.
-pub fn soil_spacing(case: &crate::case::Case) -> Option<f64> {
+pub(crate) fn soil_spacing(case: &crate::case::Case) -> Option<f64> {
     coarsest_spacing(case, &soil_mask(case))
 }
 
@@ -228,7 +228,7 @@ impl CraterInput {
     /// An axisymmetric (RZ) section, x = r ≥ 0, completed by its mirror image x → −x: the plane
     /// section through the axis, whose crater width is the crater's diameter (the plane measure
     /// of the half section alone would give its radius, read as a diameter).
-    pub fn through_the_axis(self) -> CraterInput {
+    pub(crate) fn through_the_axis(self) -> CraterInput {
         let full = |(x, y): (Vec<f64>, Vec<f64>)| {
             let (mut fx, mut fy) = (x.clone(), y.clone());
             fx.extend(x.iter().map(|r| -r));
@@ -241,8 +241,8 @@ impl CraterInput {
 
 /// Measures the crater of a run from the soil particles' initial and current positions: in 2D
 /// plane directly; axisymmetric runs on their section through the axis
-/// ([`CraterInput::through_the_axis`]); 3D runs (z up) as a crater of revolution about the
-/// charge's vertical axis ([`axis_3d`]): every particle taken to (r, z) about it, all azimuths
+/// (`CraterInput::through_the_axis`); 3D runs (z up) as a crater of revolution about the
+/// charge's vertical axis (`axis_3d`): every particle taken to (r, z) about it, all azimuths
 /// together (a column's top is the highest particle at that r in any direction), then as RZ.
 pub fn measure(sim: &Sim) -> Result<Crater, String> {
     let d = sim.cfg.dim;
@@ -337,7 +337,7 @@ fn measurable<'a>(n0: usize, now: impl Iterator<Item = &'a f64>, ds: f64) -> Res
 /// border, the scene completed across its symmetry planes, else the revolution's outer radius),
 /// or its floor lies within a spacing of the soil's original bottom. Its diameter or depth is
 /// then a lower bound: what the soil beyond the box would have done is not modelled.
-pub fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>) -> Option<String> {
+pub(crate) fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&SurfaceMap>) -> Option<String> {
     if c.note.is_some() || c.columns_m.is_empty() {
         return None;
     }
@@ -450,7 +450,7 @@ fn drops(s0: &[f64], s1: &[f64], bottom: f64) -> Vec<f64> {
 }
 
 /// The crater from `inp` with columns `ds` wide (the coarsest soil spacing).
-pub fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
+pub(crate) fn measure_xy(inp: &CraterInput, ds: f64) -> Result<Crater, String> {
     let (x0s, y0s) = (&inp.soil0.0, &inp.soil0.1);
     let (x1s, y1s) = (&inp.soil1.0, &inp.soil1.1);
     measurable(x0s.len(), x1s.iter().chain(y1s), ds)?;

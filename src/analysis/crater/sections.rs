@@ -7,7 +7,7 @@ use super::*;
 /// the centroid of the explosive's initial positions `charge_xy`, put on every symmetry plane
 /// the charge abuts ([`charge_planes`]: the whole charge's centroid lies there, not the modelled
 /// half's).
-pub fn axis_3d(case: &crate::case::Case, charge_xy: &[(f64, f64)]) -> Result<(f64, f64), String> {
+pub(crate) fn axis_3d(case: &crate::case::Case, charge_xy: &[(f64, f64)]) -> Result<(f64, f64), String> {
     if let Some(p) = case.detonation.as_ref().and_then(|d| d.point_m.as_ref()) {
         return Ok((p[0], p[1]));
     }
@@ -38,7 +38,7 @@ pub fn centroid<P: AsRef<[f64]>>(pts: &[P], d: usize) -> Vec<f64> {
 /// coordinates than k + 1 leave the plane k out) on one side and the nearest within one
 /// explosive spacing of it: their images complete the charge. In RZ the axis is not such a plane
 /// (the rings are whole already); a plane perpendicular to it (y = c) is.
-pub fn charge_planes<P: AsRef<[f64]>>(case: &crate::case::Case, pts: &[P]) -> Vec<(usize, f64)> {
+pub(crate) fn charge_planes<P: AsRef<[f64]>>(case: &crate::case::Case, pts: &[P]) -> Vec<(usize, f64)> {
     let sp = coarsest_spacing(case, &explosive_mask(case)).unwrap_or(0.0);
     let mut planes: Vec<(usize, f64)> = Vec::new();
     if pts.is_empty() {
@@ -61,7 +61,7 @@ pub fn charge_planes<P: AsRef<[f64]>>(case: &crate::case::Case, pts: &[P]) -> Ve
 }
 
 /// A 3D point as (r, z) about the vertical axis `ax` (the half plane a 3D crater is measured on).
-pub fn about_axis(ax: (f64, f64), x: f64, y: f64, z: f64) -> (f64, f64) {
+pub(crate) fn about_axis(ax: (f64, f64), x: f64, y: f64, z: f64) -> (f64, f64) {
     ((x - ax.0).hypot(y - ax.1), z)
 }
 
@@ -69,7 +69,7 @@ pub fn about_axis(ax: (f64, f64), x: f64, y: f64, z: f64) -> (f64, f64) {
 /// across: its `mirror` walls that are vertical, axis-aligned (x = c or y = c) and pass within
 /// `ds` of the axis, as (0 for x, 1 for y; c in m). A mirror wall away from the axis is a rigid
 /// free-slip wall beside the crater, not a plane the scene is the half of.
-pub fn mirror_planes(case: &crate::case::Case, ax: (f64, f64), ds: f64) -> Vec<(usize, f64)> {
+pub(crate) fn mirror_planes(case: &crate::case::Case, ax: (f64, f64), ds: f64) -> Vec<(usize, f64)> {
     if case.dim != 3 {
         return Vec::new();
     }
@@ -104,7 +104,7 @@ pub(super) fn with_images(pts: &[[f64; 3]], mirrors: &[(usize, f64)]) -> Vec<[f6
 /// `mirrors` (a quarter with the planes x = 0 and y = 0 becomes the whole scene), then each
 /// section takes the points within `ds` of its plane, at their signed distance from the axis
 /// along it, and is measured as a plane crater ([`measure_xy`]) with columns `ds` wide.
-pub fn sections_3d(
+pub(crate) fn sections_3d(
     ax: (f64, f64),
     ds: f64,
     mirrors: &[(usize, f64)],
@@ -148,7 +148,7 @@ pub fn sections_3d(
 /// within ±Δs of its centre (x and y) above the soil (a charge in a pit) takes the mean original height of the
 /// nearest cells (the nearest square ring of cells around it) that have none. The crater is the
 /// region of cells deeper than ds/2, connected through their sides to the deepest cell.
-pub fn surface_map(
+pub(crate) fn surface_map(
     ax: (f64, f64),
     ds: f64,
     mirrors: &[(usize, f64)],

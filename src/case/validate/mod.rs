@@ -391,60 +391,9 @@ impl Case {
                 return Err(input(format!("{}: the name is used twice", at.label)));
             }
             v.any(&at, "preset");
-            let rho = Range::within(RHO_MIN, RHO_MAX);
             let e = At { path: "material.eos".into(), label: at.key("eos") };
             v.any(&e, "kind");
-            match &m.eos {
-                EosCfg::IdealGas { gamma, rho0_kgm3 } => {
-                    v.num(&e, "gamma", *gamma, Range::above(1.0, 10.0))?;
-                    v.opt(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
-                }
-                EosCfg::Jwl {
-                    rho0_kgm3,
-                    a_pa,
-                    b_pa,
-                    r1,
-                    r2,
-                    omega,
-                    d_ms,
-                    unreacted_c_ms,
-                    unreacted_s,
-                    unreacted_gamma,
-                } => {
-                    let u = [unreacted_c_ms, unreacted_s, unreacted_gamma];
-                    if u.iter().any(|x| x.is_some()) && !u.iter().all(|x| x.is_some()) {
-                        return Err(input(format!(
-                            "{}: unreacted_c_ms, unreacted_s and unreacted_gamma go together (all three or none)",
-                            e.label
-                        )));
-                    }
-                    v.opt(&e, "unreacted_c_ms", *unreacted_c_ms, Range::above(0.0, C_MAX))?;
-                    v.opt(&e, "unreacted_s", *unreacted_s, Range::above(0.0, 100.0))?;
-                    v.opt(&e, "unreacted_gamma", *unreacted_gamma, Range::within(0.0, 100.0))?;
-                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
-                    v.num(&e, "a_pa", *a_pa, Range::within(0.0, P_MAX))?;
-                    v.num(&e, "b_pa", *b_pa, Range::within(0.0, P_MAX))?;
-                    v.num(&e, "r1", *r1, Range::above(0.0, 100.0))?;
-                    v.num(&e, "r2", *r2, Range::above(0.0, 100.0))?;
-                    v.num(&e, "omega", *omega, Range::above(0.0, 10.0))?;
-                    v.num(&e, "d_ms", *d_ms, Range::above(0.0, C_MAX))?;
-                }
-                EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
-                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
-                    v.num(&e, "a1_pa", *a1_pa, Range::above(0.0, P_MAX))?;
-                    v.num(&e, "a2_pa", *a2_pa, Range::abs(P_MAX))?;
-                    v.num(&e, "a3_pa", *a3_pa, Range::abs(P_MAX))?;
-                    v.num(&e, "b0", *b0, Range::within(0.0, 100.0))?;
-                    v.num(&e, "b1", *b1, Range::within(0.0, 100.0))?;
-                    v.num(&e, "c0_ms", *c0_ms, Range::above(0.0, C_MAX))?;
-                }
-                EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
-                    v.num(&e, "rho0_kgm3", *rho0_kgm3, rho)?;
-                    v.num(&e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
-                    v.num(&e, "s", *s, Range::above(0.0, 100.0))?;
-                    v.num(&e, "gamma", *gamma, Range::within(0.0, 100.0))?;
-                }
-            }
+            m.eos.check(v, &e)?;
             if let Some(s) = &m.strength {
                 let st = At { path: "material.strength".into(), label: at.key("strength") };
                 v.num(&st, "shear_modulus_pa", s.shear_modulus_pa, Range::above(0.0, P_MAX))?;
@@ -593,18 +542,10 @@ impl Case {
 
     fn validate_backend(&self, v: &mut Checker) -> Result<()> {
         let at = At::top("backend");
-        for (key, list) in [("rust", &self.backend.rust), ("fortran", &self.backend.fortran)] {
-            v.any(&at, key);
-            for m in list {
-                if crate::modules::Module::parse(m).is_none() {
-                    return Err(input(format!(
-                        "backend.{key}: unknown module `{}` (modules: {})",
-                        shown(m),
-                        crate::modules::Module::names()
-                    )));
-                }
-            }
-        }
+        // the module names are checked where the plan is chosen (`sim::plan::choices`), before
+        // any particle is made
+        v.any(&at, "rust");
+        v.any(&at, "fortran");
         v.any(&at, "default");
         if let Some(dft) = &self.backend.default
             && dft != "fortran"

@@ -1,8 +1,8 @@
-//! Parity of the EOS: every material kind, every branch (floors, tension and compression of water
-//! and soil, μ = 0), with and without a burn array.
+//! Parity of the EOS: every material kind, every branch (floors, tension and compression of water,
+//! soil and Tait water, μ = 0), with and without a burn array.
 
 use super::Eval;
-use crate::modules::param::{MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
+use crate::modules::param::{EosKind, MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER};
 use crate::modules::testkit::*;
 
 /// The table of the EOS tests: (mtype, column) per material.
@@ -25,6 +25,9 @@ fn eos_table() -> MatTable {
             c[11..15].copy_from_slice(&[2390.0, 2.05, 1.0, 4.29e6]);
             c
         }),
+        // Tait water (Liu & Liu's artificial water: B = 1.013e5 Pa, γ = 7, c = 1480 m/s), with
+        // a cavitation floor
+        (EosKind::Tait as u32, column(1000.0, &[1.013e5, 7.0, 1480.0], -5.0e4, None)),
     ];
     table(mats, None)
 }
@@ -43,6 +46,8 @@ fn eos_state(g: &mut Rng, m: usize) -> (f64, f64) {
         5 => (1450.0 * g.range(0.9, 1.35), g.range(0.0, 2e3)),
         // unreacted TNT: tension and compression, e below and above e_chem
         7 => (1630.0 * g.range(0.9, 1.4), g.range(4.0e6, 6e6)),
+        // Tait water: tension below the floor and compression
+        8 => (1000.0 * g.range(0.85, 1.1), g.range(0.0, 5e4)),
         _ => (2200.0 * g.range(0.9, 1.3), g.range(0.0, 2e3)),
     }
 }
@@ -85,7 +90,8 @@ fn eos_eval_every_material_with_and_without_burn() {
         assert!(count(4, &|i| pf[i] == -2.0e6) > 0, "water floor never active");
         assert!(count(5, &|i| pf[i] == 0.0) > 0, "soil floor never active");
         assert!(count(6, &|i| pf[i] < 0.0) > 0, "dense sand never in tension");
-        for m in [3, 5, 6, 7] {
+        assert!(count(8, &|i| pf[i] == -5.0e4) > 0, "Tait floor never active");
+        for m in [3, 5, 6, 7, 8] {
             assert!(count(m, &|i| mu(i) > 0.0) > 0 && count(m, &|i| mu(i) <= 0.0) > 0);
         }
         assert!(pf.iter().chain(&cf).all(|v| v.is_finite()));

@@ -88,6 +88,13 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         let dpde = gam * rho;
         c2 = dpdr + p / (rho * rho) * dpde;
     }
+    Some(EosKind::Tait) => {
+        let b = par[E1];
+        let gam = par[E1 + 1];
+        cref = par[E1 + 2];
+        p = b * ((rho / rho0).powf(gam) - 1.0);
+        c2 = cref * cref;
+    }
     // no equation of state: p = 0 before the floor, c = 0
     Some(EosKind::None) => {}
     None => panic!("eos: material type {itype} is no EosKind code"),

@@ -27,81 +27,10 @@ use super::{Backend, CHUNK, Contribution, Module, Phase, PlanCtx, Stage, Twin, s
 use crate::case::NnpsKind;
 use crate::state::{Clock, Field, Particles, Work};
 use rayon::prelude::*;
-use std::sync::{Mutex, MutexGuard};
-use verlet::Verlet;
-
-/// One entry of a particle's incidence list: a pair touching it and the pair's other particle.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Inc {
-    k: u32,
-    o: u32,
-}
-
-const SIDE_I: u32 = 1 << 31;
-
-impl Inc {
-    /// The pair's index in the list.
-    #[inline]
-    pub fn pair(self) -> usize {
-        self.k as usize
-    }
-    /// The pair's other particle.
-    #[inline]
-    pub fn other(self) -> usize {
-        (self.o & !SIDE_I) as usize
-    }
-    /// True when this particle is the pair's `i` (then the other is its `j`).
-    #[inline]
-    pub fn is_i(self) -> bool {
-        self.o & SIDE_I != 0
-    }
-}
-
-/// Work buffers that the Rust twins reuse from step to step (never part of a result): the pair
-/// terms of the pair-sum modules, a per-particle array, per-task lists, and the cell search's
-/// grid. Behind a mutex so that modules handed `&PairList` can use them; the solver calls one
-/// module at a time, so the lock is never contended. Cloning gives empty buffers.
-#[derive(Default)]
-pub struct Scratch {
-    inner: Mutex<Bufs>,
-}
-
-#[derive(Default)]
-pub(crate) struct Bufs {
-    /// Pair terms, `width` values per pair.
-    pub pair: Vec<f64>,
-    /// One value per particle.
-    pub part: Vec<f64>,
-    /// Per-task buffers of pair indices or pairs.
-    pub idx_tasks: Vec<Vec<u32>>,
-    pub pair_tasks: Vec<Vec<[u32; 2]>>,
-    /// Cell grid: cell of each particle, first slot of each cell, particles in cell order, their
-    /// positions and h in that order.
-    pub cell_of: Vec<u32>,
-    pub start: Vec<u32>,
-    pub order: Vec<u32>,
-    pub xs: Vec<f64>,
-    pub hs: Vec<f64>,
-    pub fill: Vec<u32>,
-    /// Candidate lists kept from step to step (see [`Verlet`]).
-    pub verlet: Verlet,
-    /// Small per-thread work arrays (a block's intermediate values stay in cache).
-    pub per_thread: PerThread,
-}
-
-/// One work array per pool thread, each behind its own (never contended) lock.
-#[derive(Default)]
-pub(crate) struct PerThread(Vec<Mutex<Vec<f64>>>);
+pub(crate) use crate::state::pair_list::{Bufs, IncPart, PerThread, SIDE_I, Verlet};
+pub use crate::state::pair_list::{Inc, Incident, PairList, Scratch};
 
 impl PerThread {
-    /// One array for each thread of the current pool.
-    pub(crate) fn ensure(&mut self) {
-        let n = rayon::current_num_threads();
-        if self.0.len() < n {
-            self.0.resize_with(n, Default::default);
-        }
-    }
-
     /// Runs `f` on the calling thread's array, `len` values long (contents unspecified).
     pub(crate) fn with<R>(&self, len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
         let k = rayon::current_thread_index().unwrap_or(0) % self.0.len().max(1);
@@ -114,150 +43,7 @@ impl PerThread {
     }
 }
 
-impl Clone for Scratch {
-    fn clone(&self) -> Scratch {
-        Scratch::default()
-    }
-}
-
-impl std::fmt::Debug for Scratch {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Scratch")
-    }
-}
-
-impl Scratch {
-    pub(crate) fn lock(&self) -> MutexGuard<'_, Bufs> {
-        self.inner.lock().unwrap_or_else(|e| e.into_inner())
-    }
-    pub(super) fn get_mut(&mut self) -> &mut Bufs {
-        self.inner.get_mut().unwrap_or_else(|e| e.into_inner())
-    }
-}
-
-/// The pair list shared by both backends, and (for the Rust gathers) the incidence lists: for each
-/// particle, the pairs that touch it in ascending pair order.
-///
-/// The canonical list (sorted by i, every i < j: what every search returns) needs no list for
-/// the pairs where a particle is the `i`: they are one contiguous row of the list, and they come
-/// after every pair where it is the `j` (those have a smaller i, so an earlier row). Only the `j`
-/// ends are listed then, one [`Inc`] (8 bytes) per pair. Any other order (a legacy search) lists
-/// both ends of every pair, as [`Inc`]s in ascending pair order, with empty rows.
-///
-/// With more than one thread the listed ends are first built in parts, part p from a contiguous
-/// range of pairs (the ranges in ascending order) by its own thread, then merged: a particle's
-/// ends from part 0, then part 1, …, so in ascending pair order whatever the number of parts.
-#[derive(Debug, Clone, Default)]
-pub struct PairList {
-    pub i: Vec<i32>,
-    pub j: Vec<i32>,
-    /// The listed ends, particle a's at `inc.inc[inc.start[a]..inc.start[a + 1]]`.
-    inc: IncPart,
-    /// With more than one thread: the parts built in parallel, then merged into `inc`.
-    parts: Vec<IncPart>,
-    row_start: Vec<u32>,
-    pub(crate) scratch: Scratch,
-}
-
-/// The listed ends of one range of pairs, by particle: particle a's are `inc[start[a]..start[a + 1]]`.
-#[derive(Debug, Clone, Default)]
-struct IncPart {
-    start: Vec<u32>,
-    inc: Vec<Inc>,
-}
-
-impl IncPart {
-    /// Lists the ends of the pairs `pi`, `pj` (the pairs `k0..` of the list) by particle, for
-    /// `ntotal` particles: the `j` ends, and the `i` ends too unless `canonical` (a counting sort;
-    /// an end outside `0..ntotal` is not listed).
-    fn build(&mut self, pi: &[i32], pj: &[i32], k0: usize, canonical: bool, ntotal: usize) {
-        // counts of particle a in start[a + 2]; their sum up to a in start[a + 1] (the first slot
-        // of a); placing moves start[a + 1] to the first slot of a + 1, so it ends as start[a]
-        let slot = |a: i32| usize::try_from(a).ok().filter(|&a| a < ntotal);
-        let start = &mut self.start;
-        start.clear();
-        start.resize(ntotal + 2, 0);
-        for (&a, &b) in pi.iter().zip(pj) {
-            if !canonical && let Some(a) = slot(a) {
-                start[a + 2] += 1;
-            }
-            if let Some(b) = slot(b) {
-                start[b + 2] += 1;
-            }
-        }
-        for a in 1..ntotal + 2 {
-            start[a] += start[a - 1];
-        }
-        let n = start[ntotal + 1] as usize;
-        // (never more than it needs: a list sized for both ends is given back when the pair
-        // list becomes canonical)
-        if self.inc.capacity() > n + n / 4 {
-            self.inc = Vec::new();
-        }
-        self.inc.resize(n, Inc::default());
-        let inc = &mut self.inc;
-        for (k, (&a, &b)) in pi.iter().zip(pj).enumerate() {
-            let k = (k0 + k) as u32;
-            if !canonical && let Some(ia) = slot(a) {
-                inc[start[ia + 1] as usize] = Inc { k, o: b as u32 | SIDE_I };
-                start[ia + 1] += 1;
-            }
-            if let Some(ib) = slot(b) {
-                inc[start[ib + 1] as usize] = Inc { k, o: a as u32 };
-                start[ib + 1] += 1;
-            }
-        }
-        start.truncate(ntotal + 1);
-    }
-
-    #[inline]
-    fn of(&self, a: usize) -> &[Inc] {
-        &self.inc[self.start[a] as usize..self.start[a + 1] as usize]
-    }
-}
-
-/// The pairs touching one particle, in ascending pair order: the listed ends, then the row of
-/// pairs where it is the `i` (see [`PairList`]).
-#[derive(Debug, Clone)]
-pub struct Incident<'a> {
-    /// The listed ends.
-    pub list: &'a [Inc],
-    /// The row: pairs `rows.start..rows.end`, each with this particle as its `i` and `pj[k]` as
-    /// the other.
-    pub rows: std::ops::Range<usize>,
-    pub pj: &'a [i32],
-}
-
-impl Iterator for Incident<'_> {
-    type Item = Inc;
-    #[inline]
-    fn next(&mut self) -> Option<Inc> {
-        if let Some((&e, rest)) = self.list.split_first() {
-            self.list = rest;
-            return Some(e);
-        }
-        let k = self.rows.next()?;
-        Some(Inc { k: k as u32, o: self.pj[k] as u32 | SIDE_I })
-    }
-    fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.list.len() + self.rows.len();
-        (n, Some(n))
-    }
-}
-
 impl PairList {
-    /// A list of the given pairs (i, j), 0-based.
-    pub fn new(i: Vec<i32>, j: Vec<i32>) -> PairList {
-        PairList { i, j, ..Default::default() }
-    }
-
-    pub fn len(&self) -> usize {
-        self.i.len()
-    }
-    pub fn is_empty(&self) -> bool {
-        self.i.is_empty()
-    }
-
     /// Builds the incidence lists for `ntotal` particles (counting sorts, deterministic). For
     /// every pair k, its `i` end comes before its `j` end in the lists. With more than one
     /// thread the pairs are split into a few contiguous ranges, one part each (see
@@ -356,13 +142,7 @@ impl PairList {
         self.scratch.get_mut().verlet.valid = false;
     }
 
-    /// The pairs touching particle `a`, ascending.
-    #[inline]
-    pub fn incident(&self, a: usize) -> Incident<'_> {
-        Incident { list: self.inc.of(a), rows: self.row_start[a] as usize..self.row_start[a + 1] as usize, pj: &self.j }
-    }
 }
-
 
 /// `sph_nnps_direct` / `sph_nnps_cell`: the canonical pair list of `ntotal = h.len()` particles,
 /// the first `nreal` real.

@@ -1,55 +1,10 @@
 //! Verlet candidate lists kept between calls of the Rust cell search.
 
-use super::PairList;
+use super::{PairList, Verlet};
 use super::rust::{Out, grid_dims, offsets, rust_cell, rust_cell_d, tasks, trim_box};
 use crate::modules::{CHUNK, serial};
 use rayon::prelude::*;
 
-/// Candidate lists kept between calls of the Rust cell search (a Verlet list with a skin s).
-///
-/// At a rebuild, the candidates of each real particle i are the real j > i with
-/// r_ij < κ h_ij + s (the owner-based cell search run with every h raised by s/κ). A particle's
-/// drift since then is δ_a = |x_a − x_a^b| + κ max(0, h_a − h_a^b)/2. A pair of real particles that
-/// is not a candidate had r ≥ κ h_ij + s at the rebuild, so now r ≥ κ h_ij + s − δ_i − δ_j: it
-/// cannot be a pair while δ_i + δ_j < s. Particles with δ > 0.45 s ("fast") have their pairs
-/// searched afresh every call, and so have the mirror particles (rebuilt every step); every
-/// other pair comes from filtering the candidates with the exact test. The result is merged into
-/// the canonical list, identical to the Fortran's. When more than 1/32 of the particles are
-/// fast, or the particle set changed, the lists are rebuilt.
-#[derive(Default)]
-pub(crate) struct Verlet {
-    pub(crate) valid: bool,
-    nreal: usize,
-    dim: usize,
-    kappa: f64,
-    skin: f64,
-    xb: Vec<f64>,
-    hb: Vec<f64>,
-    /// Candidate rows (CSR over the real particles) and their keep flags.
-    cstart: Vec<u32>,
-    cand: Vec<i32>,
-    keep: Vec<u8>,
-    /// Fast flags and the fast particles.
-    fast: Vec<u8>,
-    fast_list: Vec<u32>,
-    /// Raised h of a rebuild.
-    hraise: Vec<f64>,
-    /// Scratch of the second grid's box (percentiles, with far ejecta).
-    trim: Vec<f64>,
-    /// Pairs with a fast particle or a mirror, per task, then merged, as keys i·2³² + j (which
-    /// sort as the pairs do).
-    extra_tasks: Vec<Vec<u64>>,
-    extra: Vec<u64>,
-    /// A grid over the real particles: first slot of each cell, particles by cell.
-    gstart: Vec<u32>,
-    gorder: Vec<u32>,
-    gcell: Vec<u32>,
-    gfill: Vec<u32>,
-    /// Per-row counts and offsets of the result.
-    off: Vec<u32>,
-    /// Number of rebuilds (for tests and diagnostics).
-    pub(crate) builds: u64,
-}
 
 /// A pair as a sort key, and the key's row (its i).
 #[inline]

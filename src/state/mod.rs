@@ -3,13 +3,15 @@
 //! the mirror particles of type II walls, rebuilt every step. Arrays a case does not need are left
 //! empty (no stress for fluids, no burn state without a programmed burn).
 //!
-//! Every array a module reads or writes has a name, [`Field`]; [`Field::of`] and [`Field::of_mut`]
+//! Every array a module reads or writes has a name, [`Field`]; [`Field::of`] and `Field::of_mut`
 //! find it in the state. The dual run, the parity harness and `blastsph check` work through these
 //! names: a module declares which fields its stages read and write, and nothing else needs to know
 //! which array a field is.
 
-use crate::modules::nnps::PairList;
-use crate::modules::param::NSTR;
+use crate::param::NSTR;
+
+pub(crate) mod pair_list;
+pub use pair_list::PairList;
 use serde::Serialize;
 
 #[derive(Debug, Clone, Default)]
@@ -52,7 +54,7 @@ pub struct Particles {
 
 impl Particles {
     /// Sets the number of mirror particles (resizes the per-particle arrays).
-    pub fn set_ntotal(&mut self, nt: usize) {
+    pub(crate) fn set_ntotal(&mut self, nt: usize) {
         let d = self.dim;
         self.ntotal = nt;
         self.x.resize(d * nt, 0.0);
@@ -288,7 +290,7 @@ impl Field {
     }
 
     /// A copy of the field.
-    pub fn snap(self, p: &Particles, w: &Work) -> Snap {
+    pub(crate) fn snap(self, p: &Particles, w: &Work) -> Snap {
         match self.of(p, w) {
             Array::F(a) => Snap::F(a.to_vec()),
             Array::I(a) => Snap::I(a.to_vec()),
@@ -296,7 +298,7 @@ impl Field {
     }
 
     /// The field's array in the state, to write.
-    pub fn of_mut<'a>(self, p: &'a mut Particles, w: &'a mut Work) -> ArrayMut<'a> {
+    pub(crate) fn of_mut<'a>(self, p: &'a mut Particles, w: &'a mut Work) -> ArrayMut<'a> {
         use Field::*;
         ArrayMut::F(match self {
             Mat => return ArrayMut::I(&mut p.mat),
@@ -342,7 +344,7 @@ impl Field {
     }
 
     /// Puts a copy back (the array takes the copy's length).
-    pub fn restore(self, p: &mut Particles, w: &mut Work, s: Snap) {
+    pub(crate) fn restore(self, p: &mut Particles, w: &mut Work, s: Snap) {
         match (self.of_mut(p, w), s) {
             (ArrayMut::F(a), Snap::F(v)) => *a = v,
             (ArrayMut::I(a), Snap::I(v)) => *a = v,

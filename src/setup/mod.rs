@@ -1,14 +1,14 @@
 //! Builds the initial particles of a case: lattices per region, cut-outs, overlap checks, masses,
 //! smoothing lengths, the material table and the wall segments.
 
+mod geometry;
+
+use crate::case::size::cells;
 use crate::case::{BurnMode, Case, EosCfg, Shape};
 pub use crate::case::{has_strength, programmed};
 use crate::error::{Result, input};
 pub use crate::modules::boundary::walls::{corners, segments};
-use crate::modules::param::{
-    MatTable, NPAR, SPH_EOS_IDEAL_GAS, SPH_EOS_JWL, SPH_EOS_SOIL, SPH_EOS_WATER, SPH_MP_ECHEM, SPH_MP_ETA_CJ,
-    SPH_MP_UNR_C, SPH_MP_UNR_GAMMA, SPH_MP_UNR_S,
-};
+use crate::param::{MatTable, NPAR, SPH_MP_ETA_CJ};
 
 /// Particles as generated, before the solver takes them.
 #[derive(Debug, Clone, Default)]
@@ -37,63 +37,28 @@ pub fn material_table(case: &Case) -> MatTable {
     let mut group = vec![0i32; nm];
     for (m, mc) in case.materials.iter().enumerate() {
         let col = &mut mpar[NPAR * m..NPAR * (m + 1)];
-        match &mc.eos {
-            EosCfg::IdealGas { gamma, rho0_kgm3 } => {
-                mtype[m] = SPH_EOS_IDEAL_GAS as i32;
-                col[0] = rho0_kgm3.unwrap_or(1.0);
-                col[1] = *gamma;
-            }
-            EosCfg::Jwl {
-                rho0_kgm3,
-                a_pa,
-                b_pa,
-                r1,
-                r2,
-                omega,
-                d_ms,
-                unreacted_c_ms,
-                unreacted_s,
-                unreacted_gamma,
-            } => {
-                mtype[m] = SPH_EOS_JWL as i32;
-                col[0] = *rho0_kgm3;
-                col[1..7].copy_from_slice(&[*a_pa, *b_pa, *r1, *r2, *omega, *d_ms]);
-                // the energy of the explosive at rest: the material's e0, else its first region's
-                let e0 = mc
-                    .e0_jkg
-                    .or_else(|| case.regions.iter().find(|r| r.material == mc.name).and_then(|r| r.e_jkg))
-                    .unwrap_or(0.0);
-                if let (Some(c), Some(s), Some(g)) = (unreacted_c_ms, unreacted_s, unreacted_gamma) {
-                    col[SPH_MP_UNR_C as usize - 1] = *c;
-                    col[SPH_MP_UNR_S as usize - 1] = *s;
-                    col[SPH_MP_UNR_GAMMA as usize - 1] = *g;
-                    col[SPH_MP_ECHEM as usize - 1] = e0;
-                }
-                let beta = case.detonation.as_ref().is_some_and(|d| d.mode == BurnMode::Programmed && d.beta_burn);
-                if beta {
-                    let jwl = crate::modules::detonation::cj::Jwl {
-                        rho0: *rho0_kgm3,
-                        a: *a_pa,
-                        b: *b_pa,
-                        r1: *r1,
-                        r2: *r2,
-                        omega: *omega,
-                        e0,
-                    };
-                    if let Some(s) = crate::modules::detonation::cj::cj(&jwl) {
-                        col[SPH_MP_ETA_CJ as usize - 1] = s.rho / rho0_kgm3;
-                    }
-                }
-            }
-            EosCfg::Water { rho0_kgm3, a1_pa, a2_pa, a3_pa, b0, b1, c0_ms } => {
-                mtype[m] = SPH_EOS_WATER as i32;
-                col[0] = *rho0_kgm3;
-                col[1..7].copy_from_slice(&[*a1_pa, *a2_pa, *a3_pa, *b0, *b1, *c0_ms]);
-            }
-            EosCfg::Soil { rho0_kgm3, c_ms, s, gamma } => {
-                mtype[m] = SPH_EOS_SOIL as i32;
-                col[0] = *rho0_kgm3;
-                col[1..4].copy_from_slice(&[*c_ms, *s, *gamma]);
+        mtype[m] = mc.eos.eos_kind() as i32;
+        // the energy of the explosive at rest: the material's e0, else its first region's
+        let e0 = mc
+            .e0_jkg
+            .or_else(|| case.regions.iter().find(|r| r.material == mc.name).and_then(|r| r.e_jkg))
+            .unwrap_or(0.0);
+        mc.eos.fill_column(col, e0);
+        let beta = case.detonation.as_ref().is_some_and(|d| d.mode == BurnMode::Programmed && d.beta_burn);
+        if let EosCfg::Jwl { rho0_kgm3, a_pa, b_pa, r1, r2, omega, .. } = &mc.eos
+            && beta
+        {
+            let jwl = crate::modules::detonation::cj::Jwl {
+                rho0: *rho0_kgm3,
+                a: *a_pa,
+                b: *b_pa,
+                r1: *r1,
+                r2: *r2,
+                omega: *omega,
+                e0,
+            };
+            if let Some(s) = crate::modules::detonation::cj::cj(&jwl) {
+                col[SPH_MP_ETA_CJ as usize - 1] = s.rho / rho0_kgm3;
             }
         }
         col[7] = mc.pmin_pa.unwrap_or(-f64::MAX);
@@ -173,7 +138,9 @@ fn inside_shape(case: &Case, r: usize, p: &[f64]) -> bool {
 }
 
 /// The box a region fills (a box's `lo_m`..`hi_m`; a cylinder's or sphere's bounding box clipped
-/// to its `lo_m`..`hi_m`), for the first `case.dim` axes; None for other shapes.
+/// to its `lo_m`..`hi_m`), for the first `case.dim` axes; None for other shapes. (For the
+/// advice on a run's charges.)
+#[cfg(feature = "io")]
 pub(crate) fn region_box(case: &Case, r: usize) -> Option<([f64; 3], [f64; 3])> {
     let rc = &case.regions[r];
     let d = case.dim;
@@ -215,14 +182,6 @@ fn round_box(rc: &crate::case::RegionCfg, d: usize) -> ([f64; 3], [f64; 3], [f64
         }
     }
     (org, lo, hi)
-}
-
-/// The whole spacings `dx` in an extent: ⌊extent/dx⌋, with a tolerance of 10⁻⁴ of the count (and
-/// 10⁻⁹) for an extent written to a few significant digits (0.073096 for four spacings of
-/// 0.01827416 is 3.99996 of them: four, not three).
-pub(crate) fn cells(extent: f64, dx: f64) -> usize {
-    let r = extent / dx;
-    (r + 1e-9 + 1e-4 * r.abs()).floor().max(0.0) as usize
 }
 
 fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
@@ -311,16 +270,17 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
 
 /// Generates the particles of every region; refuses overlapping or empty regions. The size is
 /// checked first ([`crate::case::size::check`], the default limit from the machine's memory) and
-/// the geometry after ([`crate::case::geometry::check`]).
+/// the geometry after (walls, `[domain]`, the detonation point and the gauges, against the
+/// particles: `setup/geometry.rs`).
 pub fn particles(case: &Case) -> Result<Initial> {
     particles_limited(case, None)
 }
 
 /// [`particles`], with `max_particles` (`--max-particles`) as the limit instead of the memory.
-pub fn particles_limited(case: &Case, max_particles: Option<u64>) -> Result<Initial> {
+pub(crate) fn particles_limited(case: &Case, max_particles: Option<u64>) -> Result<Initial> {
     crate::case::size::check(case, max_particles)?;
     let init = generate(case)?;
-    crate::case::geometry::check(case, &init)?;
+    geometry::check(case, &init)?;
     Ok(init)
 }
 
@@ -434,11 +394,6 @@ fn unit_noise(region: usize, point: usize, axis: usize) -> f64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
     (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-}
-
-/// Is any JWL material used?
-pub fn has_jwl(mt: &MatTable) -> bool {
-    mt.mtype.contains(&(SPH_EOS_JWL as i32))
 }
 
 #[cfg(test)]

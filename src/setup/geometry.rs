@@ -3,10 +3,9 @@
 //! detonation point inside a charge, every gauge in the material (or at least near it) and inside
 //! `[domain]`. Errors are one line naming the key and the place.
 
-use super::material::EosCfg;
-use super::types::{BurnMode, Case, GaugeKind};
+use super::Initial;
+use crate::case::{BurnMode, Case, EosCfg, GaugeKind};
 use crate::error::{Result, input};
-use crate::setup::Initial;
 
 fn at(x: &[f64]) -> String {
     let c: Vec<String> = x.iter().map(|v| format!("{v:.6}")).collect();
@@ -45,7 +44,7 @@ pub fn check(case: &Case, init: &Initial) -> Result<()> {
     }
     // the walls face the particles' centroid; a particle behind one (within its extent) is
     // outside the walls or cut by them
-    let segs = crate::setup::segments(case, &init.x, |_| true);
+    let segs = super::segments(case, &init.x, |_| true);
     for s in 0..segs.len() {
         let sg = segs.get(d, s);
         let fr = crate::modules::boundary::frame(d, sg);
