@@ -6,6 +6,7 @@
 
 pub mod checkpoint;
 mod config;
+pub mod geostatic;
 mod health;
 pub mod hook;
 pub mod plan;
@@ -145,6 +146,7 @@ impl Sim {
         let dim = case.dim;
         let n = init.mass.len();
         let mt = setup::material_table(&case);
+        let tau0 = geostatic::apply(&case, &mt, &mut init);
         let kappa = case.sph.kernel.support();
         let ctx = PlanCtx { case: &case, dim, mt: &mt, kappa, dx_min: init.dx_min, x0: &init.x, h0: &init.h };
         let plan = Plan::build_with(&ctx, &choice, hook.as_deref());
@@ -167,6 +169,11 @@ impl Sim {
         };
         for e in &plan.entries {
             e.stage.register(&mut p);
+        }
+        if let Some(t) = tau0
+            && p.tau.len() >= t.len()
+        {
+            p.tau[..t.len()].copy_from_slice(&t);
         }
         let h_init = p.h.clone();
         let x_init = p.x.clone();
