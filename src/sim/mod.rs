@@ -34,7 +34,8 @@ const CHUNK: usize = 1024;
 /// Energy book-keeping (J; per metre of depth in 2D).
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct Book {
-    /// Work done on the particles by the type I wall force.
+    /// Work done on the particles by the walls: the type I force, and the dampers and static
+    /// reaction of absorbing walls.
     pub work_wall: f64,
     /// Work done by the penalty force.
     pub work_penalty: f64,
