@@ -443,8 +443,8 @@ pub struct BoundaryCfg {
     /// Mirror velocities: false = free slip (normal component reversed), true = no slip.
     #[serde(default)]
     pub noslip: bool,
-    /// Thickness (m) of the layer of particles an `absorbing` wall acts on; default: the kernel
-    /// support at the initial h, κ h_over_dx Δx_min.
+    /// Thickness (m) of the layer of particles an `absorbing` wall acts on; default: the largest
+    /// region spacing.
     pub absorb_layer_m: Option<f64>,
 }
 

@@ -147,10 +147,13 @@ impl Stage for DashpotStage {
     }
 }
 
-/// The layer thickness L (m): `boundary.absorb_layer_m`, else the kernel support at the initial
-/// h, κ h_over_dx Δx_min.
+/// The layer thickness L (m): `boundary.absorb_layer_m`, else the largest region spacing, so
+/// that the whole traction lands on the row next to the wall, where the SPH free surface's own
+/// force sits (at h = Δx the cubic spline's row beyond it lies at 2h, out of reach). Finer rows
+/// share it when the spacings are whole fractions of it.
 pub fn layer(ctx: &PlanCtx) -> f64 {
-    ctx.case.boundary.absorb_layer_m.unwrap_or(ctx.kappa * ctx.case.sph.h_over_dx * ctx.dx_min)
+    let dx_max = ctx.case.regions.iter().map(|r| r.spacing_m).fold(ctx.dx_min, f64::max);
+    ctx.case.boundary.absorb_layer_m.unwrap_or(dx_max)
 }
 
 /// Runs when the case has an `absorbing` wall.
