@@ -52,11 +52,8 @@ pub fn apply(case: &Case, mt: &MatTable, init: &mut Initial) -> Option<Vec<f64>>
         })
         .collect();
     let sv = overburden(d, &up, &lat, &spacing, &init.rho, dx_max);
-    let k0: Vec<f64> = case
-        .materials
-        .iter()
-        .map(|m| m.strength.as_ref().map_or(1.0, |s| 1.0 - s.sin_phi().clamp(0.0, 1.0)))
-        .collect();
+    let k0: Vec<f64> =
+        case.materials.iter().map(|m| m.strength.as_ref().map_or(1.0, |s| 1.0 - s.sin_phi().clamp(0.0, 1.0))).collect();
     let strength = crate::case::has_strength(case);
     let mut tau = vec![0.0; if strength { NSTR * n } else { 0 }];
     for i in 0..n {
