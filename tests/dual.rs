@@ -41,7 +41,7 @@ fn read_json(path: &Path) -> Value {
 /// A 2D case in which every module is active: TNT lit by a programmed burn in water over sand
 /// with strength (three penalty groups), continuity density, h by rate, XSPH, gravity, CFL step,
 /// cell search, walls with both type I force and type II mirrors (corners, so second-generation
-/// mirrors appear). Synthetic and small (256 particles): not a thesis scene.
+/// mirrors appear), an absorbing wall over the water. Synthetic and small (256 particles): not a thesis scene.
 const ALL_MODULES: &str = r#"
 name = "dual_all_modules"
 description = "synthetic: every module active (not a thesis scene)"
@@ -134,6 +134,11 @@ kind = "mirror"
 from_m = [0.0, 0.16]
 to_m = [0.0, 0.0]
 kind = "both"
+
+[[wall]]
+from_m = [0.16, 0.16]
+to_m = [0.0, 0.16]
+kind = "absorbing"
 "#;
 
 fn write_all_modules(dir: &Path) -> PathBuf {

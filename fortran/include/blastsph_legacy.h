@@ -109,6 +109,14 @@ void sph_boundary_mirror_fill(int dim, int ntotal, int n, int ng, const int *gsr
                               double *tau);
 void sph_boundary_mirror_copy(int ntotal, int n, int ng, const int *gsrc, double *f);
 
+/* absorb (sph_absorb.f90): Lysmer-Kuhlemeyer dashpots of the absorbing walls; seg as for
+ * boundary, sigma0(SPH_NSTR, n) the stress at t = 0 (tension positive). */
+void sph_absorb_init(int n, const double *p, int ntau, const double *tau, double *sigma0);
+void sph_absorb_dashpot(int dim, int n, const double *x, const double *v, const double *rho,
+                        const double *c, const int *mat, int nmat, const double *mpar,
+                        const double *sigma0, int nseg, const double *seg, double layer,
+                        double *dvdt);
+
 /* geometry (sph_geometry.f90): the axisymmetric (RZ) ring quantities and hoop terms */
 void sph_geometry_ring(int dim, int ntotal, const double *x, const double *h, const double *mass,
                        double *rinv, double *pmass);

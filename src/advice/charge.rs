@@ -243,7 +243,7 @@ pub(super) fn deposit(case: &Case, p: &Particles, snap: f64) -> Option<(Vec<usiz
             c[k] += p.x[d * i + k] / hot.len() as f64;
         }
     }
-    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
+    for w in case.walls.iter().filter(|w| w.kind.mirrors()) {
         if let Some((o, nrm)) = wall_plane(d, w) {
             let s: f64 = (0..d).map(|k| (c[k] - o[k]) * nrm[k]).sum();
             if s.abs() < snap * dx {

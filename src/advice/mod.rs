@@ -169,7 +169,7 @@ pub fn wall_reflection_warning(case: &Case) -> Option<String> {
         .walls
         .iter()
         .enumerate()
-        .filter(|(_, w)| w.from_m[0] == w.to_m[0] && w.from_m[0] > 0.0)
+        .filter(|(_, w)| w.kind != WallKind::Absorbing && w.from_m[0] == w.to_m[0] && w.from_m[0] > 0.0)
         .map(|(wi, w)| (w.from_m[0], wi))
         .min_by(|a, b| a.0.total_cmp(&b.0))?;
     let back = 2.0 * r / c;

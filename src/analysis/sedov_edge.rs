@@ -3,7 +3,7 @@
 //! domain's edge: the warning `check` and `run` print when the front would reach an edge.
 
 use crate::analysis::sedov::Sedov;
-use crate::case::{AnalysisKind, Case, EosCfg, WallKind};
+use crate::case::{AnalysisKind, Case, EosCfg};
 use crate::error::Result;
 
 /// What the problem needs from the case and its initial particles (the ambient state is read
@@ -158,7 +158,7 @@ pub(crate) fn sedov_check_line(case: &Case) -> Option<String> {
 pub(crate) fn mirror_factor(case: &Case, c: &[f64; 3]) -> f64 {
     let d = case.dim;
     let mut f = 1.0;
-    for w in case.walls.iter().filter(|w| w.kind != WallKind::Repulsive) {
+    for w in case.walls.iter().filter(|w| w.kind.mirrors()) {
         let dist = match d {
             1 => (w.from_m[0] - c[0]).abs(),
             2 => {

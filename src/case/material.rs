@@ -339,6 +339,23 @@ pub struct StrengthCfg {
     pub alpha_phi: f64,
     /// k of the yield surface (Pa).
     pub cohesion_pa: f64,
+    /// Friction angle φ (degrees) for the earth pressure at rest K0 = 1 − sin φ of the geostatic
+    /// start; absent: from α_φ by the compression-cone match, sin φ = 3√3 α_φ/(2 + √3 α_φ).
+    pub friction_angle_deg: Option<f64>,
+}
+
+impl StrengthCfg {
+    /// sin φ: of `friction_angle_deg`, else of the Drucker–Prager cone through the Mohr–Coulomb
+    /// compression meridian, α_φ = 2 sin φ/(√3 (3 − sin φ)) (32.3° at α_φ = 0.25).
+    pub fn sin_phi(&self) -> f64 {
+        match self.friction_angle_deg {
+            Some(d) => d.to_radians().sin(),
+            None => {
+                let a = 3f64.sqrt() * self.alpha_phi;
+                3.0 * a / (2.0 + a)
+            }
+        }
+    }
 }
 
 #[cfg(test)]

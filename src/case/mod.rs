@@ -177,7 +177,7 @@ pub const GAS_JITTER: f64 = 5e-2;
 
 /// The keys of the parity preset `parity = "thesis"`: the thesis's and Liu's settings, for every
 /// key a case leaves out (table, key, value).
-pub const THESIS_PARITY: [(&str, &str, &str); 11] = [
+pub const THESIS_PARITY: [(&str, &str, &str); 12] = [
     ("sph", "density", "\"continuity\""),
     ("sph", "jitter", "0.0"),
     ("sph", "lattice_gradient", "false"),
@@ -189,6 +189,7 @@ pub const THESIS_PARITY: [(&str, &str, &str); 11] = [
     ("detonation", "width_h", "0.0"),
     ("detonation", "beta_burn", "false"),
     ("detonation", "lighting_speed_factor", "1.0"),
+    ("initial", "geostatic", "false"),
 ];
 
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
@@ -304,6 +305,17 @@ impl Case {
 
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.materials.iter().position(|m| m.name == name)
+    }
+
+    /// Is gravity on (some component of `physics.gravity_ms2` non-zero)?
+    pub fn gravity_on(&self) -> bool {
+        self.physics.gravity_ms2.as_ref().is_some_and(|g| g.iter().any(|&x| x != 0.0))
+    }
+
+    /// Does the run start from the geostatic stress (`initial.geostatic`; absent: where gravity
+    /// is on and some material has strength, a soil at rest)?
+    pub fn geostatic(&self) -> bool {
+        self.initial.geostatic.unwrap_or_else(|| self.gravity_on() && has_strength(self))
     }
 
     /// True for `geometry = "axisymmetric"`.

@@ -11,7 +11,7 @@
 //! mirror particles), and 40 + 24·dim B per neighbour pair, a pair per particle being half the
 //! lattice points within the kernel's support.
 
-use super::types::{Case, Shape, WallKind};
+use super::types::{Case, Shape};
 use crate::error::{Result, input};
 
 /// Bytes per particle (real or mirror) of the state, the work arrays and the run loop.
@@ -112,7 +112,7 @@ pub fn estimate(case: &Case) -> Estimate {
     for (n, half) in per_region {
         e.pairs += n * half.min(e.particles);
     }
-    let mirrors = case.walls.iter().any(|w| w.kind != WallKind::Repulsive);
+    let mirrors = case.walls.iter().any(|w| w.kind.mirrors());
     e.total = e.particles * if mirrors { 1.5 } else { 1.0 };
     e.bytes = e.total * BYTES_PER_PARTICLE + e.pairs * (40.0 + 24.0 * d as f64);
     e

@@ -33,6 +33,9 @@ pub struct Case {
     pub boundary: BoundaryCfg,
     #[serde(default)]
     pub physics: PhysicsCfg,
+    /// The state at t = 0 beyond what the regions give (the geostatic stress).
+    #[serde(default)]
+    pub initial: InitialCfg,
     #[serde(rename = "material", default)]
     pub materials: Vec<MaterialCfg>,
     #[serde(rename = "region", default)]
@@ -440,6 +443,9 @@ pub struct BoundaryCfg {
     /// Mirror velocities: false = free slip (normal component reversed), true = no slip.
     #[serde(default)]
     pub noslip: bool,
+    /// Thickness (m) of the layer of particles an `absorbing` wall acts on; default: the largest
+    /// region spacing.
+    pub absorb_layer_m: Option<f64>,
 }
 
 fn default_dwall() -> f64 {
@@ -451,7 +457,15 @@ fn default_wall_n2() -> i32 {
 
 impl Default for BoundaryCfg {
     fn default() -> Self {
-        BoundaryCfg { wall_spacing_m: None, r0_m: None, d_m2s2: 1e4, n1: 12, n2: 4, noslip: false }
+        BoundaryCfg {
+            wall_spacing_m: None,
+            r0_m: None,
+            d_m2s2: 1e4,
+            n1: 12,
+            n2: 4,
+            noslip: false,
+            absorb_layer_m: None,
+        }
     }
 }
 
@@ -460,6 +474,17 @@ impl Default for BoundaryCfg {
 pub struct PhysicsCfg {
     /// Gravity (m/s²), one component per dimension; absent = none.
     pub gravity_ms2: Option<Vec<f64>>,
+}
+
+/// The `[initial]` table: what the set-up adds to the regions' state at t = 0.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialCfg {
+    /// Start at rest under gravity: σ_v = g ∫ρ dz over the column above each particle,
+    /// σ_h = K0 σ_v (Jaky: K0 = 1 − sin φ for a material with strength, 1 for a fluid), the density
+    /// from the EOS at that mean stress, τ the deviator (docs/theory.md, "Geostatic start").
+    /// Absent: on where gravity is on and some material has strength ([`Case::geostatic`]).
+    pub geostatic: Option<bool>,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
@@ -562,6 +587,22 @@ pub enum WallKind {
     Mirror,
     /// Both kinds (the thesis's blast runs).
     Both,
+    /// A viscous boundary of the Lysmer–Kuhlemeyer kind: no virtual particles; the particles
+    /// within `boundary.absorb_layer_m` of it feel dashpot tractions ρ c_p v_n and ρ c_s v_t
+    /// against their motion, and the traction of their initial stress (docs/theory.md,
+    /// "Absorbing walls").
+    Absorbing,
+}
+
+impl WallKind {
+    /// Does the wall make type II mirror particles?
+    pub fn mirrors(self) -> bool {
+        matches!(self, WallKind::Mirror | WallKind::Both)
+    }
+    /// Does the wall push with the type I force?
+    pub fn repels(self) -> bool {
+        matches!(self, WallKind::Repulsive | WallKind::Both)
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -88,6 +88,7 @@ registry! {
     viscosity: Viscosity => "Monaghan artificial viscosity (4-47, 4-48)",
     conductivity: Conductivity => "Price artificial conductivity: energy exchange across jumps of e (off by default)",
     penalty: Penalty => "penalty force between materials (4-53, 4-54)",
+    absorb: Absorb => "absorbing walls: Lysmer-Kuhlemeyer dashpots and the static reaction on a layer",
     xsph: Xsph => "averaged velocity (XSPH)",
     smoothing: Smoothing => "smoothing-length evolution (2-15, 2-16)",
     geometry: Geometry => "axisymmetric (RZ): ring masses m/(2 pi r), hoop terms",

@@ -6,6 +6,7 @@
 
 pub mod checkpoint;
 mod config;
+pub mod geostatic;
 mod health;
 pub mod hook;
 pub mod plan;
@@ -33,7 +34,8 @@ const CHUNK: usize = 1024;
 /// Energy book-keeping (J; per metre of depth in 2D).
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct Book {
-    /// Work done on the particles by the type I wall force.
+    /// Work done on the particles by the walls: the type I force, and the dampers and static
+    /// reaction of absorbing walls.
     pub work_wall: f64,
     /// Work done by the penalty force.
     pub work_penalty: f64,
@@ -145,6 +147,7 @@ impl Sim {
         let dim = case.dim;
         let n = init.mass.len();
         let mt = setup::material_table(&case);
+        let tau0 = geostatic::apply(&case, &mt, &mut init);
         let kappa = case.sph.kernel.support();
         let ctx = PlanCtx { case: &case, dim, mt: &mt, kappa, dx_min: init.dx_min, x0: &init.x, h0: &init.h };
         let plan = Plan::build_with(&ctx, &choice, hook.as_deref());
@@ -167,6 +170,11 @@ impl Sim {
         };
         for e in &plan.entries {
             e.stage.register(&mut p);
+        }
+        if let Some(t) = tau0
+            && p.tau.len() >= t.len()
+        {
+            p.tau[..t.len()].copy_from_slice(&t);
         }
         let h_init = p.h.clone();
         let x_init = p.x.clone();

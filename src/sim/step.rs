@@ -99,6 +99,7 @@ impl Sim {
         perm(&mut p.mat, &order, 1);
         perm(&mut p.id, &order, 1);
         perm(&mut p.tau, &order, NSTR);
+        perm(&mut p.sigma0, &order, NSTR);
         for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0] {
             perm(a, &order, 1);
         }
@@ -187,7 +188,7 @@ impl Sim {
         (k * every).min(end)
     }
 
-    /// Work of the wall, penalty and gravity forces over the step (v at t). One parallel pass;
+    /// Work of the wall (type I and absorbing), penalty and gravity forces over the step (v at t). One parallel pass;
     /// the sums are taken per fixed chunk of particles, then over the chunks in order, so they do
     /// not depend on the thread count.
     fn account(&mut self, dt: f64) {
@@ -213,7 +214,7 @@ impl Sim {
             t
         };
         let slot = |name: &str| self.plan.acc_slot(name).map(|s| &acc[s * lda..s * lda + dim * n]);
-        let (fw, fp) = (slot("boundary.wall_force"), slot("penalty.force"));
+        let (fw, fp, fa) = (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"));
         // without gravity every term of its sum is +0 (the check stops a run with a non-finite v)
         let gravity = g[..dim].iter().any(|&x| x != 0.0);
         let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
@@ -222,6 +223,10 @@ impl Sim {
                 let mut t = [0.0; 3];
                 if let Some(f) = fw {
                     t[0] = power(f, c);
+                }
+                // the absorbing walls' dampers and static reaction: wall work too
+                if let Some(f) = fa {
+                    t[0] += power(f, c);
                 }
                 if let Some(f) = fp {
                     t[1] = power(f, c);

@@ -50,6 +50,9 @@ pub struct Particles {
     /// Viscosity coefficient α of each particle (Morris–Monaghan switch), ntotal (the mirrors
     /// hold their source's); empty without the switch.
     pub alpha: Vec<f64>,
+    /// Stress at t = 0, −p I + τ (Pa, tension positive), NSTR × nreal: the static reaction of
+    /// absorbing walls; empty without them.
+    pub sigma0: Vec<f64>,
 }
 
 impl Particles {
@@ -191,6 +194,7 @@ pub enum Field {
     Mumax,
     Efloor,
     Alpha,
+    Sigma0,
 }
 
 /// A field's array, borrowed.
@@ -230,7 +234,7 @@ impl Field {
         use Field::*;
         match self {
             X | V | Av | VMin | Dv => (Per::Particle, dim),
-            Tau | Eps | Dtau | TauMin => (Per::Particle, NSTR),
+            Tau | Eps | Dtau | TauMin | Sigma0 => (Per::Particle, NSTR),
             Rot => (Per::Particle, 3),
             // the walls of each mirror: images of up to two walls (three in 3D)
             Gseg => (Per::Particle, if dim == 3 { 3 } else { 2 }),
@@ -286,6 +290,7 @@ impl Field {
             Mumax => &w.mumax,
             Efloor => &w.efloor,
             Alpha => &p.alpha,
+            Sigma0 => &p.sigma0,
         })
     }
 
@@ -340,6 +345,7 @@ impl Field {
             Mumax => &mut w.mumax,
             Efloor => &mut w.efloor,
             Alpha => &mut p.alpha,
+            Sigma0 => &mut p.sigma0,
         })
     }
 

@@ -363,7 +363,7 @@ pub(crate) fn box_bound(case: &crate::case::Case, c: &Crater, map: Option<&Surfa
         let mirrors = case.axis_mirrors();
         // a wall (not a mirror) that is the plane axis = at, or its image in a symmetry plane
         let wall_at = |axis: usize, at: f64| {
-            case.walls.iter().filter(|w| w.kind != crate::case::WallKind::Mirror && w.edge_m.is_none()).any(|w| {
+            case.walls.iter().filter(|w| w.kind.repels() && w.edge_m.is_none()).any(|w| {
                 let (a, b) = (w.from_m.get(axis), w.to_m.get(axis));
                 a.is_some() && a == b && {
                     let c = w.from_m[axis];

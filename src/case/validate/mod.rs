@@ -258,6 +258,12 @@ impl Case {
         if let Some(g) = &self.physics.gravity_ms2 {
             v.vec(&At::top("physics"), "gravity_ms2", g, d, Range::abs(G_MAX))?;
         }
+        v.any(&At::top("initial"), "geostatic");
+        if self.initial.geostatic == Some(true) && !self.gravity_on() {
+            return Err(input(
+                "initial.geostatic = true: the geostatic stress is the weight of the soil, and the case has no gravity (physics.gravity_ms2)",
+            ));
+        }
         self.validate_materials(v)?;
         self.validate_regions(v)?;
         self.validate_walls(v)?;
@@ -376,6 +382,7 @@ impl Case {
         v.opt(&at, "r0_m", b.r0_m, Range::above(0.0, X_MAX))?;
         v.num(&at, "d_m2s2", b.d_m2s2, Range::within(0.0, C_MAX * C_MAX))?;
         v.any(&at, "noslip");
+        v.opt(&at, "absorb_layer_m", b.absorb_layer_m, Range::above(0.0, X_MAX))?;
         exponents(v, &at, b.n1, b.n2)
     }
 
@@ -399,6 +406,8 @@ impl Case {
                 v.num(&st, "shear_modulus_pa", s.shear_modulus_pa, Range::above(0.0, P_MAX))?;
                 v.num(&st, "alpha_phi", s.alpha_phi, Range::within(0.0, 10.0))?;
                 v.num(&st, "cohesion_pa", s.cohesion_pa, Range::within(0.0, P_MAX))?;
+                // φ = 90° would leave no horizontal stress at rest (K0 = 0): below it
+                v.opt(&st, "friction_angle_deg", s.friction_angle_deg, Range { lo: 0.0, lo_open: false, hi: 89.0 })?;
             }
             // a floor: the tension cut-off of a soil (0), the cavitation of water (< 0); -1e30
             // is "no floor"

@@ -127,12 +127,20 @@ impl Case {
             }
             // the type I force visits every wall node for every particle near the wall
             let len: f64 = w.from_m.iter().zip(&w.to_m).map(|(a, b)| (b - a) * (b - a)).sum::<f64>().sqrt();
-            if w.kind != WallKind::Mirror && len / spacing > 1e6 {
+            if w.kind.repels() && len / spacing > 1e6 {
                 return Err(input(format!(
                     "wall[{k}]: {:.3e} wall particles (length {len:e} m / boundary.wall_spacing_m {spacing:e} m; at most 1e6)",
                     len / spacing
                 )));
             }
+        }
+        let absorbing = self.walls.iter().any(|w| w.kind == WallKind::Absorbing);
+        if let (Some(l), true) = (self.boundary.absorb_layer_m, absorbing && dx_min.is_finite())
+            && l < dx_min
+        {
+            return Err(input(format!(
+                "boundary.absorb_layer_m = {l:e}: thinner than the finest spacing ({dx_min:e} m), the layer of an absorbing wall would hold no particle"
+            )));
         }
         if !self.walls.is_empty() && dx_min.is_finite() {
             let b = &self.boundary;

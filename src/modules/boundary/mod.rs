@@ -252,8 +252,8 @@ impl Stage for WallStage {
 /// Runs when the case has walls: mirrors for type II, the force for type I.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
-    let mirror_segs = walls::segments(case, ctx.x0, |k| k != WallKind::Repulsive);
-    let wall_segs = walls::segments(case, ctx.x0, |k| k != WallKind::Mirror);
+    let mirror_segs = walls::segments(case, ctx.x0, WallKind::mirrors);
+    let wall_segs = walls::segments(case, ctx.x0, WallKind::repels);
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
     if !mirror_segs.is_empty() {
         stages.push((Phase::Mirrors, Box::new(MakeStage { segs: mirror_segs.clone(), kappa: ctx.kappa })));
@@ -277,8 +277,8 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         };
         stages.push((Phase::Rates, Box::new(WallStage { segs: wall_segs, coef, slots: Slots::default() })));
     }
-    let mirrors = case.walls.iter().any(|w| w.kind != WallKind::Repulsive);
-    let rep = case.walls.iter().any(|w| w.kind != WallKind::Mirror);
+    let mirrors = case.walls.iter().any(|w| w.kind.mirrors());
+    let rep = case.walls.iter().any(|w| w.kind.repels());
     let why = match (mirrors, rep) {
         (true, true) => "walls: type I force and type II mirrors",
         (true, false) => "walls: type II mirrors",

@@ -199,8 +199,28 @@ fn sized(name: &str, got: usize, want: usize) -> Result<()> {
 
 /// The particles' arrays into `b` (names under `p.`).
 fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
-    let Particles { dim, nreal, ntotal, x, v, rho, p: pr, c, e, h, mass, mat, id, tau, tlight, burn, h0, rho0, alpha } =
-        p;
+    let Particles {
+        dim,
+        nreal,
+        ntotal,
+        x,
+        v,
+        rho,
+        p: pr,
+        c,
+        e,
+        h,
+        mass,
+        mat,
+        id,
+        tau,
+        tlight,
+        burn,
+        h0,
+        rho0,
+        alpha,
+        sigma0,
+    } = p;
     b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
     for (name, a) in [
         ("p.x", x),
@@ -217,6 +237,7 @@ fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
         ("p.h0", h0),
         ("p.rho0", rho0),
         ("p.alpha", alpha),
+        ("p.sigma0", sigma0),
     ] {
         b.put_ref(name, Ref::F64(a));
     }
@@ -314,6 +335,7 @@ fn restore_particles(
         h0,
         rho0,
         alpha,
+        sigma0,
     } = p;
     let new_mat = b.i32("p.mat")?;
     sized("p.mat", new_mat.len(), ntotal)?;
@@ -340,7 +362,13 @@ fn restore_particles(
         *a = val;
     }
     // allocated by the stages that use them (register): their sizes are the case's
-    for (name, a) in [("p.tlight", &mut *tlight), ("p.burn", &mut *burn), ("p.h0", &mut *h0), ("p.rho0", &mut *rho0)] {
+    for (name, a) in [
+        ("p.tlight", &mut *tlight),
+        ("p.burn", &mut *burn),
+        ("p.h0", &mut *h0),
+        ("p.rho0", &mut *rho0),
+        ("p.sigma0", &mut *sigma0),
+    ] {
         let val = b.f64(name)?;
         sized(name, val.len(), a.len())?;
         *a = val;
