@@ -21,10 +21,10 @@ fn sources(dir: &Path, out: &mut Vec<std::path::PathBuf>) {
 fn the_core_sources_name_no_part_of_the_bridge() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
-    for d in ["sim", "modules", "case"] {
+    for d in ["sim", "modules", "case", "state", "setup"] {
         sources(&root.join(d), &mut files);
     }
-    files.push(root.join("state.rs"));
+    files.push(root.join("param.rs"));
     files.push(root.join("dual.rs"));
     files.push(root.join("pairs.rs"));
     assert!(files.len() > 40, "{files:?}");
