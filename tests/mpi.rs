@@ -4,6 +4,8 @@
 //! resumes on 2; a bad case ends every rank with one line and exit status 2.
 #![cfg(feature = "mpi")]
 
+mod common;
+use common::h5_bits;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -62,29 +64,6 @@ fn run(np: usize, case: &str, sets: &[&str], out: &Path) -> Output {
     let o = finish(c, 300, &format!("{case} on {np} ranks"));
     assert!(o.status.success(), "{case} on {np} ranks: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
     o
-}
-
-/// Every `Step#N` group of a particles.h5: (group, dataset) → the bits of its values.
-fn h5_bits(path: &Path) -> Vec<(String, String, Vec<u64>)> {
-    let f = hdf5::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut groups = f.member_names().unwrap();
-    groups.retain(|g| g.starts_with("Step#"));
-    let mut out = Vec::new();
-    for gname in groups {
-        let g = f.group(&gname).unwrap();
-        let t: f64 = g.attr("TimeValue").unwrap().read_scalar().unwrap();
-        out.push((gname.clone(), "TimeValue".into(), vec![t.to_bits()]));
-        for dname in g.member_names().unwrap() {
-            let d = g.dataset(&dname).unwrap();
-            let bits: Vec<u64> = match dname.as_str() {
-                "mat" => d.read_raw::<i32>().unwrap().iter().map(|v| *v as u64).collect(),
-                "id" => d.read_raw::<i64>().unwrap().iter().map(|v| *v as u64).collect(),
-                _ => d.read_raw::<f64>().unwrap().iter().map(|v| v.to_bits()).collect(),
-            };
-            out.push((gname.clone(), dname, bits));
-        }
-    }
-    out
 }
 
 fn summary(dir: &Path) -> Value {

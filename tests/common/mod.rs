@@ -179,3 +179,27 @@ kind = "crater"
         c.det_z,
     )
 }
+
+/// Every `Step#N` group of a particles.h5: (group, dataset) → the bits of its values, the
+/// group's `TimeValue` first.
+pub fn h5_bits(path: &Path) -> Vec<(String, String, Vec<u64>)> {
+    let f = hdf5::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut groups = f.member_names().unwrap();
+    groups.retain(|g| g.starts_with("Step#"));
+    let mut out = Vec::new();
+    for gname in groups {
+        let g = f.group(&gname).unwrap();
+        let t: f64 = g.attr("TimeValue").unwrap().read_scalar().unwrap();
+        out.push((gname.clone(), "TimeValue".into(), vec![t.to_bits()]));
+        for dname in g.member_names().unwrap() {
+            let d = g.dataset(&dname).unwrap();
+            let bits: Vec<u64> = match dname.as_str() {
+                "mat" => d.read_raw::<i32>().unwrap().iter().map(|v| *v as u64).collect(),
+                "id" => d.read_raw::<i64>().unwrap().iter().map(|v| *v as u64).collect(),
+                _ => d.read_raw::<f64>().unwrap().iter().map(|v| v.to_bits()).collect(),
+            };
+            out.push((gname.clone(), dname, bits));
+        }
+    }
+    out
+}
