@@ -82,6 +82,13 @@ pub(crate) fn check_text(sim: &Sim) -> String {
         if c.sph.jitter > 0.0 { format!(", lattice jittered by {:e} dx", c.sph.jitter) } else { String::new() },
         det
     );
+    if c.gravity_on() {
+        s += if c.geostatic() {
+            "start: geostatic (at rest under gravity, initial.geostatic)\n"
+        } else {
+            "start: uniform density under gravity (initial.geostatic = false)\n"
+        };
+    }
     if let Some(l) = crate::analysis::sedov_edge::sedov_check_line(c) {
         s += &format!("{l}\n");
     }
