@@ -142,27 +142,14 @@ fn same_as_serial(case: &str, sets: &[&str], nps: &[usize]) {
     }
 }
 
-/// S1 (TNT 6 × 6 cm on loose sand) in a 40 × 30 cm box at its 1 cm spacing (1200 particles),
-/// reordered in memory every 10 steps, to 50 µs.
-const PLANE: [&str; 13] = [
-    "region.soil.lo_m=[0.3,0.7]",
-    "region.soil.hi_m=[0.7,1.0]",
-    "wall.0.from_m=[0.3,1.0]",
-    "wall.0.to_m=[0.3,0.7]",
-    "wall.1.from_m=[0.3,0.7]",
-    "wall.1.to_m=[0.7,0.7]",
-    "wall.2.from_m=[0.7,0.7]",
-    "wall.2.to_m=[0.7,1.0]",
-    "gauge.D.point_m=[0.5,0.75]",
-    "gauge.E.point_m=[0.5,0.73]",
-    "time.output_interval_s=1e-5",
-    "time.end_s=5e-5",
-    "sph.reorder_every=10",
-];
+/// [`common::SMALL_S1`] to 50 µs, reordered in memory every 10 steps.
+fn plane() -> Vec<&'static str> {
+    common::SMALL_S1.iter().copied().chain(["time.end_s=5e-5", "sph.reorder_every=10"]).collect()
+}
 
 #[test]
 fn plane_2d_on_1_2_and_3_ranks_is_the_serial_run_bitwise() {
-    same_as_serial("surface_loose_tnt6.toml", &PLANE, &[1, 2, 3]);
+    same_as_serial("surface_loose_tnt6.toml", &plane(), &[1, 2, 3]);
 }
 
 #[test]
@@ -227,7 +214,7 @@ fn a_checkpoint_written_by_3_ranks_resumes_on_2_as_the_serial_run_resumed() {
     let root = tempfile::tempdir().unwrap();
     let (one, many) = (root.path().join("serial"), root.path().join("np3"));
     let sets: Vec<&str> =
-        PLANE.iter().copied().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-5"]).collect();
+        plane().into_iter().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-5"]).collect();
     run(0, "surface_loose_tnt6.toml", &sets, &one);
     run(3, "surface_loose_tnt6.toml", &sets, &many);
     resume(0, &one, "6e-5");

@@ -24,26 +24,9 @@ fn case() -> String {
     concat!(env!("CARGO_MANIFEST_DIR"), "/cases/surface_loose_tnt6.toml").to_string()
 }
 
-/// S1 (TNT 6 × 6 cm on loose sand) made small and fast: the soil a 40 × 30 cm box around the
-/// charge at the case's own 1 cm spacing (1200 particles), the walls moved to its sides and
-/// bottom, gauges D and E moved inside it, an output every 10 µs to 100 µs.
+/// [`common::SMALL_S1`] as owned strings.
 fn small() -> Vec<String> {
-    [
-        "region.soil.lo_m=[0.3,0.7]",
-        "region.soil.hi_m=[0.7,1.0]",
-        "wall.0.from_m=[0.3,1.0]",
-        "wall.0.to_m=[0.3,0.7]",
-        "wall.1.from_m=[0.3,0.7]",
-        "wall.1.to_m=[0.7,0.7]",
-        "wall.2.from_m=[0.7,0.7]",
-        "wall.2.to_m=[0.7,1.0]",
-        "gauge.D.point_m=[0.5,0.75]",
-        "gauge.E.point_m=[0.5,0.73]",
-        "time.output_interval_s=1e-5",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect()
+    common::SMALL_S1.iter().map(|s| s.to_string()).collect()
 }
 
 fn bin() -> Command {

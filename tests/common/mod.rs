@@ -203,3 +203,21 @@ pub fn h5_bits(path: &Path) -> Vec<(String, String, Vec<u64>)> {
     }
     out
 }
+
+/// `--set` lines that make S1 (`cases/surface_loose_tnt6.toml`, TNT 6 × 6 cm on loose sand)
+/// small and fast: the soil a 40 × 30 cm box around the charge at the case's own 1 cm spacing
+/// (1200 particles), the walls moved to its sides and bottom, gauges D and E inside it, an output
+/// every 10 µs.
+pub const SMALL_S1: [&str; 11] = [
+    "region.soil.lo_m=[0.3,0.7]",
+    "region.soil.hi_m=[0.7,1.0]",
+    "wall.0.from_m=[0.3,1.0]",
+    "wall.0.to_m=[0.3,0.7]",
+    "wall.1.from_m=[0.3,0.7]",
+    "wall.1.to_m=[0.7,0.7]",
+    "wall.2.from_m=[0.7,0.7]",
+    "wall.2.to_m=[0.7,1.0]",
+    "gauge.D.point_m=[0.5,0.75]",
+    "gauge.E.point_m=[0.5,0.73]",
+    "time.output_interval_s=1e-5",
+];
