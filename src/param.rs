@@ -22,6 +22,28 @@ pub const NPAR: usize = SPH_NPAR as usize;
 /// Stored deviatoric stress components: xx, yy, zz, xy, xz, yz.
 pub const NSTR: usize = SPH_NSTR as usize;
 
+/// y(x) of the table (`xs`, `ys`), `xs` ascending: linear between points, `ys[0]` below `xs[0]`;
+/// above the last point the last segment extended (`extend`) or the last value. The operations
+/// of `tab_lin` in `sph_eos.f90`.
+#[inline]
+pub fn tab_lin(xs: &[f64], ys: &[f64], x: f64, extend: bool) -> f64 {
+    let nk = xs.len();
+    if x <= xs[0] {
+        return ys[0];
+    }
+    if x >= xs[nk - 1] && !extend {
+        return ys[nk - 1];
+    }
+    let mut k = 0;
+    while k < nk - 2 {
+        if x < xs[k + 1] {
+            break;
+        }
+        k += 1;
+    }
+    ys[k] + (x - xs[k]) / (xs[k + 1] - xs[k]) * (ys[k + 1] - ys[k])
+}
+
 /// The material table passed to every routine that dispatches per material.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MatTable {

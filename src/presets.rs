@@ -8,7 +8,7 @@
 use toml::{Table, Value};
 
 /// (name, source, keys as TOML).
-pub const PRESETS: [(&str, &str, &str); 10] = [
+pub const PRESETS: [(&str, &str, &str); 13] = [
     (
         "tnt",
         "thesis Table 4-2 after Liu (A as Liu publishes it, 3.712e11 Pa; B = 3.21e9 Pa as the thesis and Liu's cases use); unreacted TNT Us = 2390 + 2.05 Up m/s (cast TNT, Marsh 1980, LASL Shock Hugoniot Data), Gamma = 1 assumed (docs/theory.md s.9)",
@@ -70,12 +70,32 @@ pmin_pa = 0.0
 e0_jkg = 0.2266"#,
     ),
     (
+        "dry_sand_loose",
+        "Laine & Sandvik (2001), Derivation of mechanical properties for sand, 4th Asia-Pacific Conf. on Shock and Impact Loads on Structures: dry sand at 1674 kg/m3, its compaction curve, bulk sound speeds and G = 76.9 MPa; alpha_phi = 0.24 from its yield slope (sigma_y = 1.25 p), no cohesion, no tension; the table values are as secondary sources reproduce them, not checked against the paper's own table",
+        r#"eos = { kind = "compaction", rho_kgm3 = [1674.0, 1739.0, 1874.0, 1997.0, 2144.0, 2250.0, 2380.0, 2485.0, 2585.0, 2671.0], p_pa = [0.0, 4.577e6, 1.498e7, 2.954e7, 5.94e7, 9.886e7, 1.794e8, 2.867e8, 4.155e8, 6.505e8], c_rho_kgm3 = [1674.0, 1746.0, 2086.0, 2147.0, 2300.0, 2572.0, 2598.0, 2635.0, 2641.0, 2800.0], c_ms = [265.2, 852.1, 1721.7, 1875.5, 2264.8, 2956.1, 3112.2, 4600.0, 4634.0, 4634.0] }
+strength = { shear_modulus_pa = 7.69e7, alpha_phi = 0.24, cohesion_pa = 0.0 }
+pmin_pa = 0.0"#,
+    ),
+    (
+        "dry_sand_dense",
+        "the dry sand of Laine & Sandvik (2001) as dry_sand_loose, compacted beforehand to 1874 kg/m3 (a point of their curve) and at rest on its unloading line (1863 kg/m3); G held at their 1674 kg/m3 value",
+        r#"eos = { kind = "compaction", rho_kgm3 = [1674.0, 1739.0, 1874.0, 1997.0, 2144.0, 2250.0, 2380.0, 2485.0, 2585.0, 2671.0], p_pa = [0.0, 4.577e6, 1.498e7, 2.954e7, 5.94e7, 9.886e7, 1.794e8, 2.867e8, 4.155e8, 6.505e8], c_rho_kgm3 = [1674.0, 1746.0, 2086.0, 2147.0, 2300.0, 2572.0, 2598.0, 2635.0, 2641.0, 2800.0], c_ms = [265.2, 852.1, 1721.7, 1875.5, 2264.8, 2956.1, 3112.2, 4600.0, 4634.0, 4634.0], rho_max0_kgm3 = 1874.0 }
+strength = { shear_modulus_pa = 7.69e7, alpha_phi = 0.24, cohesion_pa = 0.0 }
+pmin_pa = 0.0"#,
+    ),
+    (
         "dry_soil",
         "thesis V2 (buried C4, after An 2010): rho0 = 1802 kg/m3 with the loose-sand constants of Table 5-2 (the source gives no others)",
         r#"eos = { kind = "soil", rho0_kgm3 = 1802.0, c_ms = 1440.0, s = 1.6, gamma = 0.11 }
 strength = { shear_modulus_pa = 6.358e+07, alpha_phi = 0.25, cohesion_pa = 200.0 }
 pmin_pa = 0.0
 e0_jkg = 0.2314"#,
+    ),
+    (
+        "air",
+        "ideal gas, gamma = 1.4, at sea level (ICAO standard atmosphere): rho0 = 1.225 kg/m3, p = 101.325 kPa, e0 = p / ((gamma - 1) rho0)",
+        r#"eos = { kind = "ideal_gas", gamma = 1.4, rho0_kgm3 = 1.225 }
+e0_jkg = 206785.71428571426"#,
     ),
 ];
 

@@ -390,7 +390,17 @@ fn programmed_burn_lights_at_distance_over_d() {
         m[7] = -f64::MAX;
         MatTable { mtype: vec![SPH_EOS_JWL as i32], mpar: m, group: vec![0] }
     };
-    eos::Eval { mt: &jwl, mat: &[0], burn: &[0.25], rho: &[1630.0], e: &[4.29e6], p: &mut p, c: &mut c }.run(F);
+    eos::Eval {
+        mt: &jwl,
+        mat: &[0],
+        burn: &[0.25],
+        rho_max: &mut [],
+        rho: &[1630.0],
+        e: &[4.29e6],
+        p: &mut p,
+        c: &mut c,
+    }
+    .run(F);
     let full = 8.376e9;
     assert!((p[0] / (0.25 * full) - 1.0).abs() < 5e-3, "p = {} = a quarter of the constant-volume burn", p[0]);
     // with an unreacted explosive (C = 2390 m/s, S = 2.05, Γ = 1, e_chem = 4.29 MJ/kg): unlit and
@@ -405,7 +415,7 @@ fn programmed_burn_lights_at_distance_over_d() {
     let pu = (1.0 - 0.5 * mu) * (a0 * mu + b0 * mu * mu + c0 * mu * mu * mu) + rho * 1e5;
     let (mut p0, mut pj, mut pq) = ([0.0; 1], [0.0; 1], [0.0; 1]);
     let mut eval = |mt: &MatTable, lam: f64, p: &mut [f64]| {
-        eos::Eval { mt, mat: &[0], burn: &[lam], rho: &[rho], e: &[e], p, c: &mut c }.run(F)
+        eos::Eval { mt, mat: &[0], burn: &[lam], rho_max: &mut [], rho: &[rho], e: &[e], p, c: &mut c }.run(F)
     };
     eval(&un, 0.0, &mut p0);
     assert!((p0[0] / pu - 1.0).abs() < 1e-12, "unreacted p = {} against {pu}", p0[0]);

@@ -305,6 +305,29 @@ fn dual_tait_water_at_zero_ulp() {
     assert!(modules.contains("eos"), "compared {modules:?}");
 }
 
+/// The synthetic case with its sand as the compaction EOS (`preset = "dry_sand_loose"`, Laine &
+/// Sandvik's dry sand): the EOS stage with its compaction history, and every stage after it, at
+/// 0 ULP, the history `rho_max` among the fields compared.
+#[test]
+fn dual_compaction_sand_at_zero_ulp() {
+    let dir = tempfile::tempdir().unwrap();
+    let soil = r#"eos = { kind = "soil", rho0_kgm3 = 1450.0, c_ms = 1440.0, s = 1.6, gamma = 0.11 }
+strength = { shear_modulus_pa = 63.58e6, alpha_phi = 0.25, cohesion_pa = 2.0e3 }"#;
+    assert!(ALL_MODULES.contains(soil));
+    let path = dir.path().join("dual_compaction.toml");
+    std::fs::write(&path, ALL_MODULES.replace(soil, r#"preset = "dry_sand_loose""#)).unwrap();
+    let c = case::load(&path, &[]).expect("the compaction case loads");
+    let sand = c.materials.iter().find(|m| m.name == "sand").unwrap();
+    assert_eq!(sand.eos.kind(), "compaction");
+    let code = cli::dual_run(c, &Overrides::default(), 15, dir.path()).expect("dual run");
+    assert_eq!(code, 0, "exit status of a dual run within tolerance");
+    let modules = check_report(&dir.path().join("dual_report.json"), 15);
+    assert!(modules.contains("eos") && modules.contains("strength"), "compared {modules:?}");
+    let rep = read_json(&dir.path().join("dual_report.json"));
+    let rows = rep["rows"].as_array().expect("rows");
+    assert!(rows.iter().any(|r| r["field"] == "rho_max" && r["compared"].as_u64().unwrap_or(0) > 0), "no rho_max row");
+}
+
 /// The thesis's blast scenes: V1 (JWL charge in water, mirrors on all four walls) and S1 (TNT on
 /// loose sand: strength, penalty, programmed burn), a few steps each, every module compared.
 #[test]

@@ -431,7 +431,8 @@ impl Mat {
         let n = rho.len();
         let (mut p, mut c) = (vec![0.0; n], vec![0.0; n]);
         let mat = vec![0; n];
-        eos::Eval { mt: &self.table(), mat: &mat, burn: &[], rho, e, p: &mut p, c: &mut c }.run(Backend::Fortran);
+        eos::Eval { mt: &self.table(), mat: &mat, burn: &[], rho_max: &mut [], rho, e, p: &mut p, c: &mut c }
+            .run(Backend::Fortran);
         (p, c)
     }
     fn p(&self, rho: f64, e: f64) -> f64 {
@@ -511,8 +512,17 @@ fn eos_jwl_tnt_constant_volume_burn() {
     let mut p2 = [0.0; 3];
     let mut c2 = [0.0; 3];
     let (mt, mat, burn) = (m.table(), [0, 0, 0], [0.0, 0.25, 1.0]);
-    eos::Eval { mt: &mt, mat: &mat, burn: &burn, rho: &[rho0; 3], e: &[e0; 3], p: &mut p2, c: &mut c2 }
-        .run(Backend::Fortran);
+    eos::Eval {
+        mt: &mt,
+        mat: &mat,
+        burn: &burn,
+        rho_max: &mut [],
+        rho: &[rho0; 3],
+        e: &[e0; 3],
+        p: &mut p2,
+        c: &mut c2,
+    }
+    .run(Backend::Fortran);
     assert_eq!(p2[0], 0.0);
     assert!(rel(p2[1], 0.25 * p) < 1e-15 && rel(p2[2], p) < 1e-15, "{p2:?}");
 }
@@ -670,7 +680,8 @@ fn eos_pressure_floor_and_material_table_from_a_case() {
     let rho = [1630.0, 1450.0 * 0.9, 1450.0 * 1.1];
     let e = [4.29e6, 0.0, 0.0];
     let (mut p, mut cc) = ([0.0; 3], [0.0; 3]);
-    eos::Eval { mt: &mt, mat: &[0, 1, 1], burn: &[], rho: &rho, e: &e, p: &mut p, c: &mut cc }.run(Backend::Fortran);
+    eos::Eval { mt: &mt, mat: &[0, 1, 1], burn: &[], rho_max: &mut [], rho: &rho, e: &e, p: &mut p, c: &mut cc }
+        .run(Backend::Fortran);
     assert!(rel(p[0], tnt().p(1630.0, 4.29e6)) < 1e-15, "JWL through the case table");
     assert_eq!(p[1], 0.0, "sand in tension is cut off at pmin_pa = 0");
     assert!(rel(p[2], soil(LOOSE_SAND).p(rho[2], 0.0)) < 1e-15);

@@ -121,30 +121,35 @@ fn the_ledger_says_a_setup_warning_once() {
     assert_eq!(n, 1, "status {:?}: {se}", o.status.code());
 }
 
-/// A whole array of vectors whose leading extent is not `dim` (`vx(maxdim,maxn)`, maxdim = 3, in
-/// the 1D fixture): blastsph passes dim values per particle, so the routine would read another
-/// particle's values. The build refuses it in one line naming the routine, the array and why.
+/// A whole array of vectors whose leading extent is not provably a number (`vx(ndim,maxn)` with
+/// ndim = dim + 2, an expression the build does not evaluate), or below dim: blastsph could not
+/// lay each particle's values out as the routine reads them. The build refuses it in one line
+/// naming the routine, the array and why. A number or a `parameter` of a number builds
+/// (tests/legacy_host.rs runs a whole program laid out so).
 #[test]
-fn a_leading_extent_other_than_dim_is_refused_in_one_line() {
-    let d = variant("maxdim", |m| m.to_string());
-    let f = d.join("av_vel.f");
-    let text = std::fs::read_to_string(&f).unwrap();
-    let new = text
-        .replacen(
-            "      include 'param.inc'\n",
-            "      include 'param.inc'\n      integer maxdim\n      parameter (maxdim = 3)\n",
-            1,
-        )
-        .replacen("vx(dim,maxn)", "vx(maxdim,maxn)", 1);
-    assert_ne!(new, text);
-    std::fs::write(&f, new).unwrap();
-    refused(&d, &["routine av_vel", "`vx`", "(maxdim,maxn)", "leading extent `maxdim` is not provably dim (= 1)"]);
-    // the same extent as the number dim is provably right: it builds
-    let d = variant("maxdim_literal", |m| m.to_string());
-    let f = d.join("av_vel.f");
-    let text = std::fs::read_to_string(&f).unwrap();
-    std::fs::write(&f, text.replacen("vx(dim,maxn)", "vx(1,maxn)", 1)).unwrap();
+fn a_leading_extent_that_cannot_be_proved_is_refused_in_one_line() {
+    let with = |name: &str, decl: &str, extent: &str| {
+        let d = variant(name, |m| m.to_string());
+        let f = d.join("av_vel.f");
+        let text = std::fs::read_to_string(&f).unwrap();
+        let new = text
+            .replacen("      include 'param.inc'\n", &format!("      include 'param.inc'\n{decl}"), 1)
+            .replacen("vx(dim,maxn)", &format!("vx({extent},maxn)"), 1);
+        assert_ne!(new, text);
+        std::fs::write(&f, new).unwrap();
+        d
+    };
+    let d = with("ndim_expr", "      integer ndim\n      parameter (ndim = dim + 2)\n", "ndim");
+    refused(&d, &["routine av_vel", "`vx`", "(ndim,maxn)", "leading extent `ndim` is not a number or a `parameter`"]);
+    let d = with("ndim_zero", "      integer ndim\n      parameter (ndim = 0)\n", "ndim");
+    refused(&d, &["routine av_vel", "`vx`", "`ndim` = 0 is below dim (= 1)"]);
+    // the same extent as the number dim, or a parameter of a number: it builds
+    let d = with("maxdim_literal", "", "1");
     build(&d.join("legacy.toml"), &d.join("build")).expect("x(1,maxn) in a 1D build is x(dim,maxn)");
+    let d = with("maxdim_parameter", "      integer maxdim\n      parameter (maxdim = 3)\n", "maxdim");
+    let info = build(&d.join("legacy.toml"), &d.join("build")).expect("x(maxdim,maxn) with maxdim = 3");
+    let av = info.routine("av_vel").unwrap();
+    assert_eq!(av.args.iter().find(|a| a.name == "vx").unwrap().lead, Some(3));
 }
 
 /// The peak resident memory of `blastsph ARGS` (kB), read from /proc while it runs (VmHWM, the
@@ -195,4 +200,138 @@ fn a_search_shims_cost_follows_the_pairs_in_use_not_max_interaction() {
     assert!(peak < 150_000, "peak resident memory {peak} kB: the shim touched its max_interaction buffers");
     // and the run is the fixture's program's, bit for bit
     assert_run_ends_as_the_program(&lg, "big_max_interaction_run");
+}
+
+/// The fixture with `eos_sw` (`tests/legacy_extra/eos_switch.f`: p_gas with an integer switch, a
+/// logical and a default-real γ as dummies) mapped in place of p_gas, its manifest's entry with
+/// the given `values`.
+fn eos_switch(name: &str, values: &str) -> PathBuf {
+    let d = variant(name, |t| {
+        t.replace(
+            "name = \"p_gas\"\nmodule = \"eos\"\ncall = \"each_particle\"\nargs = [\"rho\", \"u\", \"p\", \"c\"]\n",
+            &format!(
+                "name = \"eos_sw\"\nmodule = \"eos\"\ncall = \"each_particle\"\nargs = [\"ieos\", \"rho\", \"u\", \"p\", \"c\", \"sound\", \"gam\"]\nvalues = {values}\n"
+            ),
+        )
+    });
+    assert!(std::fs::read_to_string(d.join("legacy.toml")).unwrap().contains("eos_sw"));
+    std::fs::copy(root().join("tests/legacy_extra/eos_switch.f"), d.join("eos_switch.f")).unwrap();
+    d
+}
+
+/// Dummies blastsph has no name for (a switch, a logical, a default-real constant) are bound to
+/// the manifest's `values`: the routine runs with them, at 0 ULP against the EOS twin. With the
+/// logical false the routine leaves c as it was, and the dual run says so; a value of another
+/// type than its dummy's, a vocabulary name or a name not in `args` is refused in one line.
+#[test]
+fn dummies_bound_to_values_in_the_manifest_reach_the_routine() {
+    let d = eos_switch("values_on", "{ ieos = 1, sound = true, gam = 1.4 }");
+    let lg = d.join("build");
+    let info = build(&d.join("legacy.toml"), &lg).expect("values bind the switches");
+    let r = info.routine("eos_sw").unwrap();
+    let ty = |n: &str| r.args.iter().find(|a| a.name == n).unwrap().value.clone().unwrap();
+    assert_eq!(ty("ieos"), ("integer".to_string(), "1".to_string()));
+    assert_eq!(ty("sound").0, "logical");
+    assert_eq!(ty("gam").0, "real");
+    let out = d.join("dual");
+    blastsph_ok(&dual_book_args(&lg, Some(5), &out), 0);
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for f in ["p", "c"] {
+        let x = row(&rows, "legacy.eos_sw", f);
+        assert!(x["compared"].as_u64().unwrap() > 0, "{x}");
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
+    }
+    // the logical switched off: c is not the routine's output any more, the twin's is
+    let d = eos_switch("values_off", "{ ieos = 1, sound = false, gam = 1.4 }");
+    let lg = d.join("build");
+    build(&d.join("legacy.toml"), &lg).expect("builds");
+    let out = d.join("dual");
+    blastsph_ok(&dual_book_args(&lg, Some(5), &out), 4);
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    assert_eq!(row(&rows, "legacy.eos_sw", "p")["max_ulp"], 0);
+    assert!(row(&rows, "legacy.eos_sw", "c")["out_of_tolerance"].as_u64().unwrap() > 0);
+    // refused, one line each
+    refused(
+        &eos_switch("values_type", "{ ieos = 1, sound = 1, gam = 1.4 }"),
+        &["routine eos_sw", "argument 6 (\"sound\" in values)", "int_least32_t", "the manifest gives an integer"],
+    );
+    refused(
+        &eos_switch("values_vocab", "{ ieos = 1, sound = true, gam = 1.4, rho = 1.0 }"),
+        &["values.rho", "name of the argument vocabulary"],
+    );
+    refused(
+        &eos_switch("values_absent", "{ ieos = 1, sound = true, gam = 1.4, skf = 1 }"),
+        &["values.skf", "not in args"],
+    );
+    refused(&eos_switch("values_missing", "{ ieos = 1, sound = true }"), &["unknown argument name \"gam\""]);
+}
+
+/// A default-real (4-byte) code: a dummy declared `real` where the vocabulary has a double
+/// precision value is refused in one line naming the routine, the argument and both types.
+#[test]
+fn a_default_real_dummy_is_refused_in_one_line() {
+    let d = variant("real4", |m| m.to_string());
+    let f = d.join("eos.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = text.replacen("      double precision rho, u, p, c\n", "      real rho, u, p, c\n", 1);
+    assert_ne!(new, text);
+    std::fs::write(&f, new).unwrap();
+    refused(&d, &["routine p_gas", "argument 1 (\"rho\" in the manifest)", "declared float", "double precision"]);
+}
+
+/// The fixture with an EOS that gives p only (`tests/legacy_extra/eos_p_only.f`: the ideal gas's
+/// p, no c) in place of p_gas, both where it is mapped and where int_force calls it. Its program's
+/// c is an array that no routine writes, so its artificial viscosity reads c = 0.
+fn p_only() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = variant("p_only", |t| {
+            t.replace(
+                "name = \"p_gas\"\nmodule = \"eos\"\ncall = \"each_particle\"\nargs = [\"rho\", \"u\", \"p\", \"c\"]\n",
+                "name = \"p_gas_p\"\nmodule = \"eos\"\ncall = \"each_particle\"\nargs = [\"rho\", \"u\", \"p\"]\n",
+            )
+        });
+        assert!(std::fs::read_to_string(d.join("legacy.toml")).unwrap().contains("p_gas_p"));
+        std::fs::copy(root().join("tests/legacy_extra/eos_p_only.f"), d.join("eos_p_only.f")).unwrap();
+        let f = d.join("int_force.f");
+        let text = std::fs::read_to_string(&f).unwrap();
+        let new = text.replace("call p_gas(rho(i), u(i), p(i), c(i))", "call p_gas_p(rho(i), u(i), p(i))");
+        assert_ne!(new, text);
+        std::fs::write(&f, new).unwrap();
+        build(&d.join("legacy.toml"), &d.join("build")).expect("the variant builds");
+        d.join("build")
+    })
+}
+
+/// An EOS routine that gives p only stands for the EOS stage for p: `check` says so on its line,
+/// the dual run compares p at 0 ULP and says on its row which c each side used, and `run
+/// --legacy` runs on c = 0 as the program does, bit for bit to the end of the shock tube.
+#[test]
+fn an_eos_that_gives_p_only_stands_for_p_and_leaves_c_at_zero() {
+    let lg = p_only();
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", lg.to_str().unwrap(), "--compat", "liu-book"], 0);
+    let line = so.lines().find(|l| l.trim_start().starts_with("p_gas_p ")).unwrap_or_else(|| panic!("{so}"));
+    assert!(line.contains(" run ") && line.contains("stands for eos.eval for p only"), "{line}");
+    assert!(line.contains("leaves c at 0") && line.contains("the Rust twin uses its own c"), "{line}");
+    assert!(!so.contains("warning: legacy p_gas_p"), "{so}");
+    // the dual run: p compared at 0 ULP, c not compared, the row saying which c each side used
+    let out = scratch("p_only_dual");
+    let o = blastsph(&dual_book_args(lg, Some(5), &out));
+    let so = String::from_utf8_lossy(&o.stdout);
+    assert!(!so.contains("NOT RUN"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let x = row(&rows, "legacy.p_gas_p", "p");
+    assert!(x["compared"].as_u64().unwrap() > 0, "{x}");
+    assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{x}");
+    let why = x["tolerance_why"].as_str().unwrap();
+    assert!(why.contains("leaves c at 0") && why.contains("the Rust twin uses its own c"), "{why}");
+    assert!(!rows.iter().any(|r| r["stage"] == "legacy.p_gas_p" && r["field"] == "c"), "c is not compared");
+    // int_force, which no longer writes c, hands on the 0 it was given: its twin's c differs
+    assert!(row(&rows, "legacy.int_force", "c")["out_of_tolerance"].as_u64().unwrap() > 0);
+    assert_eq!(o.status.code(), Some(4), "{so}");
+    // the program on c = 0 ends elsewhere than the fixture's (its viscosity's alpha term sees
+    // c = 0), and `run --legacy` ends where it does
+    let rows = program_rows_of(lg, "p_only_program", 40);
+    assert_ne!(rows, program_final_state(), "c = 0 changes the program's run");
+    assert_run_ends_as(lg, "shock_tube", "liu-book", &rows, "p_only_run");
 }

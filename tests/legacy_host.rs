@@ -186,3 +186,55 @@ fn a_routine_host_mode_cannot_compare_is_refused_with_one_line() {
     assert!(se.starts_with("error: legacy host: cannot compare routine art_visc:") && se.contains("globals"), "{se}");
     assert!(!so.contains("number of time steps"), "the program did not start: {so}");
 }
+
+/// The fixture with every array of vectors declared `(mxd, ...)`, mxd = 3 in its 1D param.inc
+/// (a name as long as `dim`, so that every line stays within 72 columns), as codes that keep 3
+/// components whatever `dim` do (`x(maxdim,maxn)`): the build lays each particle's
+/// and pair's values out 3 apart, host mode compares every call at 0 ULP, and `run --legacy`
+/// ends in the program's state bit for bit (the same state as the fixture's, whose arithmetic
+/// it is).
+#[test]
+fn arrays_declared_with_a_leading_extent_above_dim_are_laid_out_as_declared() {
+    let d = variant("maxdim_layout", |m| m.to_string());
+    let mut changed = 0;
+    for e in std::fs::read_dir(&d).unwrap() {
+        let p = e.unwrap().path();
+        let text = std::fs::read_to_string(&p).unwrap();
+        let new = if p.file_name().is_some_and(|f| f == "param.inc") {
+            text.replacen(
+                "      parameter (dim = 1)\n",
+                "      parameter (dim = 1)\n      integer mxd\n      parameter (mxd = 3)\n",
+                1,
+            )
+        } else if p.extension().is_some_and(|x| x == "f") {
+            text.replace("(dim,", "(mxd,")
+        } else {
+            continue;
+        };
+        changed += (new != text) as usize;
+        std::fs::write(&p, new).unwrap();
+    }
+    assert!(changed >= 8, "{changed} files changed");
+    let build = d.join("build");
+    blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the layout builds");
+    let info: serde_json::Value = serde_json::from_slice(&std::fs::read(build.join("build.json")).unwrap()).unwrap();
+    let av = info["routines"].as_array().unwrap().iter().find(|r| r["name"] == "art_visc").unwrap();
+    let x = av["args"].as_array().unwrap().iter().find(|a| a["name"] == "x").unwrap();
+    assert_eq!(x["lead"], 3, "{x}");
+    // its own program computes what the fixture's does
+    let own = program_rows_of(&build, "maxdim_program", 40);
+    assert_eq!(bits(&own), bits(program_final_state()));
+    // host mode: every twinned routine at 0 ULP at every call, the program as written
+    let out = scratch("maxdim_host");
+    let (code, so, se) = host(&build, &out, false);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert_all_zero(&report(&out), "");
+    assert_eq!(bits(&host_state(&out)), bits(&own));
+    // on the twins' outputs, written back 3 apart: the same end
+    let out = scratch("maxdim_host_rust");
+    let (code, so, se) = host(&build, &out, true);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert_eq!(bits(&host_state(&out)), bits(&own));
+    // blastsph as the host: the program's end, bit for bit
+    assert_run_ends_as_the_program(&build, "maxdim_run");
+}

@@ -436,12 +436,13 @@ fn assert_rz_3d_converge(dense: bool, fine: &Within) {
 }
 
 /// RZ against 3D at 23 mm (docs/validation.md, "RZ against 3D"): measured there, the first
-/// pulses' peaks −4.7 % … +11.4 %, arrivals −5.0 … −7.8 %, impulses −14.9 % … +13.9 %, the crater
-/// diameter −0.7 % (against the 3D map's equivalent diameter) and depth −0.9 %; asserted with
-/// margins of 1–2 points.
+/// pulses' peaks −4.7 % … +11.6 %, arrivals −5.0 … −9.0 %, impulses −14.9 % … +14.5 %, the crater
+/// diameter −0.7 % (against the 3D map's equivalent diameter) and depth −3.8 % (−0.9 % before the
+/// axis remedy gave the rings next to the axis their images' work: the RZ pit on the axis is
+/// shallower); asserted with margins of 1–2 points.
 #[test]
 fn rz_and_3d_compact_charge_agree_at_23_mm() {
-    let w = Within { peak: 0.13, arrival: 0.09, impulse: 0.16, diameter: 0.02, depth: 0.02 };
+    let w = Within { peak: 0.13, arrival: 0.09, impulse: 0.16, diameter: 0.02, depth: 0.05 };
     assert_rz_3d_within(0.023, false, &w);
 }
 

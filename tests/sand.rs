@@ -73,6 +73,27 @@ fn a_sand_column_at_rest_stays_put_10_ms() {
     assert!(geo < 1e-3, "geostatic column moved at {geo} m/s");
 }
 
+/// The same column of Laine & Sandvik's compaction sand, loose and dense (`dry_sand_loose`,
+/// `dry_sand_dense`), from the geostatic start for 2 ms: it stays put (speeds under 1 mm/s), its
+/// bottom row carries the column's weight, and every particle's compaction history is carried, at
+/// least the density the sand was compacted to before the start.
+#[test]
+fn a_compaction_sand_column_at_rest_stays_put_short() {
+    for (preset, rho0, rmax0) in [("dry_sand_loose", 1674.0, 1674.0), ("dry_sand_dense", 1863.2, 1874.0)] {
+        let set = format!("material.sand.preset={preset}");
+        let (v, sim) = max_speed(load("cases/verify/geostatic_column.toml", &["time.end_s=0.002", &set]));
+        eprintln!("{preset} column to 2 ms: max speed {v:.3e} m/s");
+        assert!(v < 1e-3, "{preset}: the column moved at {v} m/s");
+        let bottom = (0..sim.p.nreal).find(|&i| sim.x_init[2 * i + 1] < 0.011).expect("a bottom particle");
+        let sv = sim.p.p[bottom] - sim.p.tau[6 * bottom + 1];
+        let want = rho0 * 9.81 * 0.99;
+        assert!((sv / want - 1.0).abs() < 0.05, "{preset}: bottom σ_v = {sv} Pa against ρ g z = {want} Pa");
+        let n = sim.p.nreal;
+        assert_eq!(sim.p.rho_max.len(), n, "{preset}: the history is carried");
+        assert!(sim.p.rho_max.iter().all(|&r| r >= rmax0), "{preset}: a history below {rmax0}");
+    }
+}
+
 /// A 1D column of sand 2 m long (Δx = `dx`), a mirror wall at x = 0 and a wall of `kind` at
 /// x = 2 m, and a right-going P pulse: a cosine bell of peak 0.5 m/s over x = 0.2–0.4 m in ten
 /// steps, each with the density of a right-going wave, ρ0 (1 + v/c_p). The sand is the loose sand

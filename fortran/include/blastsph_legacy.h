@@ -41,6 +41,8 @@ void sph_nnps_cell(int dim, int nreal, int ntotal, const double *x, const double
 /* density (sph_density.f90) */
 void sph_density_sum(int ntotal, int npair, const int *pair_i, const int *pair_j,
                      const double *w, const double *w0, const double *mass, double *rho);
+void sph_density_number(int ntotal, int npair, const int *pair_i, const int *pair_j,
+                        const double *w, const double *w0, const double *mass, double *rho);
 void sph_density_rate(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                       const double *dwdx, const double *mass, const double *v, double *drho);
 void sph_density_rate_vol(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
@@ -49,14 +51,14 @@ void sph_density_rate_vol(int dim, int ntotal, int npair, const int *pair_i, con
 
 /* eos (sph_eos.f90) */
 void sph_eos_eval(int n, int nmat, const int *mtype, const double *mpar, const int *mat,
-                  int nburn, const double *burn, const double *rho, const double *e, double *p,
-                  double *c);
+                  int nburn, const double *burn, int nhist, double *rmax, const double *rho,
+                  const double *e, double *p, double *c);
 
 /* force (sph_force.f90) */
 void sph_force_internal(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
                         const double *dwdx, const double *mass, const double *rho,
                         const double *p, const double *v, int ntau, const double *tau,
-                        int eform, int nrinv, const double *rinv, double *dvdt,
+                        int eform, int pform, int nrinv, const double *rinv, double *dvdt,
                         double *dedt);
 
 /* viscosity (sph_viscosity.f90) */
@@ -118,8 +120,8 @@ void sph_absorb_dashpot(int dim, int n, const double *x, const double *v, const 
                         double *dvdt);
 
 /* geometry (sph_geometry.f90): the axisymmetric (RZ) ring quantities and hoop terms */
-void sph_geometry_ring(int dim, int ntotal, const double *x, const double *h, const double *mass,
-                       double *rinv, double *pmass);
+void sph_geometry_ring(int dim, int ntotal, int n, const double *x, const double *h,
+                       const double *mass, double *rinv, double *pmass);
 void sph_geometry_hoop(int dim, int ntotal, int n, const double *rho, const double *rinv,
                        const double *tau, double *dvdt);
 void sph_geometry_continuity(int dim, int ntotal, int n, const double *v, const double *rho,

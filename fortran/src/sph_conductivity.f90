@@ -59,8 +59,9 @@ contains
         end if
         q = alpha*vs*(e(i) - e(j))/mrho*(xw/r)
         if (nrinv > 0) then
-          fi = 0.5d0*(1.0d0 + rinv(i)/rinv(j))
-          fj = 0.5d0*(1.0d0 + rinv(j)/rinv(i))
+          ! |1/r*|: an axis image carries a signed 1/r*, its ring the source's |r|
+          fi = 0.5d0*(1.0d0 + abs(rinv(i))/abs(rinv(j)))
+          fj = 0.5d0*(1.0d0 + abs(rinv(j))/abs(rinv(i)))
           dedt(i) = dedt(i) + mass(j)*(q*fi)
           dedt(j) = dedt(j) - mass(i)*(q*fj)
         else

@@ -7,13 +7,16 @@
 !  or its volume form, rho_i times the SPH divergence of v, which stays
 !  consistent across large density ratios (products against soil):
 !     drho_i/dt  = rho_i sum_j (m_j/rho_j) (v_i - v_j) . grad_i W_ij
+!  or by number-density summation (Hu & Adams 2006), each particle's
+!  density from its own mass and the kernel sum of its neighbours:
+!     rho_i      = m_i (W_ii + sum_j W_ij)
 !  Pairs are scattered to both ends in pair order.
 !-----------------------------------------------------------------------
 module sph_density
   use iso_c_binding, only: c_int, c_double
   implicit none
   private
-  public :: sph_density_sum, sph_density_rate, sph_density_rate_vol
+  public :: sph_density_sum, sph_density_number, sph_density_rate, sph_density_rate_vol
 
 contains
 
@@ -35,6 +38,28 @@ contains
       rho(j) = rho(j) + mass(i)*w(k)
     end do
   end subroutine sph_density_sum
+
+  subroutine sph_density_number(ntotal, npair, pair_i, pair_j, w, w0, mass, rho) &
+      bind(C, name="sph_density_number")
+    integer(c_int), value :: ntotal, npair
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: w(npair), w0(ntotal), mass(ntotal)
+    real(c_double), intent(out) :: rho(ntotal)
+    integer :: i, j, k
+
+    do i = 1, ntotal
+      rho(i) = w0(i)
+    end do
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      rho(i) = rho(i) + w(k)
+      rho(j) = rho(j) + w(k)
+    end do
+    do i = 1, ntotal
+      rho(i) = mass(i)*rho(i)
+    end do
+  end subroutine sph_density_number
 
   subroutine sph_density_rate(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, v, drho) &
       bind(C, name="sph_density_rate")

@@ -19,6 +19,13 @@
 !     a0 = rho0 C^2, b0 = a0 (1 + 2(S-1)), c0 = a0 (2(S-1) + 3(S-1)^2)
 !   Tait (weakly compressible water; Liu & Liu 2003, their artificial water):
 !     p = B ((rho/rho0)^gamma - 1),  c = the constant c of the table
+!   compaction (Laine & Sandvik 2001, porous sand), rmax the largest density
+!   the particle has reached (its history, at least the table's rmax0):
+!     rmax <- max(rmax, rho),  c = c_u(rmax),
+!     p = p_c(rmax) + c_u(rmax)^2 (rho - rmax)
+!     p_c the plastic compaction curve (loading), piecewise linear in rho,
+!     extended past its last point; c_u the bulk sound speed of the elastic
+!     unloading and reloading line, piecewise linear, held past its ends
 !  c^2 = dp/drho|e + (p/rho^2) dp/de|rho  (isentropic), floored at a
 !  small fraction of the reference speed so that c stays real.
 !  p is floored at the material's pmin (tension cut-off, cavitation).
@@ -33,10 +40,14 @@ module sph_eos
 contains
 
   ! (not pure: an unknown material type stops the program with a message)
-  subroutine eos_point(itype, par, rho, e, lam, p, c)
+  ! rmax: the compaction history of the particle (kg/m^3); only the compaction
+  ! kind reads and updates it
+  subroutine eos_point(itype, par, rho, e, lam, rmax, p, c)
     integer(c_int), intent(in) :: itype
     real(c_double), intent(in) :: par(npar), rho, e, lam
+    real(c_double), intent(inout) :: rmax
     real(c_double), intent(out) :: p, c
+    integer :: nk
     real(c_double) :: rho0, eta, mu, g, a, b, r1, r2, om, x1, x2, dpdr, dpde, c2, cref
     real(c_double) :: a0, b0, c0, s, ph, dph, gam, wa1, wa2, wa3, wb0, wb1
     real(c_double) :: pu, c2u, eu
@@ -131,6 +142,14 @@ contains
       cref = par(mp_e1 + 2)
       p = b*((rho/rho0)**gam - 1.0d0)
       c2 = cref*cref
+    case (eos_compaction)
+      nk = nint(par(mp_cmp_n))
+      if (rho > rmax) rmax = rho
+      if (par(mp_cmp_rmax0) > rmax) rmax = par(mp_cmp_rmax0)
+      cref = tab_lin(nk, par(mp_cmp_crho:mp_cmp_crho + nk - 1), par(mp_cmp_c:mp_cmp_c + nk - 1), rmax, .false.)
+      p = tab_lin(nk, par(mp_cmp_rho:mp_cmp_rho + nk - 1), par(mp_cmp_p:mp_cmp_p + nk - 1), rmax, .true.) &
+          + cref*cref*(rho - rmax)
+      c2 = cref*cref
     case (eos_none)
       ! no equation of state: p = 0 before the floor, c = 0
     case default
@@ -140,22 +159,54 @@ contains
     c = sqrt(max(c2, 1.0d-4*cref*cref))
   end subroutine eos_point
 
+  ! y(x) of the table (xs, ys) of nk points, xs ascending: linear between
+  ! points, ys(1) below xs(1); above xs(nk) the last segment extended
+  ! (extend) or ys(nk)
+  pure function tab_lin(nk, xs, ys, x, extend) result(y)
+    integer, intent(in) :: nk
+    real(c_double), intent(in) :: xs(nk), ys(nk), x
+    logical, intent(in) :: extend
+    real(c_double) :: y
+    integer :: k
+
+    if (x <= xs(1)) then
+      y = ys(1)
+      return
+    end if
+    if (x >= xs(nk) .and. .not. extend) then
+      y = ys(nk)
+      return
+    end if
+    k = 1
+    do while (k < nk - 1)
+      if (x < xs(k + 1)) exit
+      k = k + 1
+    end do
+    y = ys(k) + (x - xs(k))/(xs(k + 1) - xs(k))*(ys(k + 1) - ys(k))
+  end function tab_lin
+
   ! every particle i in 1..n: p(i), c(i) from its material mat(i) (0-based)
   ! burn(n) is the burn fraction of a programmed burn (nburn = n), or unused (nburn = 0)
-  subroutine sph_eos_eval(n, nmat, mtype, mpar, mat, nburn, burn, rho, e, p, c) &
+  ! rmax(n) is the compaction history (nhist = n), updated; or unused (nhist = 0):
+  ! then every particle is on its loading curve (rmax = rho)
+  subroutine sph_eos_eval(n, nmat, mtype, mpar, mat, nburn, burn, nhist, rmax, rho, e, p, c) &
       bind(C, name="sph_eos_eval")
-    integer(c_int), value :: n, nmat, nburn
+    integer(c_int), value :: n, nmat, nburn, nhist
     integer(c_int), intent(in) :: mtype(nmat), mat(n)
     real(c_double), intent(in) :: mpar(npar, nmat), burn(max(nburn, 1)), rho(n), e(n)
+    real(c_double), intent(inout) :: rmax(max(nhist, 1))
     real(c_double), intent(out) :: p(n), c(n)
     integer :: i, m
-    real(c_double) :: lam
+    real(c_double) :: lam, r
 
     do i = 1, n
       m = mat(i) + 1
       lam = 1.0d0
       if (nburn > 0) lam = burn(i)
-      call eos_point(mtype(m), mpar(:, m), rho(i), e(i), lam, p(i), c(i))
+      r = rho(i)
+      if (nhist > 0) r = rmax(i)
+      call eos_point(mtype(m), mpar(:, m), rho(i), e(i), lam, r, p(i), c(i))
+      if (nhist > 0) rmax(i) = r
     end do
   end subroutine sph_eos_eval
 

@@ -15,6 +15,15 @@
 !  m_j de_j with m = 2 pi r mu, is exactly what its forces take from
 !  their kinetic energies (the total energy is conserved; the hoop part
 !  -(p/rho) v_r/r of the p dV work is in the sum; docs/theory.md s.16).
+!  In a pair across the axis (the other end a mirror, 1/r* < 0) the real
+!  end's term is (p_i/rho_i^2 + p_j/rho_j^2) v_i.grad_i W_ij: its internal
+!  energy takes the work of the mirror's force on it (the axis does no
+!  work on the rings' total energy).
+!  With pform = 1 (the interface form of Colagrossi & Landrini 2003, for
+!  phases of very different density) every sig_i/rho_i^2 + sig_j/rho_j^2
+!  reads (sig_i + sig_j)/(rho_i rho_j), and the asymmetric energy term
+!  p_i/rho_i^2 reads p_i/(rho_i rho_j): the pair's force and work stay
+!  equal and opposite, so the total energy is conserved as before.
 !  ntau = 0: fluids, pressure only; ntau = ntotal: tau(6, ntotal) in the
 !  order xx, yy, zz, xy, xz, yz.
 !-----------------------------------------------------------------------
@@ -30,14 +39,15 @@ module sph_force
 contains
 
   subroutine sph_force_internal(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, p, v, &
-      ntau, tau, eform, nrinv, rinv, dvdt, dedt) bind(C, name="sph_force_internal")
-    integer(c_int), value :: dim, ntotal, npair, ntau, eform, nrinv
+      ntau, tau, eform, pform, nrinv, rinv, dvdt, dedt) bind(C, name="sph_force_internal")
+    integer(c_int), value :: dim, ntotal, npair, ntau, eform, pform, nrinv
     integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
     real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), p(ntotal), &
                                   v(dim, ntotal), tau(nstr, max(ntau, 1)), rinv(max(nrinv, 1))
     real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
     integer :: i, j, k, a, b
-    real(c_double) :: pr, vd, f, de, ri2, rj2, s, vdi, vdj, sij, sji
+    real(c_double) :: pr, vd, f, de, ri2, rj2, s, vdi, vdj, sij, sji, vwi, vwj, ci, cj, di, dj, &
+                      rr, qi, qj
 
     dvdt = 0.0d0
     dedt = 0.0d0
@@ -46,7 +56,16 @@ contains
       j = pair_j(k) + 1
       ri2 = rho(i)*rho(i)
       rj2 = rho(j)*rho(j)
-      pr = p(i)/ri2 + p(j)/rj2
+      rr = rho(i)*rho(j)
+      if (pform == 0) then
+        pr = p(i)/ri2 + p(j)/rj2
+        qi = p(i)/ri2
+        qj = p(j)/rj2
+      else
+        pr = (p(i) + p(j))/rr
+        qi = p(i)/rr
+        qj = p(j)/rr
+      end if
       vd = 0.0d0
       if (nrinv == 0) then
         do a = 1, dim
@@ -63,7 +82,11 @@ contains
         do a = 1, dim
           f = 0.0d0
           do b = 1, dim
-            if (a == b) then
+            if (pform /= 0 .and. a == b) then
+              s = ((tau(iv(a, b), i) - p(i)) + (tau(iv(a, b), j) - p(j)))/rr
+            else if (pform /= 0) then
+              s = (tau(iv(a, b), i) + tau(iv(a, b), j))/rr
+            else if (a == b) then
               s = (tau(iv(a, b), i) - p(i))/ri2 + (tau(iv(a, b), j) - p(j))/rj2
             else
               s = tau(iv(a, b), i)/ri2 + tau(iv(a, b), j)/rj2
@@ -79,24 +102,42 @@ contains
         sij = rinv(j)/rinv(i)
         vdi = 0.0d0
         vdj = 0.0d0
+        vwi = 0.0d0
+        vwj = 0.0d0
         do a = 1, dim
           vdi = vdi + (v(a, i) - sji*v(a, j))*dwdx(a, k)
           vdj = vdj + (sij*v(a, i) - v(a, j))*dwdx(a, k)
+          vwi = vwi + v(a, i)*dwdx(a, k)
+          vwj = vwj + v(a, j)*dwdx(a, k)
         end do
         if (eform == 0) then
-          dedt(i) = dedt(i) + mass(j)*(0.5d0*pr*vdi)
-          dedt(j) = dedt(j) + mass(i)*(0.5d0*pr*vdj)
+          ci = 0.5d0*pr
+          cj = 0.5d0*pr
         else
-          dedt(i) = dedt(i) + mass(j)*((p(i)/ri2)*vdi)
-          dedt(j) = dedt(j) + mass(i)*((p(j)/rj2)*vdj)
+          ci = qi
+          cj = qj
         end if
+        ! a pair across the axis (the other end an image, 1/r* < 0): the real ring's internal
+        ! energy takes the work of the image's force on it
+        if (rinv(j) < 0.0d0) then
+          di = pr*vwi
+        else
+          di = ci*vdi
+        end if
+        if (rinv(i) < 0.0d0) then
+          dj = -(pr*vwj)
+        else
+          dj = cj*vdj
+        end if
+        dedt(i) = dedt(i) + mass(j)*di
+        dedt(j) = dedt(j) + mass(i)*dj
       else if (eform == 0) then
         de = 0.5d0*pr*vd
         dedt(i) = dedt(i) + mass(j)*de
         dedt(j) = dedt(j) + mass(i)*de
       else
-        dedt(i) = dedt(i) + mass(j)*((p(i)/ri2)*vd)
-        dedt(j) = dedt(j) + mass(i)*((p(j)/rj2)*vd)
+        dedt(i) = dedt(i) + mass(j)*(qi*vd)
+        dedt(j) = dedt(j) + mass(i)*(qj*vd)
       end if
     end do
   end subroutine sph_force_internal

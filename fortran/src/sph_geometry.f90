@@ -24,7 +24,8 @@
 !  hoop acceleration is that of the deviatoric stress only.  Near the
 !  axis 1/r is taken as 1/r*, r* = max(|r|, h/4); the axis itself is a
 !  mirror (reflective ghosts, sph_boundary), whose images have r < 0 and
-!  the |r| of their source.  Stress order xx, yy, zz, xy = rr, zz, tt, rz.
+!  the |r| of their source; sph_geometry_ring gives them 1/r* < 0, so that
+!  sph_force and sph_viscosity can tell a pair across the axis.  Stress order xx, yy, zz, xy = rr, zz, tt, rz.
 !-----------------------------------------------------------------------
 module sph_geometry
   use iso_c_binding, only: c_int, c_double
@@ -35,9 +36,10 @@ module sph_geometry
 
 contains
 
-  ! 1/r* and the planar mass mu = m/(2 pi r*) of every particle, r* = max(|x(1)|, h/4)
-  subroutine sph_geometry_ring(dim, ntotal, x, h, mass, rinv, pmass) bind(C, name="sph_geometry_ring")
-    integer(c_int), value :: dim, ntotal
+  ! 1/r* and the planar mass mu = m/(2 pi r*) of every particle, r* = max(|x(1)|, h/4);
+  ! a mirror across the axis (i > n, x(1) < 0) gets 1/r* < 0 (its signed radius), mu > 0
+  subroutine sph_geometry_ring(dim, ntotal, n, x, h, mass, rinv, pmass) bind(C, name="sph_geometry_ring")
+    integer(c_int), value :: dim, ntotal, n
     real(c_double), intent(in) :: x(dim, ntotal), h(ntotal), mass(ntotal)
     real(c_double), intent(out) :: rinv(ntotal), pmass(ntotal)
     integer :: i
@@ -47,7 +49,12 @@ contains
       rs = abs(x(1, i))
       rmin = 0.25d0*h(i)
       if (rs < rmin) rs = rmin
-      rinv(i) = 1.0d0/rs
+      ! a mirror across the axis (r < 0) carries the signed 1/r*
+      if (i > n .and. x(1, i) < 0.0d0) then
+        rinv(i) = -1.0d0/rs
+      else
+        rinv(i) = 1.0d0/rs
+      end if
       pmass(i) = mass(i)/(2.0d0*pi*rs)
     end do
   end subroutine sph_geometry_ring

@@ -10,7 +10,9 @@
 !  Axisymmetric (nrinv = ntotal, rinv = 1/r*, mass the planar masses):
 !  the energy terms read v_i - (r_j/r_i) v_j at the i end and
 !  (r_i/r_j) v_i - v_j at the j end (as in sph_force: the heating of the
-!  rings is what the pair's forces take from their kinetic energies).
+!  rings is what the pair's forces take from their kinetic energies); in
+!  a pair across the axis (the other end a mirror, 1/r* < 0) the real end
+!  gets Pi_ij v_i.grad_i W_ij, the work of the mirror's force on it.
 !  With the Morris-Monaghan switch (nalpha = ntotal, alpv the alpha_i of
 !  every particle, mirrors included): alpha_ij = (alpha_i + alpha_j)/2 and
 !  beta_ij = beta alpha_ij/amax in place of alpha and beta.
@@ -42,7 +44,7 @@ contains
     real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal), mumax(ntotal)
     integer :: i, j, k, d
     real(c_double) :: dv(3), dx(3), vr, r2, hij, muv, mc, mrho, piv, vd, f, de, vdj, sij, sji, &
-                      aij, bij
+                      aij, bij, vwi, vwj, dj
 
     dvdt = 0.0d0
     dedt = 0.0d0
@@ -73,6 +75,8 @@ contains
         piv = (bij*muv - aij*mc)*muv/mrho
         vd = 0.0d0
         vdj = 0.0d0
+        vwi = 0.0d0
+        vwj = 0.0d0
         if (nrinv > 0) then
           sji = rinv(i)/rinv(j)
           sij = rinv(j)/rinv(i)
@@ -84,15 +88,26 @@ contains
           if (nrinv > 0) then
             vd = vd + (v(d, i) - sji*v(d, j))*dwdx(d, k)
             vdj = vdj + (sij*v(d, i) - v(d, j))*dwdx(d, k)
+            vwi = vwi + v(d, i)*dwdx(d, k)
+            vwj = vwj + v(d, j)*dwdx(d, k)
           else
             vd = vd + dv(d)*dwdx(d, k)
           end if
         end do
         de = 0.5d0*piv*vd
-        dedt(i) = dedt(i) + mass(j)*de
         if (nrinv > 0) then
-          dedt(j) = dedt(j) + mass(i)*(0.5d0*piv*vdj)
+          ! a pair across the axis (the other end an image, 1/r* < 0): the real ring's internal
+          ! energy takes the work of the image's viscous force on it
+          if (rinv(j) < 0.0d0) de = piv*vwi
+          if (rinv(i) < 0.0d0) then
+            dj = -(piv*vwj)
+          else
+            dj = 0.5d0*piv*vdj
+          end if
+          dedt(i) = dedt(i) + mass(j)*de
+          dedt(j) = dedt(j) + mass(i)*dj
         else
+          dedt(i) = dedt(i) + mass(j)*de
           dedt(j) = dedt(j) + mass(i)*de
         end if
         mumax(i) = max(mumax(i), -muv)

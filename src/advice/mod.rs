@@ -11,6 +11,28 @@ use crate::state::Particles;
 mod charge;
 pub use charge::*;
 
+/// A gas beside a condensed material (air around a charge or above the ground) with a density or
+/// pressure form that cannot hold their density ratio (docs/theory.md §4, §5).
+fn gas_beside_condensed(case: &Case) -> Vec<String> {
+    let gas = case.materials.iter().any(|m| matches!(m.eos, EosCfg::IdealGas { .. }));
+    let other = case.materials.iter().any(|m| !matches!(m.eos, EosCfg::IdealGas { .. }));
+    let s = &case.sph;
+    let mut w = Vec::new();
+    if !(gas && other) {
+        return w;
+    }
+    if s.density == DensityKind::Summation {
+        w.push("sph.density = \"summation\" with a gas beside a denser material: each neighbour's mass enters the gas's density, so air beside TNT reads hundreds of times its density, its h shrinks 20-fold and the step collapses (docs/theory.md s.4); \"number\" (the default there) reads each particle's own mass".into());
+    }
+    if s.density == DensityKind::Continuity && s.continuity_form == ContinuityForm::Mass {
+        w.push("sph.continuity_form = \"mass\" with a gas beside a denser material: the gas's density rate carries the heavy neighbours' masses; use sph.density = \"number\" (the default there)".into());
+    }
+    if s.pressure_form == crate::case::PressureForm::Standard {
+        w.push("sph.pressure_form = \"standard\" with a gas beside a denser material: the gas's pressure term carries the heavy neighbour's mass over the gas's density squared, and a uniform pressure pushes the gas off the interface (docs/theory.md s.5); \"interface\" is the default with number density".into());
+    }
+    w
+}
+
 /// One line per setting of `case` that is known to fail, naming the evidence.
 pub fn warnings(case: &Case) -> Vec<String> {
     let mut w = Vec::new();
@@ -29,6 +51,7 @@ pub fn warnings(case: &Case) -> Vec<String> {
                 .into(),
         );
     }
+    w.extend(gas_beside_condensed(case));
     // water beside a charge's products, without a cavitation floor
     if jwl {
         for m in case.materials.iter().filter(|m| m.eos.matter() == crate::case::Matter::Water && m.pmin_pa.is_none()) {

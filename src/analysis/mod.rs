@@ -1,10 +1,12 @@
-//! Measurements of finished runs: craters, ejecta, blast-wave radii, and the exact solutions of
+//! Measurements of finished runs: craters, ejecta, blast-wave radii, air blast against Kinney &
+//! Graham, and the exact solutions of
 //! the verification problems (Riemann, Sedov–Taylor, Noh and wall reflection, the CJ detonation
 //! and its Taylor wave).
 
 #[cfg(feature = "io")]
 mod axis;
 pub use crate::modules::detonation::cj;
+pub mod airblast;
 pub mod crater;
 pub mod noh;
 pub mod riemann;

@@ -163,3 +163,48 @@ pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Resu
     let max = sg.iter().filter_map(|g| g["peak_pa"].as_f64()).filter(|v| v.is_finite()).fold(0.0f64, f64::max);
     draw_gauges(dir, case, &recs, TimeUnit::for_end(t_end), pressure_unit(max), &[])
 }
+
+/// A charge in air (an ideal gas beside a JWL): each gauge's peak overpressure and positive
+/// impulse (over its first reading, the ambient) against Kinney & Graham's fits at its scaled
+/// distance from the charge's centre (`crate::analysis::airblast`), printed and returned; None
+/// for a case without air, a charge or gauges.
+pub fn air_blast(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Option<Value>> {
+    use crate::analysis::airblast;
+    use crate::case::EosCfg;
+    let gas = case.materials.iter().any(|m| matches!(m.eos, EosCfg::IdealGas { .. }));
+    let jwl = case.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. }));
+    let gpath = dir.join("gauges.csv");
+    if !gas || !jwl || frames.is_empty() || case.dim < 2 || !gpath.exists() {
+        return Ok(None);
+    }
+    let charge = charge_of(case, frames);
+    let Some(centre) = charge.centre.clone().filter(|_| charge.mass_kg > 0.0 && charge.dim == 3) else {
+        return Ok(None);
+    };
+    let w = charge.mass_kg;
+    println!("air blast against Kinney & Graham (1985), charge {}:", charge.mass_text());
+    let mut rows = Vec::new();
+    for rec in read_gauges(&gpath)? {
+        let Some(g) = case.gauges.iter().find(|g| g.name == rec.name) else { continue };
+        let r = g.point_m.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+        let t: Vec<f64> = rec.samples.iter().map(|s| s.0).collect();
+        let p: Vec<Option<f64>> = rec.samples.iter().map(|s| Some(s.1)).collect();
+        let (Some(amb), true) = (rec.samples.first().map(|s| s.1), r > 0.0) else { continue };
+        let z = r / w.cbrt();
+        let (kp, ki) = (airblast::overpressure(z), airblast::impulse(z, w));
+        let Some((peak, imp)) = airblast::measure(&t, &p, amb) else { continue };
+        println!(
+            "  gauge {} at Z = {z:.2} m/kg^(1/3): peak overpressure {:.1} kPa against {:.1} ({:.2}), positive impulse {:.2} Pa·s against {:.2} ({:.2})",
+            rec.name,
+            peak / 1e3,
+            kp / 1e3,
+            peak / kp,
+            imp,
+            ki,
+            imp / ki
+        );
+        rows.push(json!({"gauge": rec.name, "scaled_distance": z, "peak_overpressure_pa": peak,
+            "kinney_graham_pa": kp, "impulse_pa_s": imp, "kinney_graham_impulse_pa_s": ki}));
+    }
+    Ok(Some(json!({"charge_kg": w, "gauges": rows})))
+}

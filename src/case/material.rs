@@ -3,7 +3,7 @@
 use super::validate::{At, C_MAX, Checker, P_MAX, RHO_MAX, RHO_MIN, Range};
 use crate::error::{Result, input};
 use crate::param::EosKind;
-use crate::param::row::{E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
+use crate::param::row::{CMP_C, CMP_CRHO, CMP_N, CMP_P, CMP_RHO, CMP_RMAX0, E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
 use serde::Deserialize;
 
 /// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
@@ -112,6 +112,26 @@ pub enum EosCfg {
         #[serde(default = "tait_c")]
         c_ms: f64,
     },
+    /// Porous compaction of the Laine–Sandvik kind (a sand): the plastic compaction curve
+    /// p_c(ρ) (`rho_kgm3`, `p_pa`), the bulk sound speed c_u(ρ) of the elastic unloading and
+    /// reloading line (`c_rho_kgm3`, `c_ms`), 2–10 points each, ρ ascending. The sand starts
+    /// compacted to `rho_max0_kgm3` (default: the curve's first density) and at rest on its
+    /// unloading line, ρ0 = ρ_max0 − p_c(ρ_max0)/c_u(ρ_max0)².
+    Compaction { rho_kgm3: Vec<f64>, p_pa: Vec<f64>, c_rho_kgm3: Vec<f64>, c_ms: Vec<f64>, rho_max0_kgm3: Option<f64> },
+}
+
+/// The most points of a compaction table (the material table's rows).
+pub const COMPACTION_POINTS: usize = 10;
+
+/// The compaction density at the start (kg/m³) and the density at rest on its unloading line.
+fn compaction_start(rho: &[f64], p: &[f64], c_rho: &[f64], c: &[f64], rmax0: Option<f64>) -> (f64, f64) {
+    let r = rmax0.unwrap_or_else(|| rho.first().copied().unwrap_or(0.0));
+    if rho.len() < 2 || rho.len() != p.len() || c_rho.len() < 2 || c_rho.len() != c.len() {
+        return (r, r);
+    }
+    let cu = crate::param::tab_lin(c_rho, c, r, false);
+    let pc = crate::param::tab_lin(rho, p, r, true);
+    (r, r - pc / (cu * cu))
 }
 
 /// The Tait defaults, the artificial water of Liu and Liu (2003): ρ0 = 1000 kg/m³, B = 1.013e5 Pa,
@@ -167,6 +187,9 @@ impl EosCfg {
             | EosCfg::Water { rho0_kgm3, .. }
             | EosCfg::Soil { rho0_kgm3, .. }
             | EosCfg::Tait { rho0_kgm3, .. } => Some(*rho0_kgm3),
+            EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
+                Some(compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3).1)
+            }
         }
     }
     /// Every name [`EosCfg::kind`] gives: the material table's kinds
@@ -192,6 +215,7 @@ impl EosCfg {
             EosCfg::Water { .. } => EosKind::Water,
             EosCfg::Soil { .. } => EosKind::Soil,
             EosCfg::Tait { .. } => EosKind::Tait,
+            EosCfg::Compaction { .. } => EosKind::Compaction,
         }
     }
 
@@ -201,7 +225,7 @@ impl EosCfg {
             EosCfg::IdealGas { .. } => Matter::Gas,
             EosCfg::Jwl { .. } => Matter::Explosive,
             EosCfg::Water { .. } | EosCfg::Tait { .. } => Matter::Water,
-            EosCfg::Soil { .. } => Matter::Soil,
+            EosCfg::Soil { .. } | EosCfg::Compaction { .. } => Matter::Soil,
         }
     }
 
@@ -210,6 +234,11 @@ impl EosCfg {
         match self {
             EosCfg::Soil { c_ms, .. } | EosCfg::Tait { c_ms, .. } => Some(*c_ms),
             EosCfg::Water { c0_ms, .. } => Some(*c0_ms),
+            EosCfg::Compaction { c_rho_kgm3, c_ms, rho_kgm3, p_pa, rho_max0_kgm3 } => {
+                let r = compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3).0;
+                (c_ms.len() >= 2 && c_ms.len() == c_rho_kgm3.len())
+                    .then(|| crate::param::tab_lin(c_rho_kgm3, c_ms, r, false))
+            }
             EosCfg::IdealGas { .. } | EosCfg::Jwl { .. } => None,
         }
     }
@@ -256,6 +285,16 @@ impl EosCfg {
             EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
                 col[RHO0] = *rho0_kgm3;
                 col[E1..E1 + 3].copy_from_slice(&[*b_pa, *gamma, *c_ms]);
+            }
+            EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
+                let (r, rho0) = compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3);
+                col[RHO0] = rho0;
+                col[CMP_N] = rho_kgm3.len() as f64;
+                col[CMP_RHO..CMP_RHO + rho_kgm3.len()].copy_from_slice(rho_kgm3);
+                col[CMP_P..CMP_P + p_pa.len()].copy_from_slice(p_pa);
+                col[CMP_CRHO..CMP_CRHO + c_rho_kgm3.len()].copy_from_slice(c_rho_kgm3);
+                col[CMP_C..CMP_C + c_ms.len()].copy_from_slice(c_ms);
+                col[CMP_RMAX0] = r;
             }
         }
     }
@@ -319,6 +358,19 @@ impl EosCfg {
                 v.num(e, "gamma", *gamma, Range::within(1.0, 100.0))?;
                 v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
             }
+            EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
+                check_table(v, e, ("rho_kgm3", rho_kgm3), ("p_pa", p_pa), Range::within(0.0, P_MAX))?;
+                check_table(v, e, ("c_rho_kgm3", c_rho_kgm3), ("c_ms", c_ms), Range::above(0.0, C_MAX))?;
+                v.opt(e, "rho_max0_kgm3", *rho_max0_kgm3, rho)?;
+                let (r, rho0) = compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3);
+                if r < rho_kgm3[0] || rho0.is_nan() || rho0 <= 0.0 {
+                    return Err(input(format!(
+                        "{}: rho_max0_kgm3 = {r}: must lie on the compaction curve (at least {}) with a positive density at rest (got {rho0})",
+                        e.label(),
+                        rho_kgm3[0]
+                    )));
+                }
+            }
         }
         Ok(())
     }
@@ -327,6 +379,34 @@ impl EosCfg {
     pub fn kind(&self) -> &'static str {
         self.eos_kind().name()
     }
+}
+
+/// A compaction table's two columns: 2–10 points, the densities (kg/m³) in the density range and
+/// strictly ascending, the values in `vals`.
+fn check_table(v: &mut Checker, e: &At, xs: (&str, &[f64]), ys: (&str, &[f64]), vals: Range) -> Result<()> {
+    let (n, m) = (xs.1.len(), ys.1.len());
+    if !(2..=COMPACTION_POINTS).contains(&n) || n != m {
+        return Err(input(format!(
+            "{}: {} and {} must have the same number of points, 2 to {COMPACTION_POINTS} (got {n} and {m})",
+            e.label(),
+            xs.0,
+            ys.0
+        )));
+    }
+    for k in 0..n {
+        v.num(e, xs.0, xs.1[k], Range::within(RHO_MIN, RHO_MAX))?;
+        v.num(e, ys.0, ys.1[k], vals)?;
+        if k > 0 && xs.1[k] <= xs.1[k - 1] {
+            return Err(input(format!(
+                "{}: {} must be strictly ascending ({} after {})",
+                e.label(),
+                xs.0,
+                xs.1[k],
+                xs.1[k - 1]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Drucker–Prager strength (4-29…4-32).

@@ -18,6 +18,7 @@
 //! validation).
 
 mod dims;
+mod forms;
 mod material;
 pub mod refine;
 mod sets;
@@ -26,6 +27,7 @@ pub mod slips;
 mod types;
 pub mod validate;
 
+pub use forms::*;
 pub use material::*;
 pub use sets::{apply_sets, apply_sets_by};
 pub use types::*;
@@ -193,8 +195,9 @@ pub const THESIS_PARITY: [(&str, &str, &str); 12] = [
 ];
 
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
-/// preset, then `sph.density` (summation when every material is an ideal gas — gas dynamics — or
-/// detonation products, continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
+/// preset, then `sph.density` (number density where an ideal gas meets another material, with
+/// `sph.pressure_form = "interface"`; summation when every material is an ideal gas — gas
+/// dynamics — or detonation products; continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
 /// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0 but for a JWL's products alone, by the rate
 /// otherwise). Returns whether anything was added.
 fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
@@ -249,8 +252,30 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     // start (an instant burn or none)
     let programmed = root.get("detonation").and_then(|d| d.get("mode")).and_then(|m| m.as_str()) == Some("programmed");
     let products = !programmed && every(&|k| k == "ideal_gas" || k == "jwl");
+    // a gas beside a condensed material (air around a charge or above the ground, 10³–10⁴ times
+    // lighter): number density, each particle's density from its own mass (Hu & Adams 2006); by
+    // summation the heavy neighbours' masses entered the air's density and its h shrank 20-fold
+    let some = |ok: &dyn Fn(&str) -> bool| {
+        root.get("material")
+            .and_then(|m| m.as_array())
+            .is_some_and(|a| a.iter().any(|m| kind(m).as_deref().is_some_and(ok)))
+    };
+    let mixed = some(&|k| k == "ideal_gas") && some(&|k| k != "ideal_gas");
     if get(root, "sph", "density").is_none() {
-        put(root, "sph", "density", toml::Value::String(if products { "summation" } else { "continuity" }.into()))?;
+        let d = if mixed {
+            "number"
+        } else if products {
+            "summation"
+        } else {
+            "continuity"
+        };
+        put(root, "sph", "density", toml::Value::String(d.into()))?;
+        changed = true;
+    }
+    let density = get(root, "sph", "density").and_then(|v| v.as_str().map(String::from));
+    if density.as_deref() == Some("number") && get(root, "sph", "pressure_form").is_none() {
+        // its pressure term in the interface form (Colagrossi & Landrini 2003)
+        put(root, "sph", "pressure_form", toml::Value::String("interface".into()))?;
         changed = true;
     }
     if get(root, "sph", "jitter").is_none() {
@@ -264,7 +289,7 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
         put(root, "sph", "jitter", toml::Value::Float(if gas && dim >= 2 && !rz { GAS_JITTER } else { 0.0 }))?;
         changed = true;
     }
-    let sum = get(root, "sph", "density").and_then(|v| v.as_str().map(String::from)).as_deref() == Some("summation");
+    let sum = matches!(density.as_deref(), Some("summation" | "number"));
     if get(root, "sph", "smoothing").is_none() {
         put(root, "sph", "smoothing", toml::Value::String(if sum { "density" } else { "rate" }.into()))?;
         // with h from the summation density, the few rarefied particles at a blast's centre would

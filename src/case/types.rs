@@ -2,6 +2,7 @@
 //! (`docs/reference/cases.md` lists every key with its unit and default). What serde cannot check is
 //! checked in [`super::validate`]: one place per key.
 
+use super::PressureForm;
 use super::material::MaterialCfg;
 use serde::Deserialize;
 
@@ -190,6 +191,9 @@ pub enum NnpsKind {
 pub enum DensityKind {
     Summation,
     Continuity,
+    /// Number-density summation (Hu & Adams 2006): ρ_i = m_i (W_ii + Σ_j W_ij), each particle's
+    /// density from its own mass, so a light phase beside a heavy one keeps its own density.
+    Number,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
@@ -248,6 +252,11 @@ pub struct SphCfg {
     /// "asymmetric" (each particle its own p dV work; keeps e ≥ 0 where p ≥ 0).
     #[serde(default = "default_eform")]
     pub energy_form: EnergyForm,
+    /// Form of the pressure term of the momentum equation: "standard" (thesis 4-33) or
+    /// "interface" (Colagrossi & Landrini 2003; resolved before reading: the default with
+    /// `density = "number"`).
+    #[serde(default = "default_pform")]
+    pub pressure_form: PressureForm,
     #[serde(default = "default_smoothing")]
     pub smoothing: SmoothingKind,
     /// θ of the h update (2-16).
@@ -295,6 +304,9 @@ fn default_nnps() -> NnpsKind {
 fn default_density() -> DensityKind {
     DensityKind::Continuity
 }
+fn default_pform() -> PressureForm {
+    PressureForm::Standard
+}
 fn default_smoothing() -> SmoothingKind {
     SmoothingKind::Rate
 }
@@ -308,6 +320,7 @@ impl Default for SphCfg {
             density: default_density(),
             continuity_form: default_cform(),
             energy_form: default_eform(),
+            pressure_form: default_pform(),
             smoothing: default_smoothing(),
             theta: 1.0,
             h_max_ratio: None,

@@ -60,6 +60,15 @@ pub struct ArgInfo {
     /// `dim`-vector (`particle_vec`) of one particle or pair.
     pub shape: Shape,
     pub unit: String,
+    /// The declared leading extent of a whole array of vectors when it is not `dim`
+    /// (`x(maxdim,maxn)`, maxdim = 3 in a 2D code): the shims and host mode lay each particle's
+    /// or pair's `dim` values out `lead` apart.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lead: Option<usize>,
+    /// A dummy bound to a value of the manifest's `values` (a switch, a logical, a constant):
+    /// the Fortran type and literal the shim passes at every call.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub value: Option<(String, String)>,
 }
 
 /// One value blastsph passes to a shim (`ptrs[k]`, `sizes[k]`).
@@ -326,7 +335,17 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
 
     // the shims
     let shim_flags: Vec<String> = free.clone();
-    let shim_text = shim::source(&m.routines, sizes, &m.path.display().to_string());
+    // the shims lay out each argument as the routine declares it (its leading extent)
+    let mut laid = m.routines.clone();
+    for (r, info) in laid.iter_mut().zip(&routines) {
+        for (a, ai) in r.args.iter_mut().zip(info.args.iter().filter(|ai| ai.value.is_none())) {
+            a.lead = ai.lead;
+        }
+        for c in r.values.iter_mut() {
+            c.fortran = info.args.get(c.pos).and_then(|ai| ai.value.clone());
+        }
+    }
+    let shim_text = shim::source(&laid, sizes, &m.path.display().to_string());
     let shim_obj = compile_generated(&mut log, &obj, "blastsph_shims", &shim_text, &shim_flags)?
         .map_err(|e| fail(format!("the generated shims do not compile: {e}")))?;
 

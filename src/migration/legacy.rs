@@ -468,6 +468,9 @@ pub struct LegacyStage {
     replay: Mutex<Option<(ReplayKey, Vec<Snap>)>>,
     /// The inputs the last call changed, until the dual run takes them.
     input_writes: Mutex<Vec<InputWrite>>,
+    /// An EOS routine that gives p only: each call sets the state's c to the legacy code's c,
+    /// a work array that nothing writes (0).
+    zero_c: bool,
 }
 
 /// Per-particle state a routine may change although its stage only reads it: the state takes
@@ -566,6 +569,7 @@ impl LegacyStage {
                 for (f, s) in self.writes.iter().zip(snaps.clone()) {
                     f.restore(p, w, s);
                 }
+                self.unwritten_c(p);
                 return;
             }
         }
@@ -680,11 +684,38 @@ impl LegacyStage {
         for (b, buf) in r.bindings.iter().zip(bufs) {
             bind::scatter(&b.name, buf, &writes, &mut ctx, p, w, np_after);
         }
+        drop(sh);
+        self.unwritten_c(p);
         let snaps = self.writes.iter().map(|f| f.snap(p, w)).collect();
         *self.replay.lock().unwrap_or_else(|e| e.into_inner()) = Some((key, snaps));
         *self.input_writes.lock().unwrap_or_else(|e| e.into_inner()) = changed;
     }
 }
+
+impl LegacyStage {
+    /// For an EOS routine that gives p only: the state's c becomes the legacy code's c, an array
+    /// of the program that no routine writes, kept from call to call (0 for every particle).
+    fn unwritten_c(&self, p: &mut Particles) {
+        if !self.zero_c {
+            return;
+        }
+        let nt = p.ntotal;
+        let mut sh = self.lg.shared();
+        let Buf::R(c) = sh.scratch.entry(UNWRITTEN_C.to_string()).or_insert_with(|| Buf::R(Vec::new())) else {
+            return;
+        };
+        if c.len() < nt {
+            c.resize(nt, 0.0);
+        }
+        if p.c.len() < nt {
+            p.c.resize(nt, 0.0);
+        }
+        p.c[..nt].copy_from_slice(&c[..nt]);
+    }
+}
+
+/// The key of the legacy code's unwritten sound speed among its work arrays (no argument name).
+const UNWRITTEN_C: &str = "c (written by no routine)";
 
 impl Stage for LegacyStage {
     fn module(&self) -> Module {

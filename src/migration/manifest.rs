@@ -84,6 +84,10 @@ struct RawRoutine {
     /// of a module of `global_modules`): legacy name → vocabulary name.
     #[serde(default)]
     globals: std::collections::BTreeMap<String, String>,
+    /// Dummies blastsph has no name for (switches, logicals, constants): the name as `args`
+    /// writes it → the value passed at every call.
+    #[serde(default)]
+    values: std::collections::BTreeMap<String, toml::Value>,
 }
 
 /// The names of the three compile-time parameters in the user's include file.
@@ -94,11 +98,36 @@ pub struct ParamNames {
     pub max_interaction: String,
 }
 
+/// The value of a dummy argument bound in the manifest's `values`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    Int(i64),
+    Real(f64),
+    Logical(bool),
+}
+
+/// A dummy argument bound to a value (`values = { skf = 1, visc = true }`), not to a vocabulary
+/// name: the shim passes the value at every call.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constant {
+    /// Its position in the routine's argument list (0-based).
+    pub pos: usize,
+    /// As `args` writes it, lower case.
+    pub name: String,
+    pub value: Value,
+    /// The Fortran type and literal the shim declares it with, found by `legacy build` from the
+    /// dummy's type (`None` in a manifest as read).
+    pub fortran: Option<(String, String)>,
+}
+
 /// One argument of a routine: the name as the manifest writes it and the term it stands for.
 #[derive(Debug, Clone)]
 pub struct Arg {
     pub written: String,
     pub term: &'static Term,
+    /// The declared leading extent of a whole array of vectors when it is not `dim`, found by
+    /// `legacy build` from the routine's declaration (`None` in a manifest as read).
+    pub lead: Option<usize>,
 }
 
 /// A variable a routine reads or writes that is not one of its arguments: a member of a COMMON
@@ -123,6 +152,8 @@ pub struct Routine {
     /// Its variables in COMMON blocks or modules (whole-array calls only), in the manifest's
     /// order of their legacy names.
     pub globals: Vec<Global>,
+    /// Its dummies bound to values (`values`), not among `args`.
+    pub values: Vec<Constant>,
 }
 
 /// What blastsph passes to a routine's shim, in order: a vocabulary name with its whole-array shape.
@@ -456,6 +487,7 @@ fn routine_of(
             ),
         ));
     }
+    let values = values_of(r, &key, err)?;
     let args = args_of(r, &key, call, err)?;
     if call == CallMode::EachParticle && args.iter().any(|a| a.term.name == "ntotal") {
         return Err(err(&format!("{key}.args"), "an each_particle call takes one particle: no \"ntotal\"".into()));
@@ -487,7 +519,7 @@ fn routine_of(
             "name the include file of their COMMON blocks (global_includes) or their module (global_modules)".into(),
         ));
     }
-    Ok(Routine { name, modules, call, args, globals })
+    Ok(Routine { name, modules, call, args, globals, values })
 }
 
 /// The arguments of routine `r` (manifest key `key`), each a name of the vocabulary of its call.
@@ -495,6 +527,9 @@ fn args_of(r: &RawRoutine, key: &str, call: CallMode, err: &dyn Fn(&str, String)
     let mut args: Vec<Arg> = Vec::new();
     for a in &r.args {
         let written = a.trim().to_ascii_lowercase();
+        if r.values.keys().any(|k| k.trim().eq_ignore_ascii_case(&written)) {
+            continue;
+        }
         let term = match call {
             CallMode::EachPair => vocab::lookup_pair(&written).or_else(|| {
                 // scalars keep their meaning in a per-pair call (dt, itimestep, ...)
@@ -528,9 +563,41 @@ fn args_of(r: &RawRoutine, key: &str, call: CallMode, err: &dyn Fn(&str, String)
         if args.iter().any(|o| o.term.name == term.name) {
             return Err(err(&format!("{key}.args"), format!("\"{a}\" given twice")));
         }
-        args.push(Arg { written, term });
+        args.push(Arg { written, term, lead: None });
     }
     Ok(args)
+}
+
+/// The dummies of routine `r` (manifest key `key`) bound to values: each key of `values` is a
+/// name of `args` that is not a vocabulary name, and its value an integer, a real or a logical.
+fn values_of(r: &RawRoutine, key: &str, err: &dyn Fn(&str, String) -> SphError) -> Result<Vec<Constant>> {
+    let mut out = Vec::new();
+    for (k, v) in &r.values {
+        let vkey = format!("{key}.values.{k}");
+        let name = k.trim().to_ascii_lowercase();
+        if vocab::lookup(&name).is_some() || vocab::lookup_pair(&name).is_some() {
+            return Err(err(
+                &vkey,
+                format!(
+                    "\"{k}\" is a name of the argument vocabulary: blastsph passes its value; bind only dummies it has no name for"
+                ),
+            ));
+        }
+        let Some(pos) = r.args.iter().position(|a| a.trim().eq_ignore_ascii_case(&name)) else {
+            return Err(err(&vkey, format!("\"{k}\" is not in args: write it there, at its dummy's position")));
+        };
+        let value = match v {
+            toml::Value::Integer(i) => Value::Int(*i),
+            toml::Value::Float(x) if x.is_finite() => Value::Real(*x),
+            toml::Value::Boolean(b) => Value::Logical(*b),
+            other => {
+                return Err(err(&vkey, format!("{other} is not an integer, a finite real or true/false")));
+            }
+        };
+        out.push(Constant { pos, name, value, fortran: None });
+    }
+    out.sort_by_key(|c| c.pos);
+    Ok(out)
 }
 
 /// The globals of routine `r` (manifest key `key`): names of the vocabulary not among `args`.

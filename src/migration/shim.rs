@@ -106,7 +106,18 @@ fn one(ri: usize, r: &Routine) -> String {
     head(&mut f, r, &b, &sym);
     // copy in: the scalars first, so that niac is known before the per-pair arrays
     let niac = ix("niac");
-    copy_in(&mut f, &b, niac);
+    // the declared leading extent of each binding that is not dim (whole calls' arguments)
+    let leads: Vec<Option<usize>> = b
+        .iter()
+        .map(|t| {
+            if r.call == CallMode::Whole {
+                r.args.iter().find(|a| a.term.name == t.name).and_then(|a| a.lead)
+            } else {
+                None
+            }
+        })
+        .collect();
+    copy_in(&mut f, &b, niac, &leads);
     // the globals: blastsph's values into the COMMON or module variables
     let global = |t: &Term| r.globals.iter().any(|g| g.term.name == t.name);
     for (k, t) in b.iter().enumerate() {
@@ -129,7 +140,7 @@ fn one(ri: usize, r: &Routine) -> String {
         }
     }
     // copy out
-    copy_out(&mut f, &b, niac);
+    copy_out(&mut f, &b, niac, &leads);
     let _ = writeln!(f, "end function {sym}");
     f
 }
@@ -145,7 +156,7 @@ fn head(f: &mut String, r: &Routine, b: &[&'static Term], sym: &str) {
     let _ = writeln!(f, "  integer(c_int64_t), intent(in) :: sizes(*)");
     let _ = writeln!(f, "  integer(c_int) :: status");
     let _ = writeln!(f, "  external {}", r.name);
-    let _ = writeln!(f, "  integer(c_int64_t) :: ncopy");
+    let _ = writeln!(f, "  integer(c_int64_t) :: ncopy, lloop");
     let _ = writeln!(f, "  integer :: iloop, jloop, kloop, dloop, nloop");
     if r.call == CallMode::EachPair {
         let _ = writeln!(f, "  double precision :: pair_r, pair_r2, pair_h, pair_dx(bs_dim)");
@@ -160,12 +171,16 @@ fn head(f: &mut String, r: &Routine, b: &[&'static Term], sym: &str) {
             let _ = writeln!(f, "  {}, pointer :: p{k}(:)", ctype(t.kind));
         }
     }
+    for c in &r.values {
+        let (ty, _) = c.fortran.as_ref().expect("legacy build typed every value");
+        let _ = writeln!(f, "  {ty} :: q{}  ! {} (values)", c.pos + 1, c.name);
+    }
     let _ = writeln!(f, "  status = 0");
     let _ = writeln!(f, "  iloop = 0; jloop = 0; kloop = 0; dloop = 0; nloop = 0");
 }
 
 /// The copy in: the scalars first, then the arrays (one-based indices made so).
-fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
+fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>, leads: &[Option<usize>]) {
     for (k, _) in b.iter().enumerate().filter(|(_, t)| t.shape == Shape::Scalar) {
         let k = k + 1;
         let _ = writeln!(f, "  if (sizes({k}) /= 1) then");
@@ -178,13 +193,20 @@ fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
         if t.shape != Shape::Scalar {
-            let cap = capacity(t.shape);
+            let lead = leads[k - 1];
+            let cap = match lead {
+                Some(l) if t.shape == Shape::PairVec => format!("{l}*bs_maxia"),
+                Some(l) => format!("{l}*bs_maxn"),
+                None => capacity(t.shape).to_string(),
+            };
+            // the values the buffer must hold: `lead` per particle or pair in place of dim
+            let need = lead.map_or(format!("sizes({k})"), |l| format!("(sizes({k})/bs_dim)*{l}"));
             let zero = if t.kind == Kind::Real { "0.0d0" } else { "0" };
             let _ = writeln!(f, "  if (.not. allocated(v{k})) then");
             let _ = writeln!(f, "    allocate(v{k}({cap}))");
             let _ = writeln!(f, "    v{k} = {zero}");
             let _ = writeln!(f, "  end if");
-            let _ = writeln!(f, "  if (sizes({k}) > size(v{k}, kind=c_int64_t) .or. sizes({k}) < 0) then");
+            let _ = writeln!(f, "  if ({need} > size(v{k}, kind=c_int64_t) .or. sizes({k}) < 0) then");
             let _ = writeln!(f, "    status = {}", TOO_LARGE);
             let _ = writeln!(f, "    return");
             let _ = writeln!(f, "  end if");
@@ -199,7 +221,15 @@ fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
             }
             let _ = writeln!(f, "  if (sizes({k}) > 0) call c_f_pointer(ptrs({k}), p{k}, [sizes({k})])");
             let _ = writeln!(f, "  if (ncopy > 0) then");
-            if t.base == Base::One {
+            if let Some(l) = lead {
+                // dim values of each particle or pair, `l` apart as the routine declares them
+                let _ = writeln!(f, "    do lloop = 0, ncopy/bs_dim - 1");
+                let _ = writeln!(
+                    f,
+                    "      v{k}(1 + {l}*lloop:bs_dim + {l}*lloop) = p{k}(1 + bs_dim*lloop:bs_dim*(lloop + 1))"
+                );
+                let _ = writeln!(f, "    end do");
+            } else if t.base == Base::One {
                 let _ = writeln!(f, "    v{k}(1:ncopy) = p{k}(1:ncopy) + 1");
             } else {
                 let _ = writeln!(f, "    v{k}(1:ncopy) = p{k}(1:ncopy)");
@@ -207,6 +237,24 @@ fn copy_in(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
             let _ = writeln!(f, "  end if");
         }
     }
+}
+
+/// The actual arguments of a call: `named` (one per argument of the vocabulary, in order) with
+/// the values of the manifest's `values` at their positions, each set just before the call.
+fn with_values(f: &mut String, r: &Routine, named: Vec<String>) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut it = named.into_iter();
+    for pos in 0..r.args.len() + r.values.len() {
+        match r.values.iter().find(|c| c.pos == pos) {
+            Some(c) => {
+                let (_, lit) = c.fortran.as_ref().expect("legacy build typed every value");
+                let _ = writeln!(f, "  q{} = {lit}", pos + 1);
+                out.push(format!("q{}", pos + 1));
+            }
+            None => out.extend(it.next()),
+        }
+    }
+    out
 }
 
 /// The call of the routine: once, once per particle, or once per pair.
@@ -218,6 +266,7 @@ fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
     match r.call {
         CallMode::Whole => {
             let list: Vec<String> = r.args.iter().map(|a| actual(a.term.name)).collect();
+            let list = with_values(f, r, list);
             let _ = writeln!(f, "  call {}({})", r.name, wrap(&list));
         }
         CallMode::EachParticle => {
@@ -239,6 +288,7 @@ fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
                     }
                 })
                 .collect();
+            let list = with_values(f, r, list);
             let _ = writeln!(f, "  do iloop = 1, nloop");
             let _ = writeln!(f, "    call {}({})", r.name, wrap(&list));
             let _ = writeln!(f, "  end do");
@@ -264,6 +314,7 @@ fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
                     n => actual(n),
                 })
                 .collect();
+            let list = with_values(f, r, list);
             let _ = writeln!(f, "  do kloop = 1, nloop");
             let _ = writeln!(f, "    iloop = {pi}(kloop)");
             let _ = writeln!(f, "    jloop = {pj}(kloop)");
@@ -294,7 +345,7 @@ fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
 }
 
 /// The copy out: each buffer from the shim's copy (as many per-pair values as pairs in use).
-fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
+fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>, leads: &[Option<usize>]) {
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
         if t.shape == Shape::Scalar {
@@ -313,7 +364,12 @@ fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>) {
             let _ = writeln!(f, "  end if");
         }
         let _ = writeln!(f, "  if (ncopy > 0) then");
-        if t.base == Base::One {
+        if let Some(l) = leads[k - 1] {
+            let _ = writeln!(f, "    do lloop = 0, ncopy/bs_dim - 1");
+            let _ =
+                writeln!(f, "      p{k}(1 + bs_dim*lloop:bs_dim*(lloop + 1)) = v{k}(1 + {l}*lloop:bs_dim + {l}*lloop)");
+            let _ = writeln!(f, "    end do");
+        } else if t.base == Base::One {
             let _ = writeln!(f, "    p{k}(1:ncopy) = v{k}(1:ncopy) - 1");
         } else {
             let _ = writeln!(f, "    p{k}(1:ncopy) = v{k}(1:ncopy)");

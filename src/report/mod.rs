@@ -317,6 +317,12 @@ pub(crate) fn report_in(dir: &Path, times: &[f64], animate: bool, window: Option
         println!("crater: cannot be measured: {why}");
     }
     let mut out = out;
+    // a charge in air: the gauges against Kinney & Graham
+    if let Some(v) = crate::blast_report::air_blast(dir, &case, &frames)?
+        && out.is_object()
+    {
+        out["air_blast"] = v;
+    }
     // the gauges of a case that is not a blast (a blast's report has them already)
     let blast = matches!(case.analysis.kind, AnalysisKind::Crater)
         || (case.analysis.kind == AnalysisKind::None && case.dim >= 2);

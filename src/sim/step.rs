@@ -100,7 +100,7 @@ impl Sim {
         perm(&mut p.id, &order, 1);
         perm(&mut p.tau, &order, NSTR);
         perm(&mut p.sigma0, &order, NSTR);
-        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0] {
+        for a in [&mut p.tlight, &mut p.burn, &mut p.h0, &mut p.rho0, &mut p.rho_max] {
             perm(a, &order, 1);
         }
         perm(&mut self.h_init, &order, 1);

@@ -53,6 +53,9 @@ pub struct Particles {
     /// Stress at t = 0, −p I + τ (Pa, tension positive), NSTR × nreal: the static reaction of
     /// absorbing walls; empty without them.
     pub sigma0: Vec<f64>,
+    /// Compaction history: the largest density each real particle has reached (kg/m³), nreal;
+    /// empty without a compaction EOS.
+    pub rho_max: Vec<f64>,
 }
 
 impl Particles {
@@ -195,6 +198,7 @@ pub enum Field {
     Efloor,
     Alpha,
     Sigma0,
+    RhoMax,
 }
 
 /// A field's array, borrowed.
@@ -291,6 +295,7 @@ impl Field {
             Efloor => &w.efloor,
             Alpha => &p.alpha,
             Sigma0 => &p.sigma0,
+            RhoMax => &p.rho_max,
         })
     }
 
@@ -346,6 +351,7 @@ impl Field {
             Efloor => &mut w.efloor,
             Alpha => &mut p.alpha,
             Sigma0 => &mut p.sigma0,
+            RhoMax => &mut p.rho_max,
         })
     }
 

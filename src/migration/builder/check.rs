@@ -28,13 +28,13 @@ pub(super) fn routine(
             p.returns
         )));
     }
-    if p.params.len() != r.args.len() {
+    if p.params.len() != r.args.len() + r.values.len() {
         let dummies: Vec<&str> = p.params.iter().map(|(_, n)| n.as_str()).collect();
         return Err(input(format!(
             "{}: routine {}: the manifest names {} arguments, {file} declares {} ({})",
             m.path.display(),
             r.name,
-            r.args.len(),
+            r.args.len() + r.values.len(),
             p.params.len(),
             dummies.join(", ")
         )));
@@ -159,7 +159,13 @@ fn check_args(
             let (d, all) = with_includes(&b, beside, &m.include_dirs, fixed_src, 0);
             (Some(d), all)
         });
-    for (pos, (a, (cty, dummy))) in r.args.iter().zip(&p.params).enumerate() {
+    let mut named = r.args.iter();
+    for (pos, (cty, dummy)) in p.params.iter().enumerate() {
+        if let Some(c) = r.values.iter().find(|c| c.pos == pos) {
+            args.push(constant(m, r, c, (cty, dummy), file)?);
+            continue;
+        }
+        let Some(a) = named.next() else { break };
         let want = format!("{} *", a.term.kind.c_type());
         // `intent(in)` makes the pointer const: the same argument to the shim
         let cty = cty.strip_prefix("const ").unwrap_or(cty);
@@ -225,15 +231,17 @@ fn check_args(
                 if array_here { "an array" } else { "one value" },
             )));
         }
-        if let Some(why) = leading_extent_refusal(&decl, r.call, a.term.shape, &m.param_names.dim, sizes.dim) {
-            return Err(input(format!(
-                "{}: routine {}: argument {} (\"{}\" in the manifest, dummy `{dummy}` in {file}) {why}",
-                m.path.display(),
-                r.name,
-                pos + 1,
-                a.written,
-            )));
-        }
+        let dims = (m.param_names.dim.as_str(), sizes.dim);
+        let lead =
+            leading_extent(&decl, r.call, a.term.shape, dims, decls.as_deref().unwrap_or("")).map_err(|why| {
+                input(format!(
+                    "{}: routine {}: argument {} (\"{}\" in the manifest, dummy `{dummy}` in {file}) {why}",
+                    m.path.display(),
+                    r.name,
+                    pos + 1,
+                    a.written,
+                ))
+            })?;
         if cty != want {
             let hint = if cty.contains("float128") || cty.contains("long double") {
                 " (-fdefault-real-8 alone makes double precision 16 bytes: add -fdefault-double-8)"
@@ -260,7 +268,63 @@ fn check_args(
             kind: a.term.kind,
             shape: call_shape,
             unit: a.term.unit.to_string(),
+            lead,
+            value: None,
         });
     }
     Ok(args)
+}
+
+/// Dummy `dummy` (C type `cty`, as gfortran's prototype gives it) of routine `r` bound to
+/// value `c` of the manifest: its Fortran type and literal, or a refusal in one line when the
+/// value's type is not the dummy's.
+fn constant(
+    m: &Manifest,
+    r: &manifest::Routine,
+    c: &manifest::Constant,
+    (cty, dummy): (&str, &str),
+    file: &str,
+) -> Result<ArgInfo> {
+    use manifest::Value;
+    let cty = cty.strip_prefix("const ").unwrap_or(cty).trim_end_matches(" *");
+    let real = |x: f64| format!("{x:e}").replace('e', "d");
+    let fortran = match (&c.value, cty) {
+        (Value::Int(i), "int") => Some(("integer".to_string(), i.to_string())),
+        (Value::Int(i), "long" | "int64_t") => Some(("integer(8)".to_string(), format!("{i}_8"))),
+        (Value::Logical(b), "int_least32_t") => {
+            Some(("logical".to_string(), if *b { ".true." } else { ".false." }.to_string()))
+        }
+        (Value::Logical(b), "int_fast8_t") => {
+            Some(("logical(1)".to_string(), if *b { ".true." } else { ".false." }.to_string()))
+        }
+        (Value::Real(x), "double") => Some(("double precision".to_string(), real(*x))),
+        (Value::Int(i), "double") => Some(("double precision".to_string(), real(*i as f64))),
+        (Value::Real(x), "float") => Some(("real".to_string(), format!("{x:e}"))),
+        (Value::Int(i), "float") => Some(("real".to_string(), format!("{:e}", *i as f64))),
+        _ => None,
+    };
+    let Some((ty, lit)) = fortran else {
+        let given = match c.value {
+            Value::Int(_) => "an integer",
+            Value::Real(_) => "a real",
+            Value::Logical(_) => "a logical",
+        };
+        return Err(input(format!(
+            "{}: routine {}: argument {} (\"{}\" in values) is declared {cty} in {file} (dummy `{dummy}`); the manifest gives {given}",
+            m.path.display(),
+            r.name,
+            c.pos + 1,
+            c.name,
+        )));
+    };
+    Ok(ArgInfo {
+        name: c.name.clone(),
+        written: c.name.clone(),
+        dummy: dummy.to_string(),
+        kind: if ty.contains("precision") || ty == "real" { Kind::Real } else { Kind::Int },
+        shape: Shape::Scalar,
+        unit: String::new(),
+        lead: None,
+        value: Some((ty, lit)),
+    })
 }

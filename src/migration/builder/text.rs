@@ -170,35 +170,73 @@ pub(super) fn assumed_shape(body: &str, dummy: &str) -> bool {
     matches!(declaration(body, dummy), Decl::Array(g) if g.starts_with(':'))
 }
 
-/// Why a whole array of vectors (`x(dim,maxn)`, `dwdx(dim,max_interaction)`) cannot be passed
-/// as blastsph lays it out, or `None`. The shims pass `dim` values per particle or pair, one after
-/// the other; a leading extent other than `dim` (`x(maxdim,maxn)` with maxdim = 3 in a 2D code)
-/// makes the routine read them at other places. The extent is taken as `dim` only when it is the
-/// include's name of `dim` or the number `dim` itself: anything else is not provably the same.
-pub(super) fn leading_extent_refusal(
+/// The leading extent of a whole array of vectors (`x(dim,maxn)`, `dwdx(dim,max_interaction)`)
+/// when it is not `dim`: `Ok(None)` for `dim` itself (or an array that is not of vectors),
+/// `Ok(Some(lead))` for an extent whose value the routine's statements or its includes give
+/// (`x(maxdim,maxn)` with `parameter (maxdim = 3)`), which the shims lay the values out with,
+/// and `Err(why)` for one that cannot be proved: its value not found, or below `dim`.
+pub(super) fn leading_extent(
     decl: &Decl,
     call: CallMode,
     shape: Shape,
-    dim_name: &str,
-    dim: usize,
-) -> Option<String> {
+    (dim_name, dim): (&str, usize),
+    body: &str,
+) -> std::result::Result<Option<usize>, String> {
     let vec = matches!(shape, Shape::ParticleVec | Shape::PairVec);
-    let Decl::Array(g) = decl else { return None };
+    let Decl::Array(g) = decl else { return Ok(None) };
     if call != CallMode::Whole || !vec {
-        return None;
+        return Ok(None);
     }
     let extents: Vec<&str> = g.split(',').collect();
     if extents.len() < 2 {
         // one extent (`x(*)`, `x(n)`): the routine indexes it itself, as laid out
-        return None;
+        return Ok(None);
     }
     let lead = extents[0].trim();
-    let is_dim = lead.eq_ignore_ascii_case(dim_name) || lead.parse::<usize>().is_ok_and(|v| v == dim);
-    (!is_dim).then(|| {
-        format!(
-            "is declared `({g})`: its leading extent `{lead}` is not provably {dim_name} (= {dim}), and blastsph passes {dim} values per particle or pair one after the other, so the routine would read them at other places: refused rather than computed wrong"
-        )
-    })
+    if lead.eq_ignore_ascii_case(dim_name) {
+        return Ok(None);
+    }
+    match lead.parse::<usize>().ok().or_else(|| parameter_value(body, lead, 0)) {
+        Some(v) if v == dim => Ok(None),
+        Some(v) if v > dim => Ok(Some(v)),
+        Some(v) => Err(format!(
+            "is declared `({g})`: its leading extent `{lead}` = {v} is below {dim_name} (= {dim}), so a particle's {dim} values do not fit: refused rather than computed wrong"
+        )),
+        None => Err(format!(
+            "is declared `({g})`: the value of its leading extent `{lead}` is not a number or a `parameter` of the routine or its includes, so blastsph cannot lay the {dim} values per particle or pair out as the routine reads them: refused rather than computed wrong"
+        )),
+    }
+}
+
+/// The value of integer constant `name` in a routine's statements (lower case): a `parameter
+/// (name = 3)` statement or an `integer, parameter :: name = 3` declaration whose value is a
+/// number or another such constant (to a depth of 4).
+pub(super) fn parameter_value(body: &str, name: &str, depth: usize) -> Option<usize> {
+    let name = name.to_ascii_lowercase();
+    for l in body.lines() {
+        let st: String = l.chars().filter(|c| !c.is_whitespace()).collect();
+        let list = if let Some(r) = st.strip_prefix("parameter(") {
+            r.strip_suffix(')').unwrap_or(r).to_string()
+        } else if let Some((attrs, ents)) = st.split_once("::")
+            && attrs.contains(",parameter")
+        {
+            ents.to_string()
+        } else {
+            continue;
+        };
+        for item in list.split(',') {
+            let Some((n, v)) = item.split_once('=') else { continue };
+            if n != name {
+                continue;
+            }
+            return v.parse::<usize>().ok().or_else(|| {
+                (depth < 4 && v.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+                    .then(|| parameter_value(body, v, depth + 1))
+                    .flatten()
+            });
+        }
+    }
+    None
 }
 
 /// How a dummy argument is declared in a routine's statements from [`routine_text`].
@@ -602,6 +640,27 @@ mod tests {
     }
 
     #[test]
+    fn a_leading_extent_is_found_in_parameter_statements_or_refused() {
+        let body = "integer maxdim, two\nparameter (two = 2, maxdim = 3)\ninteger, parameter :: nd = maxdim\n";
+        assert_eq!(parameter_value(body, "maxdim", 0), Some(3));
+        assert_eq!(parameter_value(body, "nd", 0), Some(3));
+        assert_eq!(parameter_value(body, "other", 0), None);
+        let decl = |g: &str| Decl::Array(g.to_string());
+        let lead =
+            |g: &str, dim: usize| leading_extent(&decl(g), CallMode::Whole, Shape::ParticleVec, ("dim", dim), body);
+        assert_eq!(lead("dim,maxn", 2), Ok(None));
+        assert_eq!(lead("2,maxn", 2), Ok(None));
+        assert_eq!(lead("maxdim,maxn", 2), Ok(Some(3)));
+        assert_eq!(lead("nd,maxn", 3), Ok(None));
+        assert!(lead("two,maxn", 3).is_err_and(|e| e.contains("below dim (= 3)")));
+        assert!(lead("n+1,maxn", 2).is_err_and(|e| e.contains("not a number or a `parameter`")));
+        // one extent, or a per-particle call: the routine indexes it itself
+        assert_eq!(lead("*", 2), Ok(None));
+        let each = leading_extent(&decl("maxdim"), CallMode::EachParticle, Shape::ParticleVec, ("dim", 2), body);
+        assert_eq!(each, Ok(None));
+    }
+
+    #[test]
     fn a_dummy_named_as_another_argument_is_reported_once_per_swapped_pair() {
         let arg = |name: &str, written: &str, dummy: &str| ArgInfo {
             name: name.into(),
@@ -610,6 +669,8 @@ mod tests {
             kind: Kind::Real,
             shape: Shape::Scalar,
             unit: String::new(),
+            lead: None,
+            value: None,
         };
         // p_gas(u, rho, p, c) mapped as ["rho", "u", "p", "c"]
         let swapped = [arg("rho", "rho", "u"), arg("u", "u", "rho"), arg("p", "p", "p"), arg("c", "c", "c")];

@@ -106,7 +106,8 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
         return None;
     }
     let why: &'static str = Box::leak(format!("force: {}", f.label()).into_boxed_str());
-    let stage = ForceCompat { normal: ForceStage { slots: Slots::default(), rz: false, asym: false }, pa1, why };
+    let stage =
+        ForceCompat { normal: ForceStage { slots: Slots::default(), rz: false, asym: false, iface: false }, pa1, why };
     Some(Contribution::run(
         format!("pressure only{} [compat {}]", if pa1 { ", pa_sph = 1" } else { "" }, f.label()),
         vec![(Phase::Rates, Box::new(stage) as Box<dyn Stage>)],

@@ -235,14 +235,19 @@ impl Run {
             .iter()
             .zip(ptrs)
             .map(|(a, p)| {
+                if a.value.is_some() {
+                    // a dummy bound to a value of the manifest: the program's own, not compared
+                    return None;
+                }
                 let n = match (r.call, a.shape) {
                     (CallMode::Whole, Shape::Scalar) => 1,
-                    (CallMode::Whole, s) => s.stride(dim) * if s.per_pair() { np } else { nt },
+                    (CallMode::Whole, s) => a.lead.unwrap_or(s.stride(dim)) * if s.per_pair() { np } else { nt },
                     (_, s) => s.stride(dim),
                 };
                 let one = vocab::lookup(&a.name).is_some_and(|t| t.base == Base::One);
                 hffi::read(*p, a.kind, n).map(|b| match b {
                     Buf::I(v) if one => Buf::I(v.into_iter().map(|i| i - 1).collect()),
+                    Buf::R(v) if a.lead.is_some() => Buf::R(packed(&v, dim, a.lead.unwrap_or(dim))),
                     b => b,
                 })
             })
@@ -403,6 +408,18 @@ impl Run {
             let one = vocab::lookup(&a.name).is_some_and(|t| t.base == Base::One);
             let b = match b {
                 Buf::I(v) if one => Buf::I(v.into_iter().map(|i| i + 1).collect()),
+                Buf::R(v) if let Some(l) = a.lead => {
+                    // dim values of each particle or pair into the program's `l` per one; the
+                    // components past dim keep what the program holds there
+                    let mut laid = match hffi::read(*ptr, Kind::Real, v.len() / p.dim * l) {
+                        Some(Buf::R(old)) => old,
+                        _ => return Err(format!("argument {} has no address", a.dummy)),
+                    };
+                    for (k, c) in v.chunks(p.dim).enumerate() {
+                        laid[k * l..k * l + p.dim].copy_from_slice(c);
+                    }
+                    Buf::R(laid)
+                }
                 b => b,
             };
             hffi::write(*ptr, &b);
@@ -491,6 +508,12 @@ impl Run {
 }
 
 /// The context [`bind`] needs: `nbuf` particles and `pbuf` pairs.
+/// The `dim` values of each particle or pair from an array laid out `lead` values apart
+/// (`x(maxdim,maxn)`), one after the other as blastsph holds them.
+fn packed(v: &[f64], dim: usize, lead: usize) -> Vec<f64> {
+    v.chunks(lead).flat_map(|c| c[..dim.min(c.len())].iter().copied()).collect()
+}
+
 fn ctx_of<'a>(
     dim: usize,
     slots: Slots,

@@ -17,6 +17,9 @@ fn fresh(m: Module, ctx: &PlanCtx) -> Vec<(Phase, Box<dyn Stage>)> {
     c.stages.into_iter().filter(|(ph, _)| *ph != Phase::Init).collect()
 }
 
+/// Which sound speed each side of an EOS routine that gives p only uses.
+const C_SIDES: &str = "c is not among its arguments: the legacy side leaves c at 0 (your program's array that nothing writes), the Rust twin uses its own c; p compared, c not";
+
 /// What became of one mapped routine, for `check` and summary.json.
 struct Note {
     name: String,
@@ -152,6 +155,12 @@ impl Legacy {
             }
         }
         let reads = merge_fields(&covered, &helpers, alone, &argf, &mut writes);
+        // an EOS that gives p only: c is not its output (the state's c is set to the program's
+        // array that nothing writes, 0, at each call)
+        let zero_c = covered.iter().any(|(_, s)| lacks_c_only(s.as_ref(), &argf));
+        if zero_c {
+            writes.retain(|f| *f != Field::C);
+        }
         // where the stages it stands for are in the step
         let pos = places(entries, &covered);
         let (maker, clash) = order_in_step(entries, &pos, &reads, &writes);
@@ -189,7 +198,10 @@ impl Legacy {
             }
         });
         let twins: Vec<String> = helpers.iter().chain(&covered).map(|(_, s)| s.name().to_string()).collect();
-        let tol = self.tolerance_of(r, &mods, (&helpers, &covered), alone, &twins);
+        let mut tol = self.tolerance_of(r, &mods, (&helpers, &covered), alone, &twins);
+        if zero_c {
+            tol.why = Box::leak(format!("{}; {C_SIDES}", tol.why).into_boxed_str());
+        }
         let why_alone: Option<&'static str> = alone.then(|| {
             &*Box::leak(
                 format!("legacy {}: no Rust twin in this case; runs alone, not compared", r.name).into_boxed_str(),
@@ -212,6 +224,7 @@ impl Legacy {
             alone: why_alone,
             replay: Mutex::new(None),
             input_writes: Mutex::new(Vec::new()),
+            zero_c,
         };
         let entry = Entry { phase, stage: Box::new(stage), backend: Backend::Fortran, seconds: 0.0 };
         match at {
@@ -228,14 +241,17 @@ impl Legacy {
         let ph = format!("{phase:?}").to_lowercase();
         let what = if alone {
             "no Rust twin yet: runs alone in its place, not compared".to_string()
+        } else if zero_c {
+            format!("stands for {} for p only; {C_SIDES}", twins.join(" + "))
         } else {
             format!("stands for {}", twins.join(" + "))
         };
-        note(
-            if alone { "alone" } else { "run" },
-            format!("{what}; phase {ph}{after}"),
-            json!({ "stands_for": twins, "phase": ph, "writes": writes.iter().map(|f| f.name()).collect::<Vec<_>>() }),
-        )
+        let mut j =
+            json!({ "stands_for": twins, "phase": ph, "writes": writes.iter().map(|f| f.name()).collect::<Vec<_>>() });
+        if zero_c {
+            j["c"] = json!("legacy: 0, an array no routine writes; Rust twin: its own");
+        }
+        note(if alone { "alone" } else { "run" }, format!("{what}; phase {ph}{after}"), j)
     }
 
     /// The tolerance of routine `r` against the stages it stands for: the twins compared, the
@@ -281,7 +297,7 @@ fn cover(ctx: &PlanCtx, mods: &[Module], argf: &[Field]) -> (Staged, Staged) {
     let mut helpers: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
     for &m in mods {
         for (ph, s) in fresh(m, ctx) {
-            if !s.writes().iter().all(|f| argf.contains(f)) {
+            if !s.writes().iter().all(|f| argf.contains(f) || lacks_c_only(s.as_ref(), argf)) {
                 continue;
             }
             // inputs not among the arguments: made inside the routine by a helper stage
@@ -439,6 +455,16 @@ fn alone_writes(
         writes.push(Field::Dde);
     }
     Ok(writes)
+}
+
+/// True for an EOS stage whose only output missing from the arguments `argf` is the sound speed,
+/// p being among them: a routine that gives p only stands for it, and c is then the program's
+/// array that nothing writes (0).
+fn lacks_c_only(s: &dyn Stage, argf: &[Field]) -> bool {
+    s.module() == Module::Eos
+        && argf.contains(&Field::P)
+        && !argf.contains(&Field::C)
+        && s.writes().iter().all(|f| argf.contains(f) || *f == Field::C)
 }
 
 /// Where in the step a routine standing for the stages at `pos` runs: the last stage between

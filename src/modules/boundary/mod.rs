@@ -21,7 +21,7 @@ pub use rust::WallFrame;
 
 use super::param::Segments;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Terms, Twin};
-use crate::case::{DensityKind, WallKind};
+use crate::case::WallKind;
 use crate::state::{Clock, Field, Particles, Work};
 
 /// The constants of the type I wall force: wall-particle spacing and range r0 (m), D (m²/s²),
@@ -258,7 +258,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     if !mirror_segs.is_empty() {
         stages.push((Phase::Mirrors, Box::new(MakeStage { segs: mirror_segs.clone(), kappa: ctx.kappa })));
         stages.push((Phase::Mirrors, Box::new(FillStage { segs: mirror_segs, noslip: case.boundary.noslip })));
-        if case.sph.density == DensityKind::Summation {
+        if case.sph.density.summed() {
             stages.push((Phase::DensityShare, Box::new(CopyStage { fields: vec![Field::Rho] })));
         }
         stages.push((Phase::EosShare, Box::new(CopyStage { fields: vec![Field::P, Field::C] })));

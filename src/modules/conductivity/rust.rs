@@ -44,8 +44,9 @@ fn run<const D: usize, const W: usize>(a: &mut Price) {
         if t.len() == 1 {
             t[0] = q;
         } else {
-            let fi = 0.5 * (1.0 + rinv[i] / rinv[j]);
-            let fj = 0.5 * (1.0 + rinv[j] / rinv[i]);
+            // |1/r*|: an axis image carries a signed 1/r*, its ring the source's |r|
+            let fi = 0.5 * (1.0 + rinv[i].abs() / rinv[j].abs());
+            let fj = 0.5 * (1.0 + rinv[j].abs() / rinv[i].abs());
             t[0] = 0.0;
             t[1] = q * fi;
             t[2] = -(q * fj);

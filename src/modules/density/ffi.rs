@@ -1,4 +1,4 @@
-//! The Fortran twin of the density (`sph_density_sum`, `sph_density_rate`, `sph_density_rate_vol`).
+//! The Fortran twin of the density (`sph_density_sum`, `sph_density_number`, `sph_density_rate`, `sph_density_rate_vol`).
 #![allow(unsafe_code)]
 
 use super::{Rate, Summation};
@@ -16,10 +16,11 @@ pub(super) fn summation(a: &mut Summation) {
     chk("rho", a.rho.len(), nt);
     chk("w", a.w.len(), pl.len());
     chk_pairs(&pl.i, &pl.j, nt);
+    let f = if a.number { sys::sph_density_number } else { sys::sph_density_sum };
     // SAFETY: the arrays hold the values the explicit shapes declare and every pair index is in
     // 0..ntotal (checked above).
     unsafe {
-        sys::sph_density_sum(
+        f(
             n32(nt),
             n32(pl.len()),
             pl.i.as_ptr(),

@@ -1,5 +1,7 @@
 //! Density (thesis Table 4-1; Liu's sum_density and con_density):
-//! summation ρ_i = m_i W_ii + Σ_j m_j W_ij (kg/m³), or the continuity rate
+//! summation ρ_i = m_i W_ii + Σ_j m_j W_ij (kg/m³), number-density summation
+//! ρ_i = m_i (W_ii + Σ_j W_ij) (Hu & Adams 2006: each particle's density from its own mass, so a
+//! light phase beside a heavy one keeps its own density), or the continuity rate
 //! Dρ_i/Dt = Σ_j m_j (v_i − v_j)·∇_i W_ij (kg/m³/s, the thesis's mass form), or the volume form
 //! Dρ_i/Dt = ρ_i Σ_j (m_j/ρ_j)(v_i − v_j)·∇_i W_ij, which stays consistent across large density
 //! ratios (detonation products against soil). Fortran twin: `sph_density.f90`.
@@ -14,7 +16,8 @@ use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin};
 use crate::case::{ContinuityForm, DensityKind, SmoothingKind};
 use crate::state::{Clock, Field, Particles, Work};
 
-/// `sph_density_sum`: ρ of every particle of the pair list (ntotal = `mass.len()`).
+/// `sph_density_sum` or `sph_density_number`: ρ of every particle of the pair list (ntotal =
+/// `mass.len()`).
 pub struct Summation<'a> {
     pub pairs: &'a PairList,
     /// W_ij per pair.
@@ -22,6 +25,8 @@ pub struct Summation<'a> {
     /// W(0, h_i) per particle.
     pub w0: &'a [f64],
     pub mass: &'a [f64],
+    /// Number density m_i Σ W (else Σ m_j W).
+    pub number: bool,
     pub rho: &'a mut [f64],
 }
 
@@ -60,6 +65,7 @@ impl Twin for Rate<'_> {
 /// Summation density of every particle, mirrors included (axisymmetric: of the planar masses).
 pub struct SumStage {
     rz: bool,
+    number: bool,
 }
 
 impl Stage for SumStage {
@@ -67,7 +73,7 @@ impl Stage for SumStage {
         Module::Density
     }
     fn name(&self) -> &'static str {
-        "density.summation"
+        if self.number { "density.number" } else { "density.summation" }
     }
     fn reads(&self) -> &[Field] {
         if self.rz {
@@ -82,7 +88,8 @@ impl Stage for SumStage {
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let nt = p.ntotal;
         let mass = if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] };
-        Summation { pairs: &w.pairs, w: &w.w, w0: &w.w0, mass, rho: &mut p.rho[..nt] }.run(b);
+        let number = self.number;
+        Summation { pairs: &w.pairs, w: &w.w, w0: &w.w0, mass, number, rho: &mut p.rho[..nt] }.run(b);
     }
 }
 
@@ -130,9 +137,10 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let rz = ctx.case.axisymmetric();
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = Vec::new();
     let why = match sph.density {
-        DensityKind::Summation => {
-            stages.push((Phase::Density, Box::new(SumStage { rz })));
-            "summation".to_string()
+        DensityKind::Summation | DensityKind::Number => {
+            let number = sph.density == DensityKind::Number;
+            stages.push((Phase::Density, Box::new(SumStage { rz, number })));
+            if number { "number density (Hu & Adams)" } else { "summation" }.to_string()
         }
         DensityKind::Continuity => format!("continuity, {:?} form", sph.continuity_form).to_lowercase(),
     };

@@ -1,4 +1,4 @@
-//! Parity of the density: summation, and the continuity rate in both forms, 1D to 3D.
+//! Parity of the density: summation (mass and number density), and the continuity rate in both forms, 1D to 3D.
 
 use super::{Rate, Summation};
 use crate::case::KernelKind;
@@ -13,10 +13,12 @@ fn density_summation_and_rate() {
         let (w, dwdx) = kernel_values(&cl, &pl);
         let mut w0 = vec![0.0; cl.nt];
         run(SelfW { dim, kind: KernelKind::Cubic, h: &cl.h, w0: &mut w0 }, F);
-        let tag = format!("density::summation {dim}D seed {seed}");
-        parity(&tag, 0, ["rho"], [sentinel(cl.nt)], |b, [rho]| {
-            run(Summation { pairs: &pl, w: &w, w0: &w0, mass: &cl.mass, rho }, b)
-        });
+        for number in [false, true] {
+            let tag = format!("density::summation {dim}D seed {seed} number {number}");
+            parity(&tag, 0, ["rho"], [sentinel(cl.nt)], |b, [rho]| {
+                run(Summation { pairs: &pl, w: &w, w0: &w0, mass: &cl.mass, number, rho }, b)
+            });
+        }
         for volume in [false, true] {
             let tag = format!("density::rate {dim}D seed {seed} volume {volume}");
             let [drho] = parity(&tag, 0, ["drho"], [sentinel(cl.nt)], |b, [drho]| {

@@ -9,8 +9,18 @@ use crate::modules::nnps::PairList;
 use crate::modules::{by_dim, par_rows};
 
 pub(super) fn summation(a: &mut Summation) {
-    let Summation { pairs: pl, w, w0, mass, rho } = a;
+    let Summation { pairs: pl, w, w0, mass, number, rho } = a;
     let nt = mass.len();
+    if *number {
+        par_rows(&mut rho[..nt], 1, |i, r| {
+            let mut s = w0[i];
+            for e in pl.incident(i) {
+                s += w[e.pair()];
+            }
+            r[0] = mass[i] * s;
+        });
+        return;
+    }
     par_rows(&mut rho[..nt], 1, |i, r| {
         let mut s = mass[i] * w0[i];
         for e in pl.incident(i) {

@@ -15,11 +15,15 @@ pub(super) fn eval(a: &mut Eval) {
         chk(name, l, n);
     }
     let nburn = chk_opt("burn", a.burn.len(), n, 1);
+    let nhist = chk_opt("rho_max", a.rho_max.len(), n, 1);
     chk_mat(a.mt, a.mat);
     let dummy = 1.0;
+    let mut hdummy = 0.0;
+    let rmax: *mut f64 = if nhist == 0 { &mut hdummy } else { a.rho_max.as_mut_ptr() };
     // SAFETY: every array holds at least the n values (nmat columns for the table) that the
     // explicit shapes of sph_eos_eval declare, material indices are in 0..nmat (checked above),
-    // and burn is a one-value dummy when nburn = 0, as its declared extent max(nburn, 1) allows.
+    // and burn and rmax are one-value dummies when nburn = 0 and nhist = 0, as their declared
+    // extents max(nburn, 1) and max(nhist, 1) allow.
     unsafe {
         sys::sph_eos_eval(
             n32(n),
@@ -29,6 +33,8 @@ pub(super) fn eval(a: &mut Eval) {
             a.mat.as_ptr(),
             n32(nburn),
             ptr_or(a.burn, &dummy),
+            n32(nhist),
+            rmax,
             a.rho.as_ptr(),
             a.e.as_ptr(),
             a.p.as_mut_ptr(),

@@ -1,7 +1,10 @@
 //! Equations of state: p (Pa) and c (m/s) from ρ (kg/m³) and e (J/kg), per material.
 //! Ideal gas p = (γ−1)ρe, c = √(γ(γ−1)e); JWL (4-39) times the burn fraction λ, plus (1 − λ) times
 //! the unreacted explosive's Mie–Grüneisen pressure (linear Us–Up, energy above e_chem) when it has
-//! one, c² blended the same way (theory.md §8, §9); water polynomial (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46). The sound speed is
+//! one, c² blended the same way (theory.md §8, §9); water polynomial (4-40, 4-41); soil Mie–Grüneisen with a linear Us–Up Hugoniot (4-42…4-46);
+//! porous compaction (Laine & Sandvik 2001): ρ_max ← max(ρ_max, ρ), p = p_c(ρ_max) + c_u(ρ_max)² (ρ − ρ_max)
+//! (Pa), c = c_u(ρ_max) (m/s), p_c the plastic compaction curve and c_u the bulk sound speed of the
+//! elastic unloading line, both piecewise linear tables in ρ (kg/m³). The sound speed is
 //! the isentropic c² = ∂p/∂ρ|_e + (p/ρ²) ∂p/∂e|_ρ, floored at 1 % of the reference speed; p is
 //! floored at the material's pmin. Fortran twin: `fortran/src/sph_eos.f90`.
 //!
@@ -13,9 +16,9 @@ mod ffi;
 mod parity;
 mod rust;
 
-pub use rust::point;
+pub use rust::{point, point_hist};
 
-use super::param::MatTable;
+use super::param::{EosKind, MatTable};
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Tolerance, Twin};
 use crate::state::{Clock, Field, Particles, Work};
 
@@ -26,6 +29,9 @@ pub struct Eval<'a> {
     pub mat: &'a [i32],
     /// Burn fraction of each particle (programmed burn), or empty.
     pub burn: &'a [f64],
+    /// Compaction history: the largest density each particle has reached (kg/m³), updated; or
+    /// empty (every compaction material on its loading curve).
+    pub rho_max: &'a mut [f64],
     pub rho: &'a [f64],
     pub e: &'a [f64],
     pub p: &'a mut [f64],
@@ -41,9 +47,16 @@ impl Twin for Eval<'_> {
     }
 }
 
-/// p and c of the real particles.
+/// p and c of the real particles, and their compaction history where a material compacts.
 pub struct EosStage {
     pub(crate) mt: MatTable,
+}
+
+impl EosStage {
+    /// True when some material of the table is a compaction EOS (it carries `rho_max`).
+    fn compacts(&self) -> bool {
+        self.mt.mtype.contains(&(EosKind::Compaction as i32))
+    }
 }
 
 impl Stage for EosStage {
@@ -54,19 +67,39 @@ impl Stage for EosStage {
         "eos.eval"
     }
     fn reads(&self) -> &[Field] {
-        &[Field::Rho, Field::E, Field::Mat, Field::Burn]
+        if self.compacts() {
+            &[Field::Rho, Field::E, Field::Mat, Field::Burn, Field::RhoMax]
+        } else {
+            &[Field::Rho, Field::E, Field::Mat, Field::Burn]
+        }
     }
     fn writes(&self) -> &[Field] {
-        &[Field::P, Field::C]
+        if self.compacts() { &[Field::P, Field::C, Field::RhoMax] } else { &[Field::P, Field::C] }
+    }
+    /// The history starts at the particle's density (the set-up's, geostatic or uniform).
+    fn register(&self, p: &mut Particles) {
+        if self.compacts() {
+            p.rho_max = p.rho[..p.nreal].to_vec();
+        }
     }
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let n = p.nreal;
         let burn: &[f64] = if p.burn.is_empty() { &[] } else { &p.burn[..n] };
-        Eval { mt: &self.mt, mat: &p.mat[..n], burn, rho: &p.rho[..n], e: &p.e[..n], p: &mut p.p[..n], c: &mut p.c[..n] }
-            .run(b);
+        let rho_max: &mut [f64] = if p.rho_max.is_empty() { &mut [] } else { &mut p.rho_max[..n] };
+        Eval {
+            mt: &self.mt,
+            mat: &p.mat[..n],
+            burn,
+            rho_max,
+            rho: &p.rho[..n],
+            e: &p.e[..n],
+            p: &mut p.p[..n],
+            c: &mut p.c[..n],
+        }
+        .run(b);
     }
     fn real_rows(&self) -> &[Field] {
-        &[Field::P, Field::C]
+        if self.compacts() { &[Field::P, Field::C, Field::RhoMax] } else { &[Field::P, Field::C] }
     }
     fn tolerance(&self) -> Tolerance {
         if self.mt.has_jwl() {

@@ -1,14 +1,26 @@
 //! The Rust twin of the EOS: same operations in the same order as `sph_eos.f90`.
 
 use super::Eval;
-use crate::modules::{fmax, par_rows2};
-use crate::modules::param::row::{E1, ECHEM, PMIN, RHO0, UNR_C, UNR_GAMMA, UNR_S};
+use crate::modules::param::tab_lin;
+use crate::modules::{fmax, par_rows, par_rows2};
+use crate::modules::param::row::{
+    CMP_C, CMP_CRHO, CMP_N, CMP_P, CMP_RHO, CMP_RMAX0, E1, ECHEM, PMIN, RHO0, UNR_C, UNR_GAMMA, UNR_S,
+};
 use crate::modules::param::{EosKind, NPAR};
 
 /// p and c of one particle: material type `itype`, parameters `par` (one column of mpar),
-/// burn fraction `lam`.
+/// burn fraction `lam`; a compaction material on its loading curve (no history: ρ_max = ρ).
 #[inline]
 pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) {
+    let (p, c, _) = point_hist(itype, par, rho, e, lam, rho);
+    (p, c)
+}
+
+/// p, c and the updated compaction history ρ_max (kg/m³) of one particle whose history is
+/// `rmax` (only the compaction kind reads and changes it).
+#[inline]
+pub fn point_hist(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64, rmax: f64) -> (f64, f64, f64) {
+    let mut rmax = rmax;
     let rho0 = par[RHO0];
     let mut p = 0.0;
     let mut c2 = 0.0;
@@ -95,24 +107,47 @@ pub fn point(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64) -> (f64, f64) 
         p = b * ((rho / rho0).powf(gam) - 1.0);
         c2 = cref * cref;
     }
+    Some(EosKind::Compaction) => {
+        // Laine–Sandvik: the plastic compaction curve p_c at ρ_max, the elastic line of slope c_u²
+        let nk = par[CMP_N] as usize;
+        if rho > rmax {
+            rmax = rho;
+        }
+        if par[CMP_RMAX0] > rmax {
+            rmax = par[CMP_RMAX0];
+        }
+        cref = tab_lin(&par[CMP_CRHO..CMP_CRHO + nk], &par[CMP_C..CMP_C + nk], rmax, false);
+        p = tab_lin(&par[CMP_RHO..CMP_RHO + nk], &par[CMP_P..CMP_P + nk], rmax, true) + cref * cref * (rho - rmax);
+        c2 = cref * cref;
+    }
     // no equation of state: p = 0 before the floor, c = 0
     Some(EosKind::None) => {}
     None => panic!("eos: material type {itype} is no EosKind code"),
     }
     p = fmax(p, par[PMIN]);
     let c = fmax(c2, 1.0e-4 * cref * cref).sqrt();
-    (p, c)
+    (p, c, rmax)
 }
 
-/// p and c for the first `mat.len()` particles.
+/// p and c for the first `mat.len()` particles, then their compaction history.
 pub(super) fn eval(a: &mut Eval) {
-    let Eval { mt, mat, burn, rho, e, p, c } = a;
+    let Eval { mt, mat, burn, rho_max, rho, e, p, c } = a;
     let n = mat.len();
-    par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
+    let hist: &[f64] = rho_max;
+    let col = |i: usize| {
         let m = mat[i] as usize;
         let lam = if burn.is_empty() { 1.0 } else { burn[i] };
-        let (pp, cc) = point(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam);
+        let r = if hist.is_empty() { rho[i] } else { hist[i] };
+        point_hist(mt.mtype[m], &mt.mpar[NPAR * m..NPAR * (m + 1)], rho[i], e[i], lam, r)
+    };
+    par_rows2(&mut p[..n], 1, &mut c[..n], 1, |i, pi, ci| {
+        let (pp, cc, _) = col(i);
         pi[0] = pp;
         ci[0] = cc;
     });
+    if !rho_max.is_empty() {
+        let mut next = vec![0.0; n];
+        par_rows(&mut next, 1, |i, r| r[0] = col(i).2);
+        rho_max[..n].copy_from_slice(&next);
+    }
 }

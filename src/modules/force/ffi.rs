@@ -41,6 +41,7 @@ pub(super) fn internal(a: &mut Internal) {
             n32(ntau),
             ptr_or(a.tau, &dummy),
             i32::from(a.asym),
+            i32::from(a.iface),
             n32(nrinv),
             ptr_or(a.rinv, &dummy),
             a.dvdt.as_mut_ptr(),

@@ -10,7 +10,14 @@
 //! v_i − (r_j/r_i) v_j at the i end and (r_i/r_j) v_i − v_j at the j end in place of v_ij, so that
 //! each pair's work on the rings' internal energies (ring mass 2πr μ) is exactly what its forces
 //! take from the rings' kinetic energies: the total energy is conserved, and the sum holds the
-//! hoop part −(p/ρ) v_r/r of the p dV work (theory.md §16). Fortran twin: `sph_force.f90`.
+//! hoop part −(p/ρ) v_r/r of the p dV work (theory.md §16). In a pair across the axis (the other
+//! end a mirror, 1/r* < 0) the real end's term is (p_i/ρ_i² + p_j/ρ_j²) v_i·∇_i W_ij: its internal
+//! energy takes the work of the mirror's force on it, and the axis does no work (theory.md, "The
+//! axis of an RZ run").
+//! The interface form (`sph.pressure_form = "interface"`, Colagrossi & Landrini 2003) reads
+//! (σ_i + σ_j)/(ρ_i ρ_j) for σ_i/ρ_i² + σ_j/ρ_j², and p_i/(ρ_i ρ_j) for the asymmetric p_i/ρ_i²: at
+//! an interface between phases 10³ apart in density the light side's term no longer carries the
+//! heavy neighbour's mass over its own density squared. Fortran twin: `sph_force.f90`.
 
 mod ffi;
 #[cfg(test)]
@@ -34,6 +41,8 @@ pub struct Internal<'a> {
     pub tau: &'a [f64],
     /// The asymmetric energy form (false: the thesis's symmetric one).
     pub asym: bool,
+    /// The interface pressure form (false: the thesis's standard one).
+    pub iface: bool,
     /// Axisymmetric: 1/r* (1/m) per particle (ntotal); empty in plane geometry.
     pub rinv: &'a [f64],
     /// Acceleration (m/s²), dim × ntotal.
@@ -58,6 +67,31 @@ pub struct ForceStage {
     pub(crate) rz: bool,
     /// The asymmetric energy form (`sph.energy_form`).
     pub(crate) asym: bool,
+    /// The interface pressure form (`sph.pressure_form = "interface"`): the stage is named
+    /// `force.internal_interface`.
+    pub(crate) iface: bool,
+}
+
+impl ForceStage {
+    fn internal(&self, b: Backend, p: &mut Particles, w: &mut Work) {
+        let (dim, nt) = (p.dim, p.ntotal);
+        Internal {
+            dim,
+            pairs: &w.pairs,
+            dwdx: &w.dwdx,
+            mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
+            rho: &p.rho[..nt],
+            p: &p.p[..nt],
+            v: &p.v[..dim * nt],
+            tau: &p.tau,
+            asym: self.asym,
+            iface: self.iface,
+            rinv: if self.rz { &w.rinv[..nt] } else { &[] },
+            dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
+            dedt: &mut w.dde[self.slots.de_range(nt)],
+        }
+        .run(b);
+    }
 }
 
 impl Stage for ForceStage {
@@ -65,7 +99,7 @@ impl Stage for ForceStage {
         Module::Force
     }
     fn name(&self) -> &'static str {
-        "force.internal"
+        if self.iface { "force.internal_interface" } else { "force.internal" }
     }
     fn reads(&self) -> &[Field] {
         if self.rz {
@@ -81,22 +115,7 @@ impl Stage for ForceStage {
         self.slots.size(w, p.dim, p.ntotal);
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
-        let (dim, nt) = (p.dim, p.ntotal);
-        Internal {
-            dim,
-            pairs: &w.pairs,
-            dwdx: &w.dwdx,
-            mass: if self.rz { &w.pmass[..nt] } else { &p.mass[..nt] },
-            rho: &p.rho[..nt],
-            p: &p.p[..nt],
-            v: &p.v[..dim * nt],
-            tau: &p.tau,
-            asym: self.asym,
-            rinv: if self.rz { &w.rinv[..nt] } else { &[] },
-            dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
-            dedt: &mut w.dde[self.slots.de_range(nt)],
-        }
-        .run(b);
+        self.internal(b, p, w)
     }
     fn terms(&self) -> Terms {
         Terms { acc: Some(0), de: Some(0) }
@@ -111,6 +130,12 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let why = if crate::case::has_strength(ctx.case) { "sigma = -p I + tau" } else { "pressure only" };
     let rz = ctx.case.axisymmetric();
     let asym = ctx.case.sph.energy_form == crate::case::EnergyForm::Asymmetric;
-    let why = format!("{why}, {} energy form", if asym { "asymmetric" } else { "symmetric" });
-    Contribution::run(why, vec![(Phase::Rates, Box::new(ForceStage { slots: Slots::default(), rz, asym }))])
+    let iface = ctx.case.sph.pressure_form == crate::case::PressureForm::Interface;
+    let why = format!(
+        "{why}, {} energy form{}",
+        if asym { "asymmetric" } else { "symmetric" },
+        if iface { ", interface pressure form (Colagrossi & Landrini)" } else { "" }
+    );
+    let stage = ForceStage { slots: Slots::default(), rz, asym, iface };
+    Contribution::run(why, vec![(Phase::Rates, Box::new(stage))])
 }

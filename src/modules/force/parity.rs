@@ -9,8 +9,13 @@ fn force_internal_fluid_and_with_tau() {
         let cl = cloud(dim, side(dim), seed);
         let pl = pairs(&cl, 2.0);
         let (_, dwdx) = kernel_values(&cl, &pl);
-        // axisymmetric: 1/r* of every particle (any positive values: r* = max(|x|, h/4))
-        let rz: Vec<f64> = (0..cl.nt).map(|i| 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i])).collect();
+        // axisymmetric: 1/r* of every particle, r* = max(|x|, h/4), < 0 for a mirror at x < 0
+        let rz: Vec<f64> = (0..cl.nt)
+            .map(|i| {
+                let ri = 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i]);
+                if cl.x[dim * i] < 0.0 { -ri } else { ri }
+            })
+            .collect();
         let geoms: &[bool] = if dim == 2 { &[false, true] } else { &[false] };
         for (with_tau, asym, axi) in [(false, false), (true, false), (false, true), (true, true)]
             .into_iter()
@@ -18,18 +23,22 @@ fn force_internal_fluid_and_with_tau() {
         {
             let tau: &[f64] = if with_tau { &cl.tau } else { &[] };
             let rinv: &[f64] = if axi { &rz } else { &[] };
-            let tag = format!(
-                "force::internal {dim}D seed {seed} {} {}{}",
-                if with_tau { "with tau" } else { "fluid" },
-                if asym { "asymmetric" } else { "symmetric" },
-                if axi { " axisymmetric" } else { "" }
-            );
-            let [acc, _] =
-                parity(&tag, 0, ["dvdt", "dedt"], [sentinel(dim * cl.nt), sentinel(cl.nt)], |b, [dvdt, dedt]| {
+            for iface in [false, true] {
+                let tag = format!(
+                    "force::internal {dim}D seed {seed} {} {}{}{}",
+                    if with_tau { "with tau" } else { "fluid" },
+                    if asym { "asymmetric" } else { "symmetric" },
+                    if axi { " axisymmetric" } else { "" },
+                    if iface { " interface" } else { "" }
+                );
+                let sz = [sentinel(dim * cl.nt), sentinel(cl.nt)];
+                let [acc, _] = parity(&tag, 0, ["dvdt", "dedt"], sz, |b, [dvdt, dedt]| {
                     let (mass, rho, p, v) = (&cl.mass, &cl.rho, &cl.p, &cl.v);
-                    run(Internal { dim, pairs: &pl, dwdx: &dwdx, mass, rho, p, v, tau, asym, rinv, dvdt, dedt }, b)
+                    let pairs = &pl;
+                    run(Internal { dim, pairs, dwdx: &dwdx, mass, rho, p, v, tau, asym, iface, rinv, dvdt, dedt }, b)
                 });
-            nonzero(&tag, &acc);
+                nonzero(&tag, &acc);
+            }
         }
     }
 }

@@ -16,11 +16,13 @@ pub(super) fn ring(a: &mut Ring) {
     chk("h", a.h.len(), nt);
     chk("rinv", a.rinv.len(), nt);
     chk("pmass", a.pmass.len(), nt);
+    assert!(a.nreal <= nt, "legacy call: nreal > ntotal");
     // SAFETY: every array holds the ntotal rows the explicit shapes declare (checked above).
     unsafe {
         sys::sph_geometry_ring(
             n32(dim),
             n32(nt),
+            n32(a.nreal),
             a.x.as_ptr(),
             a.h.as_ptr(),
             a.mass.as_ptr(),

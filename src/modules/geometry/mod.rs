@@ -15,7 +15,9 @@
 //!   is part of the strength module's τ:ε̇/ρ, whose ε̇_θθ = v_r/r;
 //!
 //! with 1/r taken as 1/r*, r* = max(|r|, h/4) (the axis is a mirror: reflective ghosts, whose
-//! r < 0 and |r| is their source's). Fortran twin: `sph_geometry.f90`.
+//! r < 0 and |r| is their source's; a ghost across the axis gets 1/r* < 0, and in its pairs the
+//! force and viscosity give the real ring the work of the ghost's force on it, theory.md §16).
+//! Fortran twin: `sph_geometry.f90`.
 
 mod ffi;
 #[cfg(test)]
@@ -28,9 +30,12 @@ use crate::case::DensityKind;
 use crate::state::{Clock, Field, Particles, Work};
 
 /// `sph_geometry_ring`: 1/r* (1/m) and the planar mass μ = m/(2πr*) (kg/m) of every particle
-/// (ntotal = `mass.len()`), r* = max(|x_0|, h/4).
+/// (ntotal = `mass.len()`), r* = max(|x_0|, h/4). A mirror across the axis (index ≥ `nreal`,
+/// x_0 < 0) gets 1/r* < 0, the sign the energy sums of the force and viscosity read.
 pub struct Ring<'a> {
     pub dim: usize,
+    /// The real particles, first in the arrays; the mirrors follow them.
+    pub nreal: usize,
     pub x: &'a [f64],
     pub h: &'a [f64],
     pub mass: &'a [f64],
@@ -106,9 +111,9 @@ impl Stage for RingStage {
         w.pmass.resize(p.ntotal, 0.0);
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
-        let (dim, nt) = (p.dim, p.ntotal);
+        let (dim, nreal, nt) = (p.dim, p.nreal, p.ntotal);
         let (x, h, mass) = (&p.x[..dim * nt], &p.h[..nt], &p.mass[..nt]);
-        Ring { dim, x, h, mass, rinv: &mut w.rinv[..nt], pmass: &mut w.pmass[..nt] }.run(b);
+        Ring { dim, nreal, x, h, mass, rinv: &mut w.rinv[..nt], pmass: &mut w.pmass[..nt] }.run(b);
     }
 }
 

@@ -7,8 +7,8 @@ use crate::modules::{par_rows, par_rows2};
 use std::f64::consts::PI;
 
 pub(super) fn ring(a: &mut Ring) {
-    let Ring { dim, x, h, mass, rinv, pmass } = a;
-    let (dim, x, h, mass) = (*dim, *x, *h, *mass);
+    let Ring { dim, nreal, x, h, mass, rinv, pmass } = a;
+    let (dim, nreal, x, h, mass) = (*dim, *nreal, *x, *h, *mass);
     let nt = mass.len();
     par_rows2(&mut rinv[..nt], 1, &mut pmass[..nt], 1, |i, ri, pm| {
         let mut rs = x[dim * i].abs();
@@ -16,7 +16,8 @@ pub(super) fn ring(a: &mut Ring) {
         if rs < rmin {
             rs = rmin;
         }
-        ri[0] = 1.0 / rs;
+        // a mirror across the axis (r < 0) carries the signed 1/r*
+        ri[0] = if i >= nreal && x[dim * i] < 0.0 { -1.0 / rs } else { 1.0 / rs };
         pm[0] = mass[i] / (2.0 * PI * rs);
     });
 }

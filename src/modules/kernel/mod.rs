@@ -13,7 +13,7 @@ pub use rust::w_dw;
 
 use super::nnps::PairList;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Stage, Twin};
-use crate::case::{DensityKind, KernelKind};
+use crate::case::KernelKind;
 use crate::state::{Clock, Field, Particles, Work};
 
 /// `sph_kernel_pairs`: W_ij and ∇_i W_ij of every pair.
@@ -175,7 +175,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         (1.0, String::new())
     };
     let mut stages: Vec<(Phase, Box<dyn Stage>)> = vec![(Phase::Kernel, Box::new(PairsStage { kind, gscale }))];
-    if ctx.case.sph.density == DensityKind::Summation {
+    if ctx.case.sph.density.summed() {
         stages.push((Phase::Density, Box::new(SelfStage { kind })));
     }
     Contribution::run(format!("{} kernel, support {}h{norm}", kind.name(), kind.support()), stages)

@@ -47,7 +47,8 @@ pub struct Monaghan<'a> {
     pub alpv: &'a [f64],
     pub amax: f64,
     /// Axisymmetric: 1/r* (1/m) per particle (ntotal), and the energy terms of the RZ form
-    /// (`force`: v_i − (r_j/r_i) v_j at the i end); empty in plane geometry.
+    /// (`force`: v_i − (r_j/r_i) v_j at the i end; Π_ij v_i·∇_i W_ij where j is a mirror across
+    /// the axis, 1/r* < 0); empty in plane geometry.
     pub rinv: &'a [f64],
     /// Acceleration (m/s²), dim × ntotal.
     pub dvdt: &'a mut [f64],

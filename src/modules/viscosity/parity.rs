@@ -10,8 +10,13 @@ fn viscosity_monaghan() {
         let cl = cloud(dim, side(dim), seed);
         let pl = pairs(&cl, 2.0);
         let (_, dwdx) = kernel_values(&cl, &pl);
-        // axisymmetric: 1/r* of every particle (any positive values: r* = max(|x|, h/4))
-        let rz: Vec<f64> = (0..cl.nt).map(|i| 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i])).collect();
+        // axisymmetric: 1/r* of every particle, r* = max(|x|, h/4), < 0 for a mirror at x < 0
+        let rz: Vec<f64> = (0..cl.nt)
+            .map(|i| {
+                let ri = 1.0 / cl.x[dim * i].abs().max(0.25 * cl.h[i]);
+                if cl.x[dim * i] < 0.0 { -ri } else { ri }
+            })
+            .collect();
         // the switch's α_i: any values in (0, α_max]
         let al: Vec<f64> = (0..cl.nt).map(|i| 0.1 + 0.9 * ((i * 37 % 101) as f64 / 100.0)).collect();
         let geoms: &[bool] = if dim == 2 { &[false, true] } else { &[false] };

@@ -54,8 +54,10 @@ fn pairs<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64]) {
         let (xi, vi) = (&ri[..D], &ri[D..2 * D]);
         let (xj, vj) = (&rj[..D], &rj[D..2 * D]);
         let (mut vr, mut r2, mut vd, mut vdj) = (0.0, 0.0, 0.0, 0.0);
+        let (mut vwi, mut vwj) = (0.0, 0.0);
         if rz {
-            // the axisymmetric energy terms: v_i − (r_j/r_i) v_j and (r_i/r_j) v_i − v_j
+            // the axisymmetric energy terms: v_i − (r_j/r_i) v_j and (r_i/r_j) v_i − v_j, and
+            // v_i·∇W, v_j·∇W for a pair across the axis
             let (sji, sij) = (a.rinv[i] / a.rinv[j], a.rinv[j] / a.rinv[i]);
             for d in 0..D {
                 let dv = vi[d] - vj[d];
@@ -64,6 +66,8 @@ fn pairs<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64]) {
                 r2 += dx * dx;
                 vd += (vi[d] - sji * vj[d]) * g[d];
                 vdj += (sij * vi[d] - vj[d]) * g[d];
+                vwi += vi[d] * g[d];
+                vwj += vj[d] * g[d];
             }
         } else {
             for d in 0..D {
@@ -92,9 +96,15 @@ fn pairs<const D: usize, const W: usize>(a: &In, k0: usize, t: &mut [f64]) {
         for d in 0..D {
             tp[d] = mask(-(pm * g[d]));
         }
-        tp[D] = mask(0.5 * piv * vd);
         if rz {
-            tp[D + 1] = mask(0.5 * piv * vdj);
+            // a pair across the axis (the other end an image, 1/r* < 0): the real ring's
+            // internal energy takes the work of the image's viscous force on it, Π v·∇W per μ
+            let di = if a.rinv[j] < 0.0 { piv * vwi } else { 0.5 * piv * vd };
+            let dj = if a.rinv[i] < 0.0 { -(piv * vwj) } else { 0.5 * piv * vdj };
+            tp[D] = mask(di);
+            tp[D + 1] = mask(dj);
+        } else {
+            tp[D] = mask(0.5 * piv * vd);
         }
         tp[W] = mask(-muv);
     }

@@ -220,6 +220,7 @@ fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
         rho0,
         alpha,
         sigma0,
+        rho_max,
     } = p;
     b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
     for (name, a) in [
@@ -238,6 +239,7 @@ fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
         ("p.rho0", rho0),
         ("p.alpha", alpha),
         ("p.sigma0", sigma0),
+        ("p.rho_max", rho_max),
     ] {
         b.put_ref(name, Ref::F64(a));
     }
@@ -336,6 +338,7 @@ fn restore_particles(
         rho0,
         alpha,
         sigma0,
+        rho_max,
     } = p;
     let new_mat = b.i32("p.mat")?;
     sized("p.mat", new_mat.len(), ntotal)?;
@@ -373,6 +376,11 @@ fn restore_particles(
         sized(name, val.len(), a.len())?;
         *a = val;
     }
+    // the compaction history: absent from a checkpoint of a binary without it, which is only
+    // right for a case without a compaction EOS
+    let new_rmax = b.f64("p.rho_max").or_else(|e| if rho_max.is_empty() { Ok(vec![]) } else { Err(e) })?;
+    sized("p.rho_max", new_rmax.len(), rho_max.len())?;
+    *rho_max = new_rmax;
     let new_tau = b.f64("p.tau")?;
     sized("p.tau", new_tau.len(), if tau.is_empty() { 0 } else { crate::modules::param::NSTR * ntotal })?;
     *tau = new_tau;
