@@ -70,7 +70,7 @@ pub(super) fn gauge_plots(cx: &Ctx, summary: &Value, charge: &Charge, written: &
 }
 
 /// One psi in Pa, one foot in m and one pound in kg.
-const PSI_PA: f64 = 6894.757_293_168_361;
+const PSI_PA: f64 = 6_894.757_293_168_361;
 const FT_M: f64 = 0.3048;
 const LB_KG: f64 = 0.453_592_37;
 

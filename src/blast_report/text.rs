@@ -147,7 +147,7 @@ fn print_thesis(
         println!(
             "  gauge {}: thesis peak {} at {}; ours {} at {} (arrival {})",
             g["gauge"].as_str().unwrap_or("?"),
-            g["thesis_peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
+            g["thesis_peak_pa"].as_f64().map_or("(pressure not given)".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
             g["thesis_peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
             g["peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.2} MPa", p / 1e6)),
             g["peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
