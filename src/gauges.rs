@@ -15,7 +15,9 @@
 //!   nothing for that step (an empty field in gauges.csv).
 //!
 //! Quantities: p (Pa), velocity components (m/s), total stress σ = −p I + τ (Pa; only in cases
-//! with strength): 1D xx; 2D xx, yy, zz, xy; 3D all six.
+//! with strength): 1D xx; 2D xx, yy, zz, xy; 3D all six. In 2D and 3D with strength, also the
+//! stress invariants of [`crate::stress_invariants`] (mean stress, von Mises, σ1 ≥ σ2 ≥ σ3; Pa),
+//! computed from the recorded components when a line is written (outside the twins).
 
 use crate::case::{GaugeCfg, GaugeKind, KernelKind};
 use crate::error::{IoAt, Result, SphError};
@@ -43,6 +45,24 @@ fn stress_components(dim: usize) -> &'static [(usize, &'static str)] {
 }
 
 const VNAMES: [&str; 3] = ["vx", "vy", "vz"];
+
+/// The invariant columns' names, after a gauge's stress components (2D and 3D with strength).
+pub const INVARIANTS: [&str; 5] = ["sigma_mean", "von_mises", "sigma_1", "sigma_2", "sigma_3"];
+
+/// The invariants of the stress components `s` recorded in `dim` (2D: xx, yy, zz, xy, the
+/// out-of-plane shears zero; 3D: all six; Pa): None in 1D, where only xx is recorded.
+pub fn invariants_of(dim: usize, s: &[f64]) -> Option<crate::stress_invariants::Invariants> {
+    match (dim, s) {
+        (2, &[xx, yy, zz, xy, ..]) => Some(crate::stress_invariants::of([xx, yy, zz, xy, 0.0, 0.0])),
+        (3, &[xx, yy, zz, xy, xz, yz, ..]) => Some(crate::stress_invariants::of([xx, yy, zz, xy, xz, yz])),
+        _ => None,
+    }
+}
+
+/// The values of the [`INVARIANTS`] columns, in their order.
+fn invariant_values(i: &crate::stress_invariants::Invariants) -> [f64; 5] {
+    [i.mean, i.von_mises, i.principal[0], i.principal[1], i.principal[2]]
+}
 
 /// One gauge's reading at one step: p, velocity (dim), stress (as recorded); None in a void.
 type Reading = Option<Vec<f64>>;
@@ -197,6 +217,9 @@ impl Gauges {
                 for (_, s) in stress_components(self.dim) {
                     c.push(format!("{n}_{s}_pa"));
                 }
+                if self.dim > 1 {
+                    c.extend(INVARIANTS.iter().map(|s| format!("{n}_{s}_pa")));
+                }
             }
         }
         c
@@ -276,10 +299,18 @@ impl Gauges {
                 }
             }
             let width = self.dim + if self.stress { stress_components(self.dim).len() } else { 0 };
+            let extra = if self.stress && self.dim > 1 { INVARIANTS.len() } else { 0 };
             for r in &readings {
                 for c in 0..width {
                     match r {
                         Some(q) => line += &format!(",{:.6e}", q[1 + c]),
+                        None => line += ",",
+                    }
+                }
+                let inv = r.as_ref().and_then(|q| invariants_of(self.dim, &q[1 + self.dim..]));
+                for c in 0..extra {
+                    match &inv {
+                        Some(i) => line += &format!(",{:.6e}", invariant_values(i)[c]),
                         None => line += ",",
                     }
                 }
@@ -327,6 +358,20 @@ impl Gauges {
         GaugeStats::of(&series, &after_gap)
     }
 
+    /// Gauge `k`'s highest von Mises stress and its most compressive (lowest) mean stress over
+    /// the record (Pa); None without strength, in 1D or without a reading.
+    fn stress_extremes(&self, k: usize) -> Option<(f64, f64)> {
+        if !self.stress {
+            return None;
+        }
+        let d = self.dim;
+        let all: Vec<_> =
+            self.record[k].iter().filter_map(|(_, r)| r.as_ref().and_then(|q| invariants_of(d, &q[1 + d..]))).collect();
+        let vm = all.iter().map(|i| i.von_mises).fold(f64::NEG_INFINITY, f64::max);
+        let mean = all.iter().map(|i| i.mean).fold(f64::INFINITY, f64::min);
+        (!all.is_empty()).then_some((vm, mean))
+    }
+
     /// summary.json `gauges`: what each gauge is and its measures. A gauge whose pressure rose
     /// above its first reading by less than [`REACHED`] of the largest rise of the run's gauges
     /// has not been reached by the wave: `reached` false, no arrival (its peak is its noise).
@@ -340,6 +385,7 @@ impl Gauges {
                 if !reached {
                     s.arrival_s = None;
                 }
+                let stress = self.stress_extremes(k);
                 json!({
                     "name": self.names[k],
                     "kind": match self.cfg[k].kind { GaugeKind::Particle => "particle", GaugeKind::Point => "point" },
@@ -356,6 +402,8 @@ impl Gauges {
                     "ppv_time_s": s.ppv_time_s,
                     "samples": s.samples,
                     "void_samples": self.record[k].len() - s.samples,
+                    "peak_von_mises_pa": stress.map(|m| m.0),
+                    "min_mean_stress_pa": stress.map(|m| m.1),
                 })
             })
             .collect()

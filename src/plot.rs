@@ -574,14 +574,16 @@ pub fn lines_with_refs(
 }
 
 /// Points (x, y, label) on log–log axes whose ticks sit on the data: every x and every y of the
-/// points is a tick, labelled with its value; `curve` (optional) is drawn as a dashed line.
+/// points is a tick, labelled with its value; each of `curves` (a reference, with its legend
+/// label) is drawn as a dashed line. Labels that would overlap are moved apart ([`spread_labels`])
+/// and joined to their point by a leader line.
 pub fn loglog_on_data(
     path: &Path,
     title: &str,
     xlabel: &str,
     ylabel: &str,
     points: &[(f64, f64, String)],
-    curve: Option<(&str, &[(f64, f64)])>,
+    curves: &[(String, Vec<(f64, f64)>)],
 ) -> Result<()> {
     let root = BitMapBackend::new(path, (1000, 680)).into_drawing_area();
     root.fill(&WHITE).map_err(perr)?;
@@ -597,7 +599,7 @@ pub fn loglog_on_data(
     }
     let (mut xl, mut xh) = good.iter().fold((f64::INFINITY, 0.0f64), |a, p| (a.0.min(p.0), a.1.max(p.0)));
     let (mut yl, mut yh) = good.iter().fold((f64::INFINITY, 0.0f64), |a, p| (a.0.min(p.1), a.1.max(p.1)));
-    if let Some((_, c)) = curve {
+    for (_, c) in curves {
         for p in c.iter().filter(|p| p.0 >= xl && p.0 <= xh && p.1 > 0.0) {
             yl = yl.min(p.1);
             yh = yh.max(p.1);
@@ -629,26 +631,45 @@ pub fn loglog_on_data(
         .label_style(("sans-serif", 13))
         .draw()
         .map_err(perr)?;
-    if let Some((name, c)) = curve {
+    for (k, (name, c)) in curves.iter().enumerate() {
+        let colour = [RGBColor(120, 120, 120), RGBColor(200, 110, 0)][k % 2];
         let pts: Vec<(f64, f64)> =
             c.iter().copied().filter(|p| p.0 >= xl && p.0 <= xh && p.1 >= yl && p.1 <= yh).collect();
-        ch.draw_series(DashedLineSeries::new(pts, 8, 5, RGBColor(120, 120, 120).stroke_width(2)))
+        ch.draw_series(DashedLineSeries::new(pts, 8, 5, colour.stroke_width(2)))
             .map_err(perr)?
             .label(name)
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], RGBColor(120, 120, 120).stroke_width(2)));
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
     }
     // markers only: gauges in different directions from the charge (under it, beside it, in the
-    // air) are no one attenuation curve, and a line through them would read as one; a label in
-    // the right third of the axis is written to the left of its point (it ran off the frame)
+    // air) are no one attenuation curve, and a line through them would read as one
+    ch.draw_series(good.iter().map(|p| EmptyElement::at((p.0, p.1)) + Circle::new((0, 0), 5, BLUE.filled())))
+        .map_err(perr)?
+        .label("SPH gauges")
+        .legend(|(x, y)| Circle::new((x + 8, y), 5, BLUE.filled()));
+    // a label in the right third of the axis is written to the left of its point (it ran off the
+    // frame); labels that would overlap are moved apart, with a leader line back to the point
     let split = xl * (xh / xl).powf(2.0 / 3.0);
-    ch.draw_series(good.iter().map(|p| {
-        let (anchor, dx) = if p.0 > split { (HPos::Right, -8) } else { (HPos::Left, 8) };
+    let at: Vec<(i32, i32)> = good.iter().map(|p| ch.backend_coord(&(p.0, p.1))).collect();
+    let left: Vec<bool> = good.iter().map(|p| p.0 > split).collect();
+    let boxes: Vec<LabelBox> = good
+        .iter()
+        .zip(&at)
+        .zip(&left)
+        .map(|((p, &(x, y)), &l)| {
+            let w = 7 * p.2.chars().count() as i32;
+            LabelBox { x0: if l { x - 8 - w } else { x + 8 }, x1: if l { x - 8 } else { x + 8 + w }, y: y - 6 }
+        })
+        .collect();
+    let placed = spread_labels(&boxes, 16);
+    for (k, p) in good.iter().enumerate() {
+        let (anchor, x) = if left[k] { (HPos::Right, boxes[k].x1) } else { (HPos::Left, boxes[k].x0) };
         let font = TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(anchor, VPos::Bottom));
-        EmptyElement::at((p.0, p.1)) + Circle::new((0, 0), 5, BLUE.filled()) + Text::new(p.2.clone(), (dx, -6), font)
-    }))
-    .map_err(perr)?
-    .label("SPH gauges")
-    .legend(|(x, y)| Circle::new((x + 8, y), 5, BLUE.filled()));
+        if placed[k] != boxes[k].y {
+            let end = (if left[k] { boxes[k].x1 } else { boxes[k].x0 }, placed[k] - 6);
+            root.draw(&PathElement::new(vec![at[k], end], RGBColor(90, 90, 90).stroke_width(1))).map_err(perr)?;
+        }
+        root.draw(&Text::new(p.2.clone(), (x, placed[k]), font)).map_err(perr)?;
+    }
     ch.configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
@@ -658,6 +679,36 @@ pub fn loglog_on_data(
         .map_err(perr)?;
     root.present().map_err(perr)?;
     Ok(())
+}
+
+/// A label's box in pixels: from x0 to x1, its text's baseline at y (the text above it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LabelBox {
+    pub x0: i32,
+    pub x1: i32,
+    pub y: i32,
+}
+
+/// The baselines of `labels` after moving apart those whose boxes (`height` px tall) overlap:
+/// taken from the top down, a label that overlaps one already placed moves down below it.
+pub fn spread_labels(labels: &[LabelBox], height: i32) -> Vec<i32> {
+    let mut order: Vec<usize> = (0..labels.len()).collect();
+    order.sort_by_key(|&k| (labels[k].y, labels[k].x0));
+    let mut placed: Vec<(usize, i32)> = Vec::new();
+    let mut out = vec![0; labels.len()];
+    for k in order {
+        let b = labels[k];
+        let mut y = b.y;
+        // each move can bring the label onto another placed one: repeat until none overlaps
+        while let Some(&(_, py)) =
+            placed.iter().find(|&&(j, py)| labels[j].x0 < b.x1 && b.x0 < labels[j].x1 && (py - y).abs() < height)
+        {
+            y = py + height;
+        }
+        placed.push((k, y));
+        out[k] = y;
+    }
+    out
 }
 
 /// An animated GIF of particle maps, `delay_ms` between frames.
@@ -680,6 +731,26 @@ pub fn animate(path: &Path, maps: &[MapSpec], delay_ms: u32) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
+    use super::{LabelBox, spread_labels};
+
+    /// Labels whose boxes overlap are moved apart; one apart in x stays where it is.
+    #[test]
+    fn labels_that_would_overlap_are_moved_apart() {
+        // two labels on one line and a third beside them, apart in x: the second moves below the
+        // first, the third stays
+        let b = [
+            LabelBox { x0: 0, x1: 100, y: 50 },
+            LabelBox { x0: 50, x1: 150, y: 55 },
+            LabelBox { x0: 300, x1: 400, y: 52 },
+        ];
+        assert_eq!(spread_labels(&b, 16), vec![50, 66, 52]);
+        // a third on the first's line moves below the second, not onto it
+        let c = [b[0], b[1], LabelBox { x0: 20, x1: 80, y: 50 }];
+        let y = spread_labels(&c, 16);
+        assert_eq!(y[0], 50);
+        assert!(y[1] != y[2] && (y[1] - y[2]).abs() >= 16 && y[1] >= 66 && y[2] >= 66, "{y:?}");
+    }
+
     /// Linear ticks print their shortest decimal, and a key point a rounding below zero prints 0.
     #[test]
     fn axis_labels_are_short_and_never_minus_zero() {

@@ -316,6 +316,37 @@ fn gauges_of_both_kinds_record_pressure_velocity_and_stress() {
     let kb = head.iter().position(|c| *c == "B_p_pa").unwrap();
     let peak = rows.iter().map(|r| r[kb]).fold(f64::NEG_INFINITY, f64::max);
     assert!((peak - b["peak_pa"].as_f64().unwrap()).abs() <= 1e-6 * peak, "{peak} vs {}", b["peak_pa"]);
+    // the stress invariants of B's row at its peak pressure agree with its own stress columns:
+    // σ_m the trace's third, von Mises √(3 J2), the principal stresses those of the 3×3 tensor
+    // (xz = yz = 0 in 2D), given here in closed form for the in-plane pair
+    let col = |n: &str| head.iter().position(|c| *c == format!("B_{n}_pa")).unwrap_or_else(|| panic!("B_{n}_pa"));
+    let r = rows.iter().find(|r| r[kb] == peak).unwrap();
+    let [xx, yy, zz, xy] = ["sxx", "syy", "szz", "sxy"].map(|n| r[col(n)]);
+    let mean = (xx + yy + zz) / 3.0;
+    let j2 = 0.5 * ((xx - mean).powi(2) + (yy - mean).powi(2) + (zz - mean).powi(2)) + xy * xy;
+    let (c, rad) = (0.5 * (xx + yy), (0.25 * (xx - yy).powi(2) + xy * xy).sqrt());
+    let mut principal = [c + rad, c - rad, zz];
+    principal.sort_by(|a, b| b.total_cmp(a));
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-5 * xx.abs().max(yy.abs()).max(zz.abs());
+    assert!(near(r[col("sigma_mean")], mean), "σ_m {} vs {mean}", r[col("sigma_mean")]);
+    assert!(near(r[col("von_mises")], (3.0 * j2).sqrt()), "σ_vm {} vs {}", r[col("von_mises")], (3.0 * j2).sqrt());
+    for (k, want) in principal.iter().enumerate() {
+        let got = r[col(&format!("sigma_{}", k + 1))];
+        assert!(near(got, *want), "σ{} {got} vs {want}", k + 1);
+    }
+    assert!(mean < 0.0, "the wave compresses B at its peak: σ_m = {mean}");
+    // summary.json: the record's highest von Mises and lowest mean stress bound every row's
+    let vm_peak = b["peak_von_mises_pa"].as_f64().unwrap();
+    let mean_min = b["min_mean_stress_pa"].as_f64().unwrap();
+    assert!(
+        rows.iter().map(|r| r[col("von_mises")]).all(|v| v.is_nan() || v <= vm_peak * (1.0 + 1e-6)),
+        "peak von Mises {vm_peak}"
+    );
+    assert!(
+        rows.iter().map(|r| r[col("sigma_mean")]).all(|v| v.is_nan() || v >= mean_min * (1.0 + 1e-6)),
+        "min mean stress {mean_min}"
+    );
+    assert!(mean_min <= mean * (1.0 - 1e-6) + 1.0, "{mean_min} vs the row's {mean}");
 }
 
 /// The crater: with a charge lattice finer than the soil's the crater is the same (within a

@@ -20,9 +20,11 @@ use std::collections::HashMap;
 use std::path::Path;
 
 mod gauges;
+mod peaks;
 mod scene;
 mod text;
 pub use gauges::*;
+use peaks::gauge_plots;
 pub use scene::*;
 pub use text::*;
 
@@ -258,16 +260,6 @@ fn sides(f: &Frame, rz: bool) -> Vec<f64> {
     crate::analysis::sides_of(&f.x, &f.mass, &f.rho, rz)
 }
 
-/// Scaled distance of a gauge at `r` m from the charge: R/√(W/L) in plane strain (W/L in kg per
-/// metre of depth, a line charge), R/W^(1/3) in 3D, R/(W/A) in 1D.
-fn scaled(r: f64, w: f64, dim: usize) -> f64 {
-    match dim {
-        2 => r / w.sqrt(),
-        3 => r / w.cbrt(),
-        _ => r / w,
-    }
-}
-
 pub fn report(
     dir: &Path,
     case: &Case,
@@ -369,9 +361,6 @@ pub fn report(
         "snapshots": snaps,
     }))
 }
-
-/// Gauge peaks: (distance (cm), peak (MPa)) and (scaled distance, peak (MPa), label).
-type Peaks = (Vec<(f64, f64)>, Vec<(f64, f64, String)>);
 
 /// What every plot of the report shares: the run directory, the case, the frames drawn (in 3D
 /// the vertical section's), the time unit and its axis label.
@@ -551,60 +540,6 @@ fn draw_crater(
     )?;
     written.push("crater_profile.png".into());
     Ok(())
-}
-
-/// The gauges' pressure histories and `peaks.png`: peak pressure against scaled distance. Returns
-/// the peaks (cm, MPa) and the scaled ones (scaled distance, MPa, label).
-fn gauge_plots(cx: &Ctx, summary: &Value, charge: &Charge, written: &mut Vec<String>) -> Result<Peaks> {
-    let (dir, case, tu) = (cx.dir, cx.case, cx.tu);
-    let gpath = dir.join("gauges.csv");
-    let mut peaks_out = Vec::new();
-    let mut peaks = Vec::new();
-    if gpath.exists() {
-        let recs = read_gauges(&gpath)?;
-        let sg: Vec<Value> = summary["gauges"].as_array().cloned().unwrap_or_default();
-        let mut refs = Vec::new();
-        for tg in &case.analysis.thesis_gauge {
-            let ours = sg.iter().find(|g| g["name"] == tg.gauge.as_str());
-            let y = tg.peak_pa.map(|p| p / 1e6).or_else(|| ours.and_then(|g| g["peak_pa"].as_f64()).map(|p| p / 1e6));
-            if let (Some(t), Some(y)) = (tg.peak_time_s, y) {
-                let what = if tg.peak_pa.is_some() { "peak" } else { "time of the peak (height: ours)" };
-                refs.push(Reference { label: format!("thesis {}: {what}", tg.gauge), points: vec![(tu.of(t), y)] });
-            }
-        }
-        written.extend(draw_gauges(dir, case, &recs, tu, (1e-6, "MPa"), &refs)?);
-        // peak pressure against scaled distance from the charge's centre (the detonation point,
-        // else the explosive's initial centroid) over the whole charge's mass
-        let (centre, w) = (charge.centre.clone(), charge.mass_kg);
-        if let Some(centre) = centre {
-            // a gauge the wave has not reached reads the ambient state's noise: not a peak
-            for gg in sg.iter().filter(|g| g["reached"] != json!(false)) {
-                let pt: Vec<f64> =
-                    gg["point_m"].as_array().map(|a| a.iter().filter_map(|v| v.as_f64()).collect()).unwrap_or_default();
-                let r = pt.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-                let p = gg["peak_pa"].as_f64().unwrap_or(f64::NAN) / 1e6;
-                peaks.push((100.0 * r, p));
-                let z = if w > 0.0 { scaled(r, w, charge.dim) } else { f64::NAN };
-                peaks_out.push((
-                    z,
-                    p,
-                    format!("{} ({:.0} cm, {})", gg["name"].as_str().unwrap_or("?"), 100.0 * r, tick(p)),
-                ));
-            }
-            if w > 0.0 {
-                plot::loglog_on_data(
-                    &dir.join("peaks.png"),
-                    &format!("{}: peak pressure against scaled distance (charge {})", case.name(), charge.mass_text()),
-                    charge.scaled_label(),
-                    "peak p (MPa)",
-                    &peaks_out,
-                    None,
-                )?;
-                written.push("peaks.png".into());
-            }
-        }
-    }
-    Ok((peaks, peaks_out))
 }
 
 /// The particle maps: materials, pressure and velocity at the picked frames (their files

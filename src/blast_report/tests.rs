@@ -78,3 +78,18 @@ fn heights_from_ten_metres_are_in_metres() {
     assert_eq!(super::height_text(124.237), "124.2 m");
     assert_eq!(super::height_text(f64::NAN), "- cm");
 }
+
+/// TM 5-855-1 eq. (5-1) in SI: at 1 ft/lb^⅓ (0.3967 m/kg^⅓) P0 = f ρc 160 psi whatever n, and
+/// doubling the distance divides it by 2^n.
+#[test]
+fn the_tm5_855_1_curve_is_converted_to_si() {
+    let z1 = 0.3048 / 0.453_592_37f64.cbrt();
+    let (rho_c, ns) = super::peaks::TM_LOOSE_DRY_SAND;
+    for n in ns {
+        // 12 psi/(ft/s) · 160 = 1920 psi = 13.238 MPa
+        let p = super::peaks::tm5_855_1_mpa(z1, 1.0, rho_c, n);
+        assert!((p - 1920.0 * 6894.757 / 1e6).abs() < 1e-4, "{p}");
+        let q = super::peaks::tm5_855_1_mpa(2.0 * z1, 0.5, rho_c, n);
+        assert!((q / p - 0.5 * 2f64.powf(-n)).abs() < 1e-12, "{q} {p}");
+    }
+}

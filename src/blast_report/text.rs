@@ -64,24 +64,6 @@ pub(super) fn print_text(
     let crater_json = crater_headline(case, hist, &last);
     let measured = matches!(&last, Some(Ok(c)) if c.note.is_none());
     print_3d(summary, &last, map);
-    if let Some(th) = &case.analysis.thesis_crater_m
-        && th.len() == 2
-    {
-        match &last {
-            Some(Ok(c)) if measured => println!(
-                "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours/thesis: diameter {:.2}, depth {:.2}",
-                100.0 * th[0],
-                100.0 * th[1],
-                c.diameter_m / th[0],
-                c.depth_m / th[1]
-            ),
-            _ => println!(
-                "thesis (Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours: no apparent crater to compare",
-                100.0 * th[0],
-                100.0 * th[1]
-            ),
-        }
-    }
     let gauge_list = summary["gauges"].as_array().cloned().unwrap_or_default();
     print_gauge_lines(summary, true);
     // a point gauge inside the contained charge's cavity at the end reads the products
@@ -112,10 +94,47 @@ pub(super) fn print_text(
             "gauges: the peaks rise as the spacing shrinks (the shock's front is smeared over a few smoothing lengths); arrival and impulse converge first (docs/validation.md, \"Why the peaks do not agree\")"
         );
     }
+    let (growth, gauges) = print_thesis(case, summary, hist, (&last, measured));
+    (crater_json, growth, gauges)
+}
+
+/// The thesis's values (`analysis.thesis_*`) beside ours, in a section of their own after our
+/// results: the final crater (`last`, and whether it was `measured`), its growth and the gauges'
+/// peaks. Returns the growth rows and the gauge rows ([`thesis_growth`], [`thesis_gauges`]).
+fn print_thesis(
+    case: &Case,
+    summary: &Value,
+    hist: &[(f64, std::result::Result<Crater, String>)],
+    (last, measured): (&Option<std::result::Result<Crater, String>>, bool),
+) -> (Vec<Value>, Vec<Value>) {
     let growth = thesis_growth(case, hist);
+    let gauges = thesis_gauges(case, summary);
+    let crater = case.analysis.thesis_crater_m.as_ref().is_some_and(|th| th.len() == 2);
+    if !crater && growth.is_empty() && gauges.is_empty() {
+        return (growth, gauges);
+    }
+    println!("Comparison with the thesis (Karimi Farzaghi 2017):");
+    if let Some(th) = &case.analysis.thesis_crater_m
+        && th.len() == 2
+    {
+        match &last {
+            Some(Ok(c)) if measured => println!(
+                "  crater (thesis Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours/thesis: diameter {:.2}, depth {:.2}",
+                100.0 * th[0],
+                100.0 * th[1],
+                c.diameter_m / th[0],
+                c.depth_m / th[1]
+            ),
+            _ => println!(
+                "  crater (thesis Table 5-3/5-4): diameter {:.1} cm, depth {:.1} cm; ours: no apparent crater to compare",
+                100.0 * th[0],
+                100.0 * th[1]
+            ),
+        }
+    }
     for g in &growth {
         println!(
-            "thesis at {:.0} µs: diameter {} cm, depth {} cm; ours at {:.0} µs: diameter {} cm, depth {} cm",
+            "  crater growth: thesis at {:.0} µs: diameter {} cm, depth {} cm; ours at {:.0} µs: diameter {} cm, depth {} cm",
             g["thesis_t_s"].as_f64().unwrap_or(0.0) * 1e6,
             fmt_cm(g["thesis_diameter_m"].as_f64()),
             fmt_cm(g["thesis_depth_m"].as_f64()),
@@ -124,19 +143,18 @@ pub(super) fn print_text(
             fmt_cm1(g["depth_m"].as_f64())
         );
     }
-    let gauges = thesis_gauges(case, summary);
     for g in &gauges {
         println!(
-            "gauge {}: thesis peak {} at {}; ours {} at {} (arrival {})",
+            "  gauge {}: thesis peak {} at {}; ours {} at {} (arrival {})",
             g["gauge"].as_str().unwrap_or("?"),
-            g["thesis_peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
+            g["thesis_peak_pa"].as_f64().map_or("(pressure not given)".to_string(), |p| format!("{:.1} MPa", p / 1e6)),
             g["thesis_peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
             g["peak_pa"].as_f64().map_or("-".to_string(), |p| format!("{:.2} MPa", p / 1e6)),
             g["peak_time_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6)),
             g["arrival_s"].as_f64().map_or("-".to_string(), |t| format!("{:.0} µs", t * 1e6))
         );
     }
-    (crater_json, growth, gauges)
+    (growth, gauges)
 }
 
 /// The crater's headline (printed) and its JSON: the last measure of the history, with its
