@@ -328,6 +328,32 @@ strength = { shear_modulus_pa = 63.58e6, alpha_phi = 0.25, cohesion_pa = 2.0e3 }
     assert!(rows.iter().any(|r| r["field"] == "rho_max" && r["compared"].as_u64().unwrap_or(0) > 0), "no rho_max row");
 }
 
+/// The synthetic case with the density clamp on (`sph.density_clamp`): the charge starts at
+/// 1630 kg/m³, above the upper bound, so the clamp changes ρ from the first step. Both clamp stages,
+/// after the predict and after the advance, compare at 0 ULP.
+#[test]
+fn dual_density_clamp_at_zero_ulp() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("dual_clamp.toml");
+    let line = "xsph_eps = 0.3\n";
+    assert!(ALL_MODULES.contains(line));
+    let clamped = ALL_MODULES.replace(line, "xsph_eps = 0.3\ndensity_clamp = [999.0, 1500.0]\n");
+    std::fs::write(&path, clamped).unwrap();
+    let c = case::load(&path, &[]).expect("the clamped case loads");
+    assert_eq!(c.sph.density_clamp, Some(vec![999.0, 1500.0]));
+    let code = cli::dual_run(c, &Overrides::default(), 15, dir.path()).expect("dual run");
+    assert_eq!(code, 0, "exit status of a dual run within tolerance");
+    check_report(&dir.path().join("dual_report.json"), 15);
+    let rep = read_json(&dir.path().join("dual_report.json"));
+    let rows = rep["rows"].as_array().expect("rows");
+    for stage in ["integrator.clamp_predicted", "integrator.clamp"] {
+        let row = rows.iter().find(|r| r["stage"] == stage && r["field"] == "rho");
+        let row = row.unwrap_or_else(|| panic!("no row of {stage}"));
+        assert!(row["compared"].as_u64().unwrap() > 0, "{row}");
+        assert_eq!(row["max_ulp"].as_u64(), Some(0), "{row}");
+    }
+}
+
 /// The thesis's blast scenes: V1 (JWL charge in water, mirrors on all four walls) and S1 (TNT on
 /// loose sand: strength, penalty, programmed burn), a few steps each, every module compared.
 #[test]

@@ -163,6 +163,11 @@ fn bad_case_files_and_values_are_refused_with_one_line() {
         set("a count that is not a whole number", tube, "region.left.count=[1e12]"),
         set("h a million spacings", s1, "sph.h_over_dx=1e6"),
         set_n("an h cap below the initial h", s1, "sph.h_max_ratio=0.5", "h_max_ratio"),
+        set_n("a density clamp with lo above hi", s1, "sph.density_clamp=[1015.0,990.0]", "below the upper"),
+        set_n("a density clamp with lo equal to hi", s1, "sph.density_clamp=[990.0,990.0]", "below the upper"),
+        set_n("a density clamp of one bound", s1, "sph.density_clamp=[990.0]", "needs 2 components"),
+        set_n("a density clamp from 0", s1, "sph.density_clamp=[0.0,1015.0]", "density_clamp[0] = 0"),
+        set_n("a NaN density clamp", s1, "sph.density_clamp=[990.0,nan]", "density_clamp[1]"),
         set_n("a box with a radius", s1, "region.soil.radius_m=0.1", "not a key of shape"),
         // values: every float finite and in its range
         set("NaN pmin", s1, "material.loose_sand.pmin_pa=nan"),

@@ -166,5 +166,6 @@ void sph_integrator_cfl(int dim, int n, double cfl, const double *h, const doubl
                         const double *v, const double *dv, int nmu, double kv,
                         const double *mumax, double *dt);
 void sph_integrator_efloor(int n, const double *mass, double *e, double *added);
+void sph_integrator_clamp(int n, double lo, double hi, double *rho);
 
 #endif

@@ -11,6 +11,8 @@
 !  sum_rates adds the acceleration terms in a fixed order, then gravity.
 !  efloor: e_i = max(e_i, 0), returning the energy added, sum_i m_i max(0, -e_i)
 !  (J; booked in the energy balance by the solver).
+!  clamp: rho_i = min(max(rho_i, lo), hi) after each density update, as the
+!  dam-break time_integration of G.R. Liu and M.B. Liu (2003) does (kg/m^3).
 !  cfl: dt = C min_i min( h_i/(c_i + |v_i| + kv mumax_i), sqrt(h_i/|a_i|) ),
 !  kv mumax_i the signal speed of the viscosity's beta term (nmu = n), or
 !  no such term (nmu = 0).
@@ -21,7 +23,7 @@ module sph_integrator
   implicit none
   private
   public :: sph_integrator_sum_rates, sph_integrator_predict, sph_integrator_advance, &
-            sph_integrator_cfl, sph_integrator_efloor
+            sph_integrator_cfl, sph_integrator_efloor, sph_integrator_clamp
 
 contains
 
@@ -177,5 +179,21 @@ contains
       end if
     end do
   end subroutine sph_integrator_efloor
+
+  ! rho below lo becomes lo, above hi becomes hi; a NaN is left as it is
+  subroutine sph_integrator_clamp(n, lo, hi, rho) bind(C, name="sph_integrator_clamp")
+    integer(c_int), value :: n
+    real(c_double), value :: lo, hi
+    real(c_double), intent(inout) :: rho(n)
+    integer :: i
+
+    do i = 1, n
+      if (rho(i) < lo) then
+        rho(i) = lo
+      else if (rho(i) > hi) then
+        rho(i) = hi
+      end if
+    end do
+  end subroutine sph_integrator_clamp
 
 end module sph_integrator

@@ -268,6 +268,9 @@ pub struct SphCfg {
     /// energy.work_floor).
     #[serde(default = "yes")]
     pub e_floor: bool,
+    /// Clamp ρ of the real particles to [lo, hi] (kg/m³) after each density update of the
+    /// leapfrog, as Liu and Liu's dam-break `time_integration` does (absent = off).
+    pub density_clamp: Option<Vec<f64>>,
     /// XSPH averaging coefficient ε (0 = off).
     #[serde(default)]
     pub xsph_eps: f64,
@@ -325,6 +328,7 @@ impl Default for SphCfg {
             theta: 1.0,
             h_max_ratio: None,
             e_floor: true,
+            density_clamp: None,
             xsph_eps: 0.0,
             reorder_every: 0,
             jitter: 0.0,

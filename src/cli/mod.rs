@@ -73,9 +73,17 @@ pub struct LegacyArgs {
 }
 
 impl LegacyArgs {
-    /// The `--set` overrides of `--compat`, after `sets`.
+    /// The `--set` overrides of the legacy build's manifest (its `density_clamp`), then `sets`,
+    /// then those of `--compat`.
     pub fn sets(&self, sets: &[String]) -> Result<Vec<String>> {
-        let mut out = sets.to_vec();
+        let mut out = Vec::new();
+        if let Some(dir) = &self.legacy {
+            let info = crate::migration::builder::BuildInfo::read(dir)?;
+            if let Some([lo, hi]) = info.density_clamp {
+                out.push(format!("sph.density_clamp=[{lo:?},{hi:?}]"));
+            }
+        }
+        out.extend_from_slice(sets);
         if let Some(c) = &self.compat {
             out.extend(crate::migration::compat::sets_of(c)?);
         }

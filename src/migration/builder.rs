@@ -157,6 +157,10 @@ pub struct BuildInfo {
     /// The manifest's `run_dirs`: folders made inside `DIR/work` before the routines run.
     #[serde(default)]
     pub run_dirs: Vec<String>,
+    /// The manifest's `density_clamp`: the bounds the code clamps ρ to (kg/m³), the case's
+    /// `sph.density_clamp` under `--legacy`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density_clamp: Option<[f64; 2]>,
     /// What the build noticed and let through (`legacy build` prints them): a dummy argument
     /// named as another argument of the manifest's list (swapped arguments?).
     #[serde(default)]
@@ -399,6 +403,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         routines,
         itype: m.itype.clone(),
         run_dirs: m.run_dirs.clone(),
+        density_clamp: m.density_clamp,
         warnings,
         host: host.library,
         host_note: host.note,

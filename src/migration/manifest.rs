@@ -21,6 +21,10 @@
 //! # globals = { dens = "rho" }   # variables in COMMON blocks or modules: legacy name → vocabulary
 //! ```
 //!
+//! A code that clamps its density after each update (the dam-break `time_integration` of Liu
+//! and Liu) says so at the top, `density_clamp = [lo, hi]` (kg/m³): `run`, `dual` and `check`
+//! with `--legacy` then set the case's `sph.density_clamp` to these bounds.
+//!
 //! with, at the top, `global_includes = ["common.inc"]` (the include files that declare the
 //! globals' COMMON blocks) or `global_modules = ["particles"]` (modules of the sources).
 //!
@@ -60,6 +64,9 @@ struct RawManifest {
     /// Fortran modules of the sources whose variables the routines' `globals` are.
     #[serde(default)]
     global_modules: Vec<String>,
+    /// The bounds the code clamps ρ to after each density update (kg/m³).
+    #[serde(default)]
+    density_clamp: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -228,6 +235,9 @@ pub struct Manifest {
     pub global_includes: Vec<(String, PathBuf)>,
     /// The modules of the routines' globals, lower case.
     pub global_modules: Vec<String>,
+    /// The bounds the code clamps ρ to after each density update, lo < hi (kg/m³): the case's
+    /// `sph.density_clamp` under `--legacy`.
+    pub density_clamp: Option<[f64; 2]>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -296,6 +306,11 @@ pub fn load(path: &Path) -> Result<Manifest> {
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
     let err = |key: &str, msg: String| input(format!("{shown}: {key}: {msg}"));
 
+    let density_clamp = match raw.density_clamp.as_deref() {
+        None => None,
+        Some(&[lo, hi]) if lo.is_finite() && hi.is_finite() && 0.0 < lo && lo < hi => Some([lo, hi]),
+        Some(b) => return Err(err("density_clamp", format!("{b:?} is not two densities 0 < lo < hi (kg/m3)"))),
+    };
     if !(1..=3).contains(&raw.dim) {
         return Err(err("dim", format!("{} is not 1, 2 or 3", raw.dim)));
     }
@@ -391,6 +406,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         run_dirs: raw.run_dirs.clone(),
         global_includes,
         global_modules,
+        density_clamp,
     })
 }
 

@@ -346,6 +346,17 @@ impl Case {
             v.any(&at, k);
         }
         v.opt(&at, "h_max_ratio", s.h_max_ratio, Range::within(1.0, 1000.0))?;
+        if let Some(b) = &s.density_clamp {
+            v.vec(&at, "density_clamp", b, 2, Range::above(0.0, RHO_MAX))?;
+            if b[0] >= b[1] {
+                return Err(input(format!(
+                    "{} = [{}, {}]: the lower bound must be below the upper one",
+                    at.key("density_clamp"),
+                    num_text(b[0]),
+                    num_text(b[1])
+                )));
+            }
+        }
         v.num(&at, "h_over_dx", s.h_over_dx, Range::within(H_OVER_DX.0, H_OVER_DX.1))?;
         if s.kernel.support() * s.h_over_dx <= 1.0 {
             return Err(input(format!(

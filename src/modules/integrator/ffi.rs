@@ -1,7 +1,8 @@
-//! The Fortran twin of the leapfrog (`sph_integrator_sum_rates`, `_predict`, `_advance`, `_cfl`).
+//! The Fortran twin of the leapfrog (`sph_integrator_sum_rates`, `_predict`, `_advance`, `_cfl`,
+//! `_efloor`, `_clamp`).
 #![allow(unsafe_code)]
 
-use super::{Advance, Cfl, Efloor, Leapfrog, Predict, Rates, SumRates};
+use super::{Advance, Cfl, Clamp, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::ffi_util::{chk, chk_opt, mptr_or, n32, ptr_or};
 use crate::modules::param::NSTR;
 
@@ -152,4 +153,10 @@ pub(super) fn efloor(a: &mut Efloor) {
     // SAFETY: mass and e hold the n values the routine reads and updates (checked above); added is
     // one value.
     unsafe { sys::sph_integrator_efloor(n32(n), a.mass.as_ptr(), a.e.as_mut_ptr(), a.added) }
+}
+
+pub(super) fn clamp(a: &mut Clamp) {
+    let n = a.rho.len();
+    // SAFETY: rho holds the n values the routine updates; lo and hi are passed by value.
+    unsafe { sys::sph_integrator_clamp(n32(n), a.lo, a.hi, a.rho.as_mut_ptr()) }
 }

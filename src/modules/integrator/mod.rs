@@ -11,6 +11,9 @@
 //! The floor e_i ← max(e_i, 0) after the advance (`sph.e_floor`) returns the energy it adds,
 //! Σ_i m_i max(0, −e_i) (J; per metre of depth in 2D), which the solver books in the energy
 //! balance (theory.md §14).
+//! The clamp ρ_i ← min(max(ρ_i, ρ_lo), ρ_hi) (kg/m³; `sph.density_clamp`) follows each density
+//! update of the leapfrog, the predict and the advance, as the dam-break `time_integration` of
+//! G.R. Liu and M.B. Liu (2003) does.
 
 mod ffi;
 #[cfg(test)]
@@ -107,6 +110,23 @@ pub struct Efloor<'a> {
     pub added: &'a mut f64,
 }
 
+/// `sph_integrator_clamp`: ρ = min(max(ρ, lo), hi) for the first `rho.len()` particles (kg/m³);
+/// a NaN is left as it is.
+pub struct Clamp<'a> {
+    pub lo: f64,
+    pub hi: f64,
+    pub rho: &'a mut [f64],
+}
+
+impl Twin for Clamp<'_> {
+    fn rust(&mut self) {
+        rust::clamp(self)
+    }
+    fn fortran(&mut self) {
+        ffi::clamp(self)
+    }
+}
+
 impl Twin for SumRates<'_> {
     fn rust(&mut self) {
         rust::sum_rates(self)
@@ -192,6 +212,8 @@ pub(crate) enum Which {
     Cfl(f64, Option<f64>),
     Advance,
     Efloor,
+    /// The density clamp's bounds (kg/m³), after the predict (true) or after the advance.
+    Clamp(f64, f64, bool),
 }
 
 /// A stage of the leapfrog.
@@ -217,6 +239,8 @@ impl Stage for IntegratorStage {
             Which::Cfl(..) => "integrator.cfl",
             Which::Advance => "integrator.advance",
             Which::Efloor => "integrator.efloor",
+            Which::Clamp(_, _, true) => "integrator.clamp_predicted",
+            Which::Clamp(_, _, false) => "integrator.clamp",
         }
     }
     fn reads(&self) -> &[Field] {
@@ -227,6 +251,7 @@ impl Stage for IntegratorStage {
             Which::Cfl(_, Some(_)) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
             Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
             Which::Efloor => &[Field::Mass, Field::E],
+            Which::Clamp(..) => &[Field::Rho],
         }
     }
     fn writes(&self) -> &[Field] {
@@ -236,6 +261,7 @@ impl Stage for IntegratorStage {
             Which::Cfl(..) => &[Field::DtCfl],
             Which::Advance => &[Field::Rho, Field::E, Field::V, Field::Tau, Field::X],
             Which::Efloor => &[Field::E, Field::Efloor],
+            Which::Clamp(..) => &[Field::Rho],
         }
     }
     fn prepare(&self, p: &mut Particles, w: &mut Work) {
@@ -247,6 +273,7 @@ impl Stage for IntegratorStage {
             Which::Cfl(..) => w.dt_cfl.resize(1, 0.0),
             Which::Efloor => w.efloor.resize(1, 0.0),
             Which::Predict | Which::Advance => size_leapfrog(p, w),
+            Which::Clamp(..) => {}
         }
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, k: &Clock) {
@@ -271,6 +298,7 @@ impl Stage for IntegratorStage {
                 Cfl { dim, cfl, h, c, v, dv: &w.dv, kv, mumax, dt: &mut w.dt_cfl[0] }.run(b);
             }
             Which::Efloor => Efloor { mass: &p.mass[..n], e: &mut p.e[..n], added: &mut w.efloor[0] }.run(b),
+            Which::Clamp(lo, hi, _) => Clamp { lo, hi, rho: &mut p.rho[..n] }.run(b),
             Which::Advance => {
                 let (first, dt_prev, dt, cont) = (k.first, k.dt_prev, k.dt, self.cont);
                 let (lf, rates, av, x) = parts(p, w);
@@ -291,7 +319,12 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let st = |which| -> Box<dyn Stage> {
         Box::new(IntegratorStage { which, cont, grav: grav.clone(), slots: Slots::default() })
     };
-    let mut stages = vec![(Phase::Predict, st(Which::Predict)), (Phase::Sum, st(Which::Sum))];
+    let clamp = case.sph.density_clamp.as_deref().map(|b| (b[0], b[1]));
+    let mut stages = vec![(Phase::Predict, st(Which::Predict))];
+    if let Some((lo, hi)) = clamp {
+        stages.push((Phase::Predict, st(Which::Clamp(lo, hi, true))));
+    }
+    stages.push((Phase::Sum, st(Which::Sum)));
     let mut why = format!("leapfrog, {:?} step", case.time.step).to_lowercase();
     if case.time.step == StepRule::Cfl {
         // the viscous signal speed, where there is a viscosity with a β term
@@ -304,6 +337,10 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl, kv))));
     }
     stages.push((Phase::Advance, st(Which::Advance)));
+    if let Some((lo, hi)) = clamp {
+        why += &format!(", density clamped to [{lo}, {hi}] kg/m3");
+        stages.push((Phase::Correct, st(Which::Clamp(lo, hi, false))));
+    }
     if case.sph.e_floor {
         why += ", floor e >= 0 booked in the balance";
         stages.push((Phase::Correct, st(Which::Efloor)));

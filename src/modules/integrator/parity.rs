@@ -1,7 +1,8 @@
 //! Parity of the leapfrog: the rate sums (0 to 5 terms), predict and advance (first and later
-//! steps, with and without τ, XSPH and continuity density), the CFL step.
+//! steps, with and without τ, XSPH and continuity density), the CFL step, the energy floor and
+//! the density clamp.
 
-use super::{Advance, Cfl, Efloor, Leapfrog, Predict, Rates, SumRates};
+use super::{Advance, Cfl, Clamp, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::param::NSTR;
 use crate::modules::testkit::*;
 
@@ -158,5 +159,33 @@ fn integrator_efloor() {
                 assert_eq!(ef[i], e[i], "a non-negative energy is left as it was");
             }
         }
+    }
+}
+
+#[test]
+fn integrator_clamp() {
+    let mut g = Rng::new(223);
+    for (trial, (lo, hi)) in [(990.0, 1015.0), (1.5, 2.5), (1000.0, 1000.5)].into_iter().enumerate() {
+        let n = 600 + trial;
+        // densities from 2 % below lo to 2 % above hi, and the bounds themselves
+        let mut rho = g.vec(n, 0.98 * lo, 1.02 * hi);
+        rho[0] = lo;
+        rho[1] = hi;
+        let tag = format!("integrator::clamp [{lo}, {hi}]");
+        let [rf] = parity(&tag, 0, ["rho"], [rho.clone()], |b, [r]| run(Clamp { lo, hi, rho: r }, b));
+        let (mut below, mut above, mut inside) = (0, 0, 0);
+        for (i, (&before, &after)) in rho.iter().zip(&rf).enumerate() {
+            if before < lo {
+                below += 1;
+                assert_eq!(after, lo, "particle {i}: {before} below lo");
+            } else if before > hi {
+                above += 1;
+                assert_eq!(after, hi, "particle {i}: {before} above hi");
+            } else {
+                inside += 1;
+                assert_eq!(after, before, "particle {i}: {before} within the bounds");
+            }
+        }
+        assert!(below > 0 && above > 0 && inside > 0, "{tag}: {below} below, {above} above, {inside} inside");
     }
 }

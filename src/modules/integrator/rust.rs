@@ -2,7 +2,7 @@
 //! particles updates every staggered variable (the CFL minimum is taken per task in index order,
 //! then over the tasks in order, so it does not depend on the thread count).
 
-use super::{Efloor, Advance, Cfl, Leapfrog, Predict, Rates, SumRates};
+use super::{Advance, Cfl, Clamp, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::param::NSTR;
 use crate::modules::{CHUNK, par_rows, serial};
 use rayon::prelude::*;
@@ -165,4 +165,16 @@ pub(super) fn efloor(a: &mut Efloor) {
         }
     }
     *a.added = added;
+}
+
+/// Fortran's `sph_integrator_clamp`: below lo becomes lo, above hi becomes hi, a NaN stays.
+pub(super) fn clamp(a: &mut Clamp) {
+    let (lo, hi) = (a.lo, a.hi);
+    for r in a.rho.iter_mut() {
+        if *r < lo {
+            *r = lo;
+        } else if *r > hi {
+            *r = hi;
+        }
+    }
 }
