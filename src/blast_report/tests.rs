@@ -79,7 +79,7 @@ fn heights_from_ten_metres_are_in_metres() {
     assert_eq!(super::height_text(f64::NAN), "- cm");
 }
 
-/// TM 5-855-1 eq. (5-1) in SI: at 1 ft/lb^⅓ (0.3967 m/kg^⅓) P0 = f ρc 160 psi whatever n, and
+/// TM 5-855-1 (chapter 5) in SI: at 1 ft/lb^⅓ (0.3967 m/kg^⅓) P0 = f ρc 160 psi whatever n, and
 /// doubling the distance divides it by 2^n.
 #[test]
 fn the_tm5_855_1_curve_is_converted_to_si() {
