@@ -2,7 +2,8 @@
 //! ranks of one give the one-thread serial run's particles.h5 bit for bit, with its gauges.csv
 //! and summary.json, on short 2D plane, RZ and 3D cases; a checkpoint written by 3 ranks
 //! resumes on 2; a bad case ends every rank with one line and exit status 2; a rank killed by
-//! SIGKILL ends the job, and its last checkpoint resumes to the serial run bitwise.
+//! SIGKILL ends the job, and its last checkpoint resumes to the serial run bitwise; `check` prints
+//! once; `run --legacy` on 2 ranks is the serial run bitwise.
 #![cfg(feature = "mpi")]
 
 mod common;
@@ -192,13 +193,60 @@ fn a_bad_case_under_mpirun_ends_every_rank_with_one_line_and_status_2() {
 }
 
 #[test]
-fn check_is_refused_on_several_ranks_with_one_line() {
+fn check_on_2_ranks_prints_once_and_exits_0() {
+    let case = case_path("surface_loose_tnt6.toml");
+    let one = finish(
+        {
+            let mut c = serial();
+            c.arg("check").arg(&case);
+            c
+        },
+        30,
+        "check in one process",
+    );
+    assert_eq!(one.status.code(), Some(0), "stderr: {}", String::from_utf8_lossy(&one.stderr));
     let mut c = mpirun(2);
-    c.arg("check").arg(case_path("surface_loose_tnt6.toml"));
-    let o = finish(c, 30, "check on 2 ranks");
+    c.arg("check").arg(&case);
+    let o = finish(c, 60, "check on 2 ranks");
+    assert_eq!(o.status.code(), Some(0), "stderr: {}", String::from_utf8_lossy(&o.stderr));
+    // rank 0's text is the single process's, once (the size line names the memory, the same
+    // on both)
+    assert_eq!(String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&one.stdout));
+    assert!(!o.stdout.is_empty());
+}
+
+#[test]
+fn dual_is_refused_on_several_ranks_with_one_line() {
+    let mut c = mpirun(2);
+    c.args(["dual", "shock_tube", "--steps", "2"]);
+    let o = finish(c, 30, "dual on 2 ranks");
     assert_eq!(o.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.lines().filter(|l| l.starts_with("error:")).count(), 1, "{err}");
+}
+
+/// The legacy fixture (tests/legacy: the book's shock tube code, at most 1000 particles) built
+/// and run by `run --legacy` on 2 ranks: bitwise the single process's run.
+#[cfg(feature = "legacy")]
+#[test]
+fn run_legacy_on_2_ranks_is_the_serial_run_bitwise() {
+    let root = tempfile::tempdir().unwrap();
+    let lg = root.path().join("lg");
+    let mut b = serial();
+    b.args(["legacy", "build", "tests/legacy/legacy.toml", "--out"]).arg(&lg);
+    let o = finish(b, 300, "legacy build of the fixture");
+    assert!(o.status.success(), "the fixture builds: {}", String::from_utf8_lossy(&o.stderr));
+    let (one, two) = (root.path().join("serial"), root.path().join("np2"));
+    for (mut c, dir) in [(serial(), &one), (mpirun(2), &two)] {
+        c.args(["run", "shock_tube", "--legacy"]).arg(&lg).args(["--threads", "1", "--quiet", "--out"]).arg(dir);
+        let o = finish(c, 300, "run --legacy");
+        assert!(o.status.success(), "run --legacy: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+    }
+    assert_eq!(summary(&two)["ranks"]["count"], 2, "the run went on 2 ranks");
+    assert!(summary(&two)["legacy"].as_array().is_some_and(|a| !a.is_empty()), "legacy routines ran");
+    if let Some(d) = difference(&one, &two) {
+        panic!("run --legacy on 2 ranks is not the serial run: {d}");
+    }
 }
 
 /// `resume DIR --end-time T` on `np` ranks (0: one process).
