@@ -317,6 +317,9 @@ fn bad_flags_get_one_line_and_status_2() {
         (vec!["--max-direct-particles", "many"], "--max-direct-particles many"),
         (vec!["--set", "sph.no_such_key=1"], "no_such_key"),
         (vec!["--resolutions", "1.01"], "region[0] (left)"),
+        (vec!["--ranks", "0"], "--ranks 0"),
+        (vec!["--ranks", "1,1"], "twice"),
+        (vec!["--ranks", "1,2", "--threads", "1,2"], "not a list"),
     ] {
         let mut a = vec!["bench", "--dry-run"];
         a.extend(args.iter());
@@ -328,4 +331,61 @@ fn bad_flags_get_one_line_and_status_2() {
         assert!(se.contains(needle), "names `{needle}`; {shown}");
         assert!(!se.contains("panicked"), "{shown}");
     }
+}
+
+/// `bench --ranks 1,2` (Open MPI refuses root without its two variables: set for this child).
+#[cfg(feature = "mpi")]
+#[test]
+fn ranks_run_each_configuration_under_mpirun_on_each_rank_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bench");
+    let res = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["bench", "--cases", "shock_tube", "--resolutions", "1", "--backends", "rust", "--threads", "1"])
+        .args(["--ranks", "1,2", "--out"])
+        .arg(&out)
+        .current_dir(common::root())
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .expect("cannot start the blastsph binary");
+    let shown = format!("stdout:\n{}\nstderr:\n{}", text(&res.stdout), text(&res.stderr));
+    assert_eq!(res.status.code(), Some(0), "{shown}");
+    let (head, rows) = read_csv(&out.join("ranks.csv"));
+    assert_eq!(head, bench::RANK_COLUMNS, "{shown}");
+    let np: Vec<&str> = rows.iter().map(|r| r["ranks"].as_str()).collect();
+    assert_eq!(np, ["1", "2"], "{shown}");
+    assert_eq!(rows[0]["steps"], rows[1]["steps"], "{shown}");
+    let num = |r: &BTreeMap<String, String>, k: &str| r[k].parse::<f64>().unwrap_or(f64::NAN);
+    for r in &rows {
+        assert!(num(r, "wall_s") > 0.0 && num(r, "particle_steps_per_s") > 0.0, "{shown}");
+    }
+    // the ratio is of the two measured rates, and only split loops have gathers
+    let ratio = num(&rows[1], "particle_steps_per_s") / num(&rows[0], "particle_steps_per_s");
+    assert!((num(&rows[1], "speedup_vs_1") - ratio).abs() <= 1e-12 * ratio, "{shown}");
+    assert_eq!(rows[0]["comm_share"], "", "one rank gathers nothing; {shown}");
+    let share = num(&rows[1], "comm_share");
+    assert!(share > 0.0 && share < 1.0, "2 ranks: a share of the wall time in gathers; {shown}");
+    // the runs are real: 2 ranks wrote the one-rank particles bit for bit
+    let run = |n: usize| out.join(format!("shock_tube/k1_rust_cell_cubic_np{n}/particles.h5"));
+    assert_eq!(common::h5_bits(&run(1)), common::h5_bits(&run(2)), "{shown}");
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("| shock_tube | 1 | 400 | rust/cell/cubic | 2 |"), "{md}");
+}
+
+#[test]
+fn ranks_without_mpirun_get_one_line_and_status_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bench");
+    let res = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["bench", "--cases", "shock_tube", "--resolutions", "1", "--backends", "rust", "--ranks", "1,2"])
+        .arg("--out")
+        .arg(&out)
+        .current_dir(common::root())
+        .env("PATH", dir.path())
+        .output()
+        .expect("cannot start the blastsph binary");
+    let se = text(&res.stderr);
+    assert_eq!(res.status.code(), Some(2), "{se}");
+    assert_eq!(se.lines().count(), 1, "{se}");
+    assert!(se.contains("mpirun"), "{se}");
 }

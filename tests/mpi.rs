@@ -1,7 +1,9 @@
 //! Runs under `mpirun` (Open MPI, which `scripts/setup` installs): 2 ranks of 2 threads and 3
 //! ranks of one give the one-thread serial run's particles.h5 bit for bit, with its gauges.csv
 //! and summary.json, on short 2D plane, RZ and 3D cases; a checkpoint written by 3 ranks
-//! resumes on 2; a bad case ends every rank with one line and exit status 2.
+//! resumes on 2; a bad case ends every rank with one line and exit status 2; a rank killed by
+//! SIGKILL ends the job, and its last checkpoint resumes to the serial run bitwise; `check` prints
+//! once; `run --legacy` on 2 ranks is the serial run bitwise.
 #![cfg(feature = "mpi")]
 
 mod common;
@@ -191,13 +193,60 @@ fn a_bad_case_under_mpirun_ends_every_rank_with_one_line_and_status_2() {
 }
 
 #[test]
-fn check_is_refused_on_several_ranks_with_one_line() {
+fn check_on_2_ranks_prints_once_and_exits_0() {
+    let case = case_path("surface_loose_tnt6.toml");
+    let one = finish(
+        {
+            let mut c = serial();
+            c.arg("check").arg(&case);
+            c
+        },
+        30,
+        "check in one process",
+    );
+    assert_eq!(one.status.code(), Some(0), "stderr: {}", String::from_utf8_lossy(&one.stderr));
     let mut c = mpirun(2);
-    c.arg("check").arg(case_path("surface_loose_tnt6.toml"));
-    let o = finish(c, 30, "check on 2 ranks");
+    c.arg("check").arg(&case);
+    let o = finish(c, 60, "check on 2 ranks");
+    assert_eq!(o.status.code(), Some(0), "stderr: {}", String::from_utf8_lossy(&o.stderr));
+    // rank 0's text is the single process's, once (the size line names the memory, the same
+    // on both)
+    assert_eq!(String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&one.stdout));
+    assert!(!o.stdout.is_empty());
+}
+
+#[test]
+fn dual_is_refused_on_several_ranks_with_one_line() {
+    let mut c = mpirun(2);
+    c.args(["dual", "shock_tube", "--steps", "2"]);
+    let o = finish(c, 30, "dual on 2 ranks");
     assert_eq!(o.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.lines().filter(|l| l.starts_with("error:")).count(), 1, "{err}");
+}
+
+/// The legacy fixture (tests/legacy: the book's shock tube code, at most 1000 particles) built
+/// and run by `run --legacy` on 2 ranks: bitwise the single process's run.
+#[cfg(feature = "legacy")]
+#[test]
+fn run_legacy_on_2_ranks_is_the_serial_run_bitwise() {
+    let root = tempfile::tempdir().unwrap();
+    let lg = root.path().join("lg");
+    let mut b = serial();
+    b.args(["legacy", "build", "tests/legacy/legacy.toml", "--out"]).arg(&lg);
+    let o = finish(b, 300, "legacy build of the fixture");
+    assert!(o.status.success(), "the fixture builds: {}", String::from_utf8_lossy(&o.stderr));
+    let (one, two) = (root.path().join("serial"), root.path().join("np2"));
+    for (mut c, dir) in [(serial(), &one), (mpirun(2), &two)] {
+        c.args(["run", "shock_tube", "--legacy"]).arg(&lg).args(["--threads", "1", "--quiet", "--out"]).arg(dir);
+        let o = finish(c, 300, "run --legacy");
+        assert!(o.status.success(), "run --legacy: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+    }
+    assert_eq!(summary(&two)["ranks"]["count"], 2, "the run went on 2 ranks");
+    assert!(summary(&two)["legacy"].as_array().is_some_and(|a| !a.is_empty()), "legacy routines ran");
+    if let Some(d) = difference(&one, &two) {
+        panic!("run --legacy on 2 ranks is not the serial run: {d}");
+    }
 }
 
 /// `resume DIR --end-time T` on `np` ranks (0: one process).
@@ -225,5 +274,67 @@ fn a_checkpoint_written_by_3_ranks_resumes_on_2_as_the_serial_run_resumed() {
     assert_eq!(s["ranks"]["count"], 2, "the resume ran on 2 ranks");
     if let Some(d) = difference(&one, &many) {
         panic!("3 ranks then 2 differ from one process then one: {d}");
+    }
+}
+
+/// The processes whose parent is `pid` (Linux: /proc/PID/task/*/children).
+fn children(pid: u32) -> Vec<u32> {
+    let mut out = Vec::new();
+    for t in std::fs::read_dir(format!("/proc/{pid}/task")).into_iter().flatten().flatten() {
+        let s = std::fs::read_to_string(t.path().join("children")).unwrap_or_default();
+        out.extend(s.split_whitespace().filter_map(|p| p.parse::<u32>().ok()));
+    }
+    out
+}
+
+#[test]
+fn a_rank_killed_by_sigkill_ends_the_job_and_the_last_checkpoint_resumes_bitwise() {
+    let root = tempfile::tempdir().unwrap();
+    let (one, killed) = (root.path().join("serial"), root.path().join("killed"));
+    let sets: Vec<&str> =
+        plane().into_iter().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-4"]).collect();
+    run(0, "surface_loose_tnt6.toml", &sets, &one);
+    let mut c = mpirun(2);
+    c.arg("run").arg(case_path("surface_loose_tnt6.toml")).args([
+        "--threads",
+        "1",
+        "--quiet",
+        "--checkpoint-every",
+        "10",
+    ]);
+    c.arg("--out").arg(&killed);
+    for s in &sets {
+        c.args(["--set", s]);
+    }
+    let mut job =
+        c.stdout(Stdio::null()).stderr(Stdio::piped()).spawn().expect("mpirun; scripts/setup installs Open MPI");
+    let t0 = Instant::now();
+    while !killed.join("checkpoint.bin").is_file() {
+        assert!(job.try_wait().unwrap().is_none(), "the job ended before its first checkpoint");
+        assert!(t0.elapsed() < Duration::from_secs(120), "no checkpoint after 120 s");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let ranks = children(job.id());
+    assert_eq!(ranks.len(), 2, "mpirun -np 2 started 2 processes: {ranks:?}");
+    let st = Command::new("kill").args(["-KILL", &ranks[1].to_string()]).status().expect("kill");
+    assert!(st.success(), "kill -KILL {}", ranks[1]);
+    let t1 = Instant::now();
+    let status = loop {
+        if let Some(s) = job.try_wait().unwrap() {
+            break s;
+        }
+        if t1.elapsed() > Duration::from_secs(60) {
+            let _ = job.kill();
+            panic!("mpirun still running 60 s after a rank was killed (a hang)");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(!status.success(), "the job ends with a failure when a rank dies: {status:?}");
+    let s = summary(&killed);
+    assert_ne!(s["status"], "ok", "the job was killed before its end");
+    resume(0, &killed, "3e-4");
+    assert_eq!(h5_bits(&one.join("particles.h5")), h5_bits(&killed.join("particles.h5")), "particles.h5");
+    for f in ["gauges.csv", "particles.xmf"] {
+        assert_eq!(std::fs::read(one.join(f)).ok(), std::fs::read(killed.join(f)).ok(), "{f}");
     }
 }

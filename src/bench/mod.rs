@@ -36,6 +36,7 @@ mod matrix;
 mod options;
 mod output;
 
+mod ranks;
 mod run;
 
 pub use crate::case::refine::{refine, refinement_sets};
@@ -43,6 +44,7 @@ pub use analysis::{Family, Order, exact_order, self_order};
 pub use matrix::Planned;
 pub use options::{BenchArgs, BenchOptions};
 pub use output::CSV_COLUMNS;
+pub use ranks::{RANK_COLUMNS, RankRow};
 pub use run::{GaugePeak, Row};
 
 use crate::error::{IoAt, Result};
@@ -146,6 +148,9 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
     }
     for w in &warnings {
         eprintln!("bench: warning: {w}");
+    }
+    if !o.ranks.is_empty() {
+        return ranks::bench_ranks(o, &cases, &cells, warnings);
     }
     std::fs::create_dir_all(&o.out).io_at(o.out.display())?;
     // the folder is a bench's from now on (a bench stopped half-way can be run again into it):

@@ -32,6 +32,10 @@ pub struct BenchArgs {
     /// Rust configuration on each, one after the other (the thread count an axis of the matrix)
     #[arg(long, value_name = "N[,N..]", allow_hyphen_values = true)]
     pub threads: Option<String>,
+    /// Run every configuration under `mpirun -np N` for each N (a list: `1,2`), with this binary;
+    /// reports wall time, particle-steps/s, the ratio to one rank and the gathers' share of each
+    #[arg(long, value_name = "N[,N..]", allow_hyphen_values = true)]
+    pub ranks: Option<String>,
     /// Stop every run at this time (s) instead of the case's end time
     #[arg(long = "end-time", value_name = "SECONDS", allow_hyphen_values = true)]
     pub end_time: Option<String>,
@@ -67,6 +71,8 @@ pub struct BenchOptions {
     pub threads: Option<usize>,
     /// `--threads` as a list of more than one value: each Rust configuration runs on each.
     pub thread_axis: Vec<usize>,
+    /// `--ranks`: the rank counts each configuration runs on under mpirun (empty: in this process).
+    pub ranks: Vec<usize>,
     pub end_time: Option<f64>,
     pub out: PathBuf,
     pub max_direct_particles: usize,
@@ -160,6 +166,21 @@ impl BenchOptions {
         if thread_axis.len() < 2 {
             thread_axis.clear();
         }
+        let ranks = match &a.ranks {
+            None => Vec::new(),
+            Some(s) => {
+                let items: Vec<String> = s.split(',').map(String::from).collect();
+                list(
+                    "ranks",
+                    &items,
+                    |t| t.parse::<usize>().ok().filter(|n| (1..=4096).contains(n)),
+                    "need whole numbers of ranks from 1 to 4096 (e.g. 1,2)",
+                )?
+            }
+        };
+        if !ranks.is_empty() && !thread_axis.is_empty() {
+            return Err(input("--ranks: give --threads one value (the threads of each rank), not a list"));
+        }
         let end_time = match &a.end_time {
             None => None,
             Some(s) => Some(
@@ -210,6 +231,7 @@ impl BenchOptions {
             kernels,
             threads,
             thread_axis,
+            ranks,
             end_time,
             out: a.out.clone(),
             max_direct_particles,

@@ -644,6 +644,10 @@ fn check(case: PathBuf, args: CaseArgs, case_dir: Option<PathBuf>, n: Option<usi
     ov.bridge = Some(crate::migration::attach::check_bridge(args.legacy.legacy.clone()));
     let sim = Sim::new(c, &ov)?;
     case::slips::check(&sim.case, &sim.p, sim.cfg.dx_min)?;
+    // under mpirun every rank checks the same case; rank 0 alone prints
+    if !ranks::speaks() {
+        return Ok(0);
+    }
     print!("{}", check_text(&sim));
     // a legacy build's pair arrays against the estimate (its STOP, or a refusal, would
     // come at the first step)

@@ -25,11 +25,12 @@ pub(super) fn speaks() -> bool {
     ranks::is_root()
 }
 
-/// Only `run` and `resume` use the ranks; every other command is refused under more than one.
+/// Only `run` and `resume` use the ranks, and `check` runs whole on every rank with rank 0
+/// printing; every other command is refused under more than one.
 pub(super) fn supported(cmd: &Cmd) -> Result<()> {
-    if ranks::size() > 1 && !matches!(cmd, Cmd::Run { .. } | Cmd::Resume { .. }) {
+    if ranks::size() > 1 && !matches!(cmd, Cmd::Run { .. } | Cmd::Resume { .. } | Cmd::Check { .. }) {
         return Err(input(format!(
-            "{} ranks: under mpirun only `blastsph run` and `blastsph resume` use several ranks; run this command in one process (or with mpirun -np 1)",
+            "{} ranks: under mpirun only `blastsph run`, `resume` and `check` run; run this command in one process (or with mpirun -np 1)",
             ranks::size()
         )));
     }
