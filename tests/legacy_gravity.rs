@@ -59,17 +59,17 @@ const CALL: &str = "      call ext_force(ntotal + nvirt, mass, x, niac, pair_i, 
 
 ";
 
-/// The manifest's entry of `ext_force`, with `extra` after its module.
-fn entry(extra: &str) -> String {
+/// The manifest's entry of `ext_force` mapped to `module`, with `extra` after it.
+fn entry(module: &str, extra: &str) -> String {
     format!(
-        "\n[[routine]]\nname = \"ext_force\"\nmodule = \"force\"\n{extra}args = [\"ntotal\", \"mass\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"itype\", \"hsml\", \"dvxdt\"]\n"
+        "\n[[routine]]\nname = \"ext_force\"\nmodule = \"{module}\"\n{extra}args = [\"ntotal\", \"mass\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"itype\", \"hsml\", \"dvxdt\"]\n"
     )
 }
 
-/// The fixture with the gravity `ext_force` called after `art_visc`, its manifest entry with
-/// `extra`, built into DIR/build; returns DIR.
-fn gravity_variant(name: &str, extra: &str) -> PathBuf {
-    let d = variant(name, |m| format!("{m}{}", entry(extra)));
+/// The fixture with the gravity `ext_force` called after `art_visc`, its manifest entry mapped
+/// to `module` with `extra`, built into DIR/build; returns DIR.
+fn gravity_variant(name: &str, module: &str, extra: &str) -> PathBuf {
+    let d = variant(name, |m| format!("{m}{}", entry(module, extra)));
     std::fs::write(d.join("ext_force.f"), EXT_FORCE).unwrap();
     let f = d.join("single_step.f");
     let text = std::fs::read_to_string(&f).unwrap();
@@ -80,17 +80,22 @@ fn gravity_variant(name: &str, extra: &str) -> PathBuf {
     d
 }
 
-/// cases/shock_tube.toml with the book's gravity, -9.8 m/s² along x, written into `dir`.
-fn gravity_case(dir: &Path) -> PathBuf {
+/// cases/shock_tube.toml with the book's gravity, -9.8 m/s² along x, and `more`, written into
+/// `dir`.
+fn gravity_case_with(dir: &Path, more: &str) -> PathBuf {
     let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
     let p = dir.join("shock_tube_gravity.toml");
-    std::fs::write(&p, format!("{text}\n[physics]\ngravity_ms2 = [-9.8]\n")).unwrap();
+    std::fs::write(&p, format!("{text}\n[physics]\ngravity_ms2 = [-9.8]\n{more}")).unwrap();
     p
+}
+
+fn gravity_case(dir: &Path) -> PathBuf {
+    gravity_case_with(dir, "")
 }
 
 #[test]
 fn a_code_whose_ext_force_adds_gravity_is_run_by_blastsph_as_its_program_runs() {
-    let d = gravity_variant("gravity", "includes_gravity = true\n");
+    let d = gravity_variant("gravity", "force", "includes_gravity = true\n");
     let b = d.join("build");
     let case = gravity_case(&d);
     let case = case.to_str().unwrap();
@@ -104,7 +109,7 @@ fn a_code_whose_ext_force_adds_gravity_is_run_by_blastsph_as_its_program_runs() 
 
 #[test]
 fn without_includes_gravity_the_run_counts_gravity_twice() {
-    let d = gravity_variant("gravity_twice", "");
+    let d = gravity_variant("gravity_twice", "force", "");
     let b = d.join("build");
     let case = gravity_case(&d);
     let prog = program_rows_of(&b, "gravity_twice_program", 40);
@@ -115,6 +120,20 @@ fn without_includes_gravity_the_run_counts_gravity_twice() {
     let f = frames.last().unwrap();
     let differ = (0..f.x.len()).filter(|&i| f.vx[i] != prog[f.id[i] as usize][3]).count();
     assert!(differ > 0, "the run without the key ends as the program");
+}
+
+#[test]
+fn against_the_wall_force_twin_the_dual_says_why_the_rows_differ() {
+    let d = gravity_variant("gravity_wall", "boundary", "includes_gravity = true\n");
+    let b = d.join("build");
+    // a wall far from the tube: the boundary module runs, its force is zero on every particle
+    let case = gravity_case_with(&d, "\n[[wall]]\nfrom_m = [-5.0]\nto_m = [-5.0]\nkind = \"repulsive\"\n");
+    let out = scratch("gravity_wall_dual");
+    let mut args = dual_book_args(&b, Some(2), &out);
+    args[1] = case.to_str().unwrap().to_string();
+    let so = blastsph_ok(&args, 4);
+    let row = so.lines().find(|l| l.starts_with("legacy.ext_force ")).unwrap_or_else(|| panic!("{so}"));
+    assert!(row.contains("legacy -9.8e0, rust 0e0") && row.contains("includes gravity"), "{row}");
 }
 
 #[test]
