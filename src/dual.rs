@@ -20,6 +20,11 @@ use crate::state::{Array, Clock, Field, Particles, Per, Snap, Work};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// Said by a legacy routine's tolerance when the routine's acceleration includes gravity
+/// (`includes_gravity`) and its Rust twin's does not: their `acc` rows differ by the gravity.
+pub const GRAVITY_NOTE: &str =
+    "its acc includes gravity (includes_gravity), its Rust twin's does not: acc differs by the gravity";
+
 /// The larger of `m` and `v`, NaN when either is: a NaN on either side of a comparison (a twin
 /// that broke) stays visible in the row's largest difference, where `f64::max` would drop it.
 pub(crate) fn sticky_max(m: f64, v: f64) -> f64 {
@@ -325,7 +330,8 @@ impl Comparator {
         self.stats.values().cloned().collect()
     }
 
-    /// The printed table.
+    /// The printed table. A row out of tolerance for a known reason (its tolerance's
+    /// [`GRAVITY_NOTE`]) says the reason after its first divergence.
     pub fn table(&self) -> String {
         let mut s = format!(
             "{:<24} {:<7} {:>10} {:>10} {:>10} {:>6} {:>4} {:>6}  first divergence\n",
@@ -365,6 +371,11 @@ impl Comparator {
                     num(l.fortran),
                     num(l.rust)
                 );
+            }
+            if st.out_of_tolerance > 0
+                && let Some(k) = st.tolerance_why.find(GRAVITY_NOTE)
+            {
+                fd += &format!("; {}", &st.tolerance_why[k..]);
             }
             if let Some(o) = &st.pair_order {
                 fd += &format!("  [pairs as sets: {}]", o.text(other));

@@ -491,6 +491,9 @@ impl Default for BoundaryCfg {
 pub struct PhysicsCfg {
     /// Gravity (m/s²), one component per dimension; absent = none.
     pub gravity_ms2: Option<Vec<f64>>,
+    /// A force stage adds `gravity_ms2` itself (a legacy routine's): the rate sum does not.
+    #[serde(default)]
+    pub gravity_in_forces: bool,
 }
 
 /// The `[initial]` table: what the set-up adds to the regions' state at t = 0.

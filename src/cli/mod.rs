@@ -73,14 +73,17 @@ pub struct LegacyArgs {
 }
 
 impl LegacyArgs {
-    /// The `--set` overrides of the legacy build's manifest (its `density_clamp`), then `sets`,
-    /// then those of `--compat`.
+    /// The `--set` overrides of the legacy build's manifest (its `density_clamp`, a routine that
+    /// `includes_gravity`), then `sets`, then those of `--compat`.
     pub fn sets(&self, sets: &[String]) -> Result<Vec<String>> {
         let mut out = Vec::new();
         if let Some(dir) = &self.legacy {
             let info = crate::migration::builder::BuildInfo::read(dir)?;
             if let Some([lo, hi]) = info.density_clamp {
                 out.push(format!("sph.density_clamp=[{lo:?},{hi:?}]"));
+            }
+            if info.gravity_in.is_some() {
+                out.push("physics.gravity_in_forces=true".into());
             }
         }
         out.extend_from_slice(sets);

@@ -161,6 +161,10 @@ pub struct BuildInfo {
     /// `sph.density_clamp` under `--legacy`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density_clamp: Option<[f64; 2]>,
+    /// The manifest's routine that `includes_gravity`: the case's `physics.gravity_in_forces` is
+    /// set under `--legacy`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity_in: Option<String>,
     /// What the build noticed and let through (`legacy build` prints them): a dummy argument
     /// named as another argument of the manifest's list (swapped arguments?).
     #[serde(default)]
@@ -404,6 +408,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         itype: m.itype.clone(),
         run_dirs: m.run_dirs.clone(),
         density_clamp: m.density_clamp,
+        gravity_in: m.gravity_in.clone(),
         warnings,
         host: host.library,
         host_note: host.note,

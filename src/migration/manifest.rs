@@ -25,6 +25,10 @@
 //! and Liu) says so at the top, `density_clamp = [lo, hi]` (kg/m³): `run`, `dual` and `check`
 //! with `--legacy` then set the case's `sph.density_clamp` to these bounds.
 //!
+//! A routine whose acceleration includes gravity (the book's `ext_force`, mapped to `boundary`)
+//! says so in its entry, `includes_gravity = true`: with `--legacy`, the case's
+//! `physics.gravity_in_forces` is then set, and the rate sum leaves gravity to that routine.
+//!
 //! with, at the top, `global_includes = ["common.inc"]` (the include files that declare the
 //! globals' COMMON blocks) or `global_modules = ["particles"]` (modules of the sources).
 //!
@@ -95,6 +99,9 @@ struct RawRoutine {
     /// writes it → the value passed at every call.
     #[serde(default)]
     values: std::collections::BTreeMap<String, toml::Value>,
+    /// The routine adds gravity to its acceleration (the book's `ext_force`).
+    #[serde(default)]
+    includes_gravity: bool,
 }
 
 /// The names of the three compile-time parameters in the user's include file.
@@ -238,6 +245,9 @@ pub struct Manifest {
     /// The bounds the code clamps ρ to after each density update, lo < hi (kg/m³): the case's
     /// `sph.density_clamp` under `--legacy`.
     pub density_clamp: Option<[f64; 2]>,
+    /// The routine (lower case) whose acceleration includes gravity (`includes_gravity = true`):
+    /// the case's `physics.gravity_in_forces` under `--legacy`.
+    pub gravity_in: Option<String>,
 }
 
 /// File endings of Fortran sources; the fixed-form ones get `-std=legacy`.
@@ -358,6 +368,8 @@ pub fn load(path: &Path) -> Result<Manifest> {
         routines.push(routine);
     }
 
+    let gravity_in = gravity_in(&raw, &err)?;
+
     let mut global_includes = Vec::new();
     for g in &raw.global_includes {
         let name = g.trim();
@@ -407,7 +419,26 @@ pub fn load(path: &Path) -> Result<Manifest> {
         global_includes,
         global_modules,
         density_clamp,
+        gravity_in,
     })
+}
+
+/// The routine that says `includes_gravity = true`, lower case: one at most, mapped to a force
+/// stage (`force`, or `boundary` for a wall force such as the book's `ext_force`).
+fn gravity_in(raw: &RawManifest, err: &dyn Fn(&str, String) -> SphError) -> Result<Option<String>> {
+    let mut found: Option<String> = None;
+    for r in raw.routines.iter().filter(|r| r.includes_gravity) {
+        let key = format!("routine {}: includes_gravity", r.name);
+        if !r.module.split(',').any(|m| matches!(m.trim(), "force" | "boundary")) {
+            let why = "only a routine mapped to a force stage (force, boundary) can add gravity";
+            return Err(err(&key, format!("module \"{}\": {why}", r.module)));
+        }
+        if let Some(first) = &found {
+            return Err(err(&key, format!("{first} includes it already: gravity is added once")));
+        }
+        found = Some(r.name.trim().to_ascii_lowercase());
+    }
+    Ok(found)
 }
 
 /// The manifest's sources: the files its patterns match, less those `exclude` matches, sorted.

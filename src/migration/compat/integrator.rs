@@ -191,7 +191,7 @@ pub fn plan(ctx: &PlanCtx, f: Flags) -> Option<Contribution> {
                 _ => return (ph, s),
             };
             let cont = ctx.case.sph.density == crate::case::DensityKind::Continuity;
-            let grav = ctx.case.physics.gravity_ms2.clone().unwrap_or_else(|| vec![0.0; ctx.dim]);
+            let grav = crate::modules::integrator::rate_sum_gravity(ctx);
             let which = match part {
                 Part::Predict => Which::Predict,
                 Part::Sum => Which::Sum,

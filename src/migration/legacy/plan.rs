@@ -274,7 +274,11 @@ impl Legacy {
             .filter(|&i| !self.flags.has(i) && twin_mods.iter().any(|m| i.modules().split(',').any(|x| x == m.name())))
             .map(Item::name)
             .collect();
-        let hint = if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
+        let mut hint =
+            if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
+        if !alone && self.lib.info().gravity_in.as_deref() == Some(r.name.as_str()) {
+            hint += &format!("; {}", crate::dual::GRAVITY_NOTE);
+        }
         Tolerance {
             ulp: 0,
             why: Box::leak(

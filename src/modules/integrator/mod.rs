@@ -311,11 +311,20 @@ impl Stage for IntegratorStage {
     }
 }
 
+/// The gravity the rate sum adds (m/s², `dim` components): `physics.gravity_ms2`, or none where
+/// `physics.gravity_in_forces` says a force stage adds it.
+pub fn rate_sum_gravity(ctx: &PlanCtx) -> Vec<f64> {
+    match &ctx.case.physics.gravity_ms2 {
+        Some(g) if !ctx.case.physics.gravity_in_forces => g.clone(),
+        _ => vec![0.0; ctx.dim],
+    }
+}
+
 /// Every case: the rate sums, the leapfrog, and the CFL step unless the step is fixed.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
     let cont = case.sph.density == DensityKind::Continuity;
-    let grav = case.physics.gravity_ms2.clone().unwrap_or_else(|| vec![0.0; ctx.dim]);
+    let grav = rate_sum_gravity(ctx);
     let st = |which| -> Box<dyn Stage> {
         Box::new(IntegratorStage { which, cont, grav: grav.clone(), slots: Slots::default() })
     };
@@ -326,6 +335,9 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     }
     stages.push((Phase::Sum, st(Which::Sum)));
     let mut why = format!("leapfrog, {:?} step", case.time.step).to_lowercase();
+    if case.physics.gravity_in_forces && case.gravity_on() {
+        why += ", gravity left to the force stage that includes it";
+    }
     if case.time.step == StepRule::Cfl {
         // the viscous signal speed, where there is a viscosity with a β term
         let v = &case.viscosity;

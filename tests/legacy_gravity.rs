@@ -1,0 +1,147 @@
+//! A legacy code whose `ext_force` adds gravity as well as the boundary repulsion, as Liu and
+//! Liu's does: the manifest's `includes_gravity` makes `run --legacy` end in the state of the
+//! code's own program, bit for bit, and without it gravity is counted twice.
+
+mod legacy_kit;
+use legacy_kit::*;
+
+/// The book's `ext_force` in the fixture's dialect: gravity on the last component, then the
+/// repulsion of virtual particles (none in the fixture).
+const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_i, pair_j,
+     &                     itype, hsml, dvxdt)
+c-----------------------------------------------------------------------
+c     External forces: gravity and the boundary repulsion.
+c-----------------------------------------------------------------------
+      implicit none
+      include 'param.inc'
+      integer ntotal, niac, pair_i(max_interaction),
+     &        pair_j(max_interaction), itype(maxn)
+      double precision mass(maxn), x(dim,maxn), hsml(maxn),
+     &        dvxdt(dim,maxn)
+      integer i, j, k, d
+      double precision dx(dim), rr, f, rr0, dd, p1, p2
+
+      do 10 i = 1, ntotal
+        do 5 d = 1, dim
+          dvxdt(d,i) = 0.
+    5   continue
+        dvxdt(dim,i) = -9.8d0
+   10 continue
+
+      rr0 = 1.25d-5
+      dd = 1.d-2
+      p1 = 12
+      p2 = 4
+      do 40 k = 1, niac
+        i = pair_i(k)
+        j = pair_j(k)
+        if (itype(i) .gt. 0 .and. itype(j) .lt. 0) then
+          rr = 0.
+          do 30 d = 1, dim
+            dx(d) = x(d,i) - x(d,j)
+            rr = rr + dx(d)*dx(d)
+   30     continue
+          rr = sqrt(rr)
+          if (rr .lt. rr0) then
+            f = ((rr0/rr)**p1 - (rr0/rr)**p2)/rr**2
+            do 35 d = 1, dim
+              dvxdt(d,i) = dvxdt(d,i) + dd*dx(d)*f
+   35       continue
+          endif
+        endif
+   40 continue
+
+      end
+";
+
+const CALL: &str = "      call ext_force(ntotal + nvirt, mass, x, niac, pair_i, pair_j,
+     &               itype, hsml, exdvxdt)
+
+";
+
+/// The manifest's entry of `ext_force` mapped to `module`, with `extra` after it.
+fn entry(module: &str, extra: &str) -> String {
+    format!(
+        "\n[[routine]]\nname = \"ext_force\"\nmodule = \"{module}\"\n{extra}args = [\"ntotal\", \"mass\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"itype\", \"hsml\", \"dvxdt\"]\n"
+    )
+}
+
+/// The fixture with the gravity `ext_force` called after `art_visc`, its manifest entry mapped
+/// to `module` with `extra`, built into DIR/build; returns DIR.
+fn gravity_variant(name: &str, module: &str, extra: &str) -> PathBuf {
+    let d = variant(name, |m| format!("{m}{}", entry(module, extra)));
+    std::fs::write(d.join("ext_force.f"), EXT_FORCE).unwrap();
+    let f = d.join("single_step.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let at = "      if (sle .ne. 0) call h_upgrade";
+    assert!(text.contains(at));
+    std::fs::write(&f, text.replace(at, &format!("{CALL}{at}"))).unwrap();
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the gravity variant builds");
+    d
+}
+
+/// cases/shock_tube.toml with the book's gravity, -9.8 m/s² along x, and `more`, written into
+/// `dir`.
+fn gravity_case_with(dir: &Path, more: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    let p = dir.join("shock_tube_gravity.toml");
+    std::fs::write(&p, format!("{text}\n[physics]\ngravity_ms2 = [-9.8]\n{more}")).unwrap();
+    p
+}
+
+fn gravity_case(dir: &Path) -> PathBuf {
+    gravity_case_with(dir, "")
+}
+
+#[test]
+fn a_code_whose_ext_force_adds_gravity_is_run_by_blastsph_as_its_program_runs() {
+    let d = gravity_variant("gravity", "force", "includes_gravity = true\n");
+    let b = d.join("build");
+    let case = gravity_case(&d);
+    let case = case.to_str().unwrap();
+    let prog = program_rows_of(&b, "gravity_program", 40);
+    // check says the rate sum leaves gravity to the routine
+    let so = blastsph_ok(&["check", case, "--legacy", b.to_str().unwrap(), "--compat", "liu-book"], 0);
+    assert!(so.contains("gravity left to the force stage"), "{so}");
+    assert!(so.contains("legacy.ext_force"), "{so}");
+    assert_run_ends_as(&b, case, "liu-book", &prog, "gravity_run");
+}
+
+#[test]
+fn without_includes_gravity_the_run_counts_gravity_twice() {
+    let d = gravity_variant("gravity_twice", "force", "");
+    let b = d.join("build");
+    let case = gravity_case(&d);
+    let prog = program_rows_of(&b, "gravity_twice_program", 40);
+    let out = scratch("gravity_twice_run");
+    let args = ["run", case.to_str().unwrap(), "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    blastsph_ok(&[&args[..], &["--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
+    let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
+    let f = frames.last().unwrap();
+    let differ = (0..f.x.len()).filter(|&i| f.vx[i] != prog[f.id[i] as usize][3]).count();
+    assert!(differ > 0, "the run without the key ends as the program");
+}
+
+#[test]
+fn against_the_wall_force_twin_the_dual_says_why_the_rows_differ() {
+    let d = gravity_variant("gravity_wall", "boundary", "includes_gravity = true\n");
+    let b = d.join("build");
+    // a wall far from the tube: the boundary module runs, its force is zero on every particle
+    let case = gravity_case_with(&d, "\n[[wall]]\nfrom_m = [-5.0]\nto_m = [-5.0]\nkind = \"repulsive\"\n");
+    let out = scratch("gravity_wall_dual");
+    let mut args = dual_book_args(&b, Some(2), &out);
+    args[1] = case.to_str().unwrap().to_string();
+    let so = blastsph_ok(&args, 4);
+    let row = so.lines().find(|l| l.starts_with("legacy.ext_force ")).unwrap_or_else(|| panic!("{so}"));
+    assert!(row.contains("legacy -9.8e0, rust 0e0") && row.contains("includes gravity"), "{row}");
+}
+
+#[test]
+fn includes_gravity_on_a_routine_that_is_not_a_force_is_refused() {
+    let d = variant("gravity_bad", |m| {
+        let old = "module = \"viscosity\"\n";
+        assert!(m.contains(old));
+        m.replace(old, &format!("{old}includes_gravity = true\n"))
+    });
+    refused(&d, &["art_visc", "includes_gravity", "viscosity"]);
+}
