@@ -145,3 +145,16 @@ fn includes_gravity_on_a_routine_that_is_not_a_force_is_refused() {
     });
     refused(&d, &["art_visc", "includes_gravity", "viscosity"]);
 }
+
+#[test]
+fn gravity_in_forces_without_a_legacy_build_is_refused() {
+    let d = scratch("gravity_in_forces_alone");
+    let case = gravity_case_with(&d, "gravity_in_forces = true\n");
+    let (case, run) = (case.to_str().unwrap(), d.join("run"));
+    for args in [vec!["check", case], vec!["run", case, "--out", run.to_str().unwrap()]] {
+        let (cmd, out) = (args[0], blastsph(&args));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{cmd}: {err}");
+        assert!(err.contains("gravity_in_forces") && err.lines().count() == 1, "{cmd}: {err}");
+    }
+}

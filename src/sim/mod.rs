@@ -151,6 +151,11 @@ impl Sim {
         let kappa = case.sph.kernel.support();
         let ctx = PlanCtx { case: &case, dim, mt: &mt, kappa, dx_min: init.dx_min, x0: &init.x, h0: &init.h };
         let plan = Plan::build_with(&ctx, &choice, hook.as_deref());
+        if case.physics.gravity_in_forces && plan.legacy.is_null() {
+            return Err(input(
+                "physics.gravity_in_forces = true: only a --legacy build whose manifest marks a routine includes_gravity may set it; without one the run would have no gravity",
+            ));
+        }
         let cfg = Config::new(&case, mt, &init.x, init.dx_min);
         let mut p = Particles {
             dim,
