@@ -24,6 +24,9 @@ use crate::error::{IoAt, Result, SphError};
 use crate::modules::param::NSTR;
 use crate::sim::Sim;
 use crate::sim::checkpoint::{Blob, Item};
+// the invariant columns after a gauge's stress components (2D and 3D with strength) carry the
+// names of the per-particle fields
+use crate::stress_invariants::NAMES as INVARIANTS;
 use serde_json::{Value, json};
 use std::io::Write;
 use std::path::Path;
@@ -46,9 +49,6 @@ fn stress_components(dim: usize) -> &'static [(usize, &'static str)] {
 
 const VNAMES: [&str; 3] = ["vx", "vy", "vz"];
 
-/// The invariant columns' names, after a gauge's stress components (2D and 3D with strength).
-pub const INVARIANTS: [&str; 5] = ["sigma_mean", "von_mises", "sigma_1", "sigma_2", "sigma_3"];
-
 /// The invariants of the stress components `s` recorded in `dim` (2D: xx, yy, zz, xy, the
 /// out-of-plane shears zero; 3D: all six; Pa): None in 1D, where only xx is recorded.
 pub fn invariants_of(dim: usize, s: &[f64]) -> Option<crate::stress_invariants::Invariants> {
@@ -57,11 +57,6 @@ pub fn invariants_of(dim: usize, s: &[f64]) -> Option<crate::stress_invariants::
         (3, &[xx, yy, zz, xy, xz, yz, ..]) => Some(crate::stress_invariants::of([xx, yy, zz, xy, xz, yz])),
         _ => None,
     }
-}
-
-/// The values of the [`INVARIANTS`] columns, in their order.
-fn invariant_values(i: &crate::stress_invariants::Invariants) -> [f64; 5] {
-    [i.mean, i.von_mises, i.principal[0], i.principal[1], i.principal[2]]
 }
 
 /// One gauge's reading at one step: p, velocity (dim), stress (as recorded); None in a void.
@@ -308,11 +303,9 @@ impl Gauges {
                     }
                 }
                 let inv = r.as_ref().and_then(|q| invariants_of(self.dim, &q[1 + self.dim..]));
-                for c in 0..extra {
-                    match &inv {
-                        Some(i) => line += &format!(",{:.6e}", invariant_values(i)[c]),
-                        None => line += ",",
-                    }
+                match inv {
+                    Some(i) => i.values().iter().take(extra).for_each(|v| line += &format!(",{v:.6e}")),
+                    None => line += &",".repeat(extra),
                 }
             }
             writeln!(f, "{line}").map_err(|e| SphError::Io(e.to_string()))?;

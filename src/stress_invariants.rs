@@ -19,6 +19,13 @@ pub struct Invariants {
     pub principal: [f64; 3],
 }
 
+impl Invariants {
+    /// The values in the order of [`NAMES`] (Pa).
+    pub fn values(&self) -> [f64; 5] {
+        [self.mean, self.von_mises, self.principal[0], self.principal[1], self.principal[2]]
+    }
+}
+
 /// The invariants of σ given as [xx, yy, zz, xy, xz, yz] (Pa).
 pub fn of(s: [f64; 6]) -> Invariants {
     let [xx, yy, zz, xy, xz, yz] = s;
@@ -45,9 +52,7 @@ pub fn fields(tau: &[f64], p: &[f64], n: usize, dim: usize) -> [Vec<f64>; 5] {
         let t = &tau[NSTR * i..NSTR * i + 6];
         let shear_out = if dim == 3 { [t[4], t[5]] } else { [0.0, 0.0] };
         let inv = of([t[0] - p[i], t[1] - p[i], t[2] - p[i], t[3], shear_out[0], shear_out[1]]);
-        for (k, v) in
-            [inv.mean, inv.von_mises, inv.principal[0], inv.principal[1], inv.principal[2]].into_iter().enumerate()
-        {
+        for (k, v) in inv.values().into_iter().enumerate() {
             out[k].push(v);
         }
     }

@@ -346,7 +346,7 @@ fn dual_density_clamp_at_zero_ulp() {
     check_report(&dir.path().join("dual_report.json"), 15);
     let rep = read_json(&dir.path().join("dual_report.json"));
     let rows = rep["rows"].as_array().expect("rows");
-    for stage in ["integrator.clamp_predicted", "integrator.clamp"] {
+    for stage in ["integrator.clamp_predict", "integrator.clamp"] {
         let row = rows.iter().find(|r| r["stage"] == stage && r["field"] == "rho");
         let row = row.unwrap_or_else(|| panic!("no row of {stage}"));
         assert!(row["compared"].as_u64().unwrap() > 0, "{row}");

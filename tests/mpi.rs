@@ -146,7 +146,12 @@ fn same_as_serial(case: &str, sets: &[&str], nps: &[usize]) {
 
 /// [`common::SMALL_S1`] to 50 µs, reordered in memory every 10 steps.
 fn plane() -> Vec<&'static str> {
-    common::SMALL_S1.iter().copied().chain(["time.end_s=5e-5", "sph.reorder_every=10"]).collect()
+    plane_to("time.end_s=5e-5")
+}
+
+/// [`plane`] with the end time `end` (a `time.end_s=..` override).
+fn plane_to(end: &'static str) -> Vec<&'static str> {
+    common::SMALL_S1.iter().copied().chain([end, "sph.reorder_every=10"]).collect()
 }
 
 #[test]
@@ -262,8 +267,7 @@ fn resume(np: usize, dir: &Path, end: &str) -> Output {
 fn a_checkpoint_written_by_3_ranks_resumes_on_2_as_the_serial_run_resumed() {
     let root = tempfile::tempdir().unwrap();
     let (one, many) = (root.path().join("serial"), root.path().join("np3"));
-    let sets: Vec<&str> =
-        plane().into_iter().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-5"]).collect();
+    let sets = plane_to("time.end_s=3e-5");
     run(0, "surface_loose_tnt6.toml", &sets, &one);
     run(3, "surface_loose_tnt6.toml", &sets, &many);
     resume(0, &one, "6e-5");
@@ -291,8 +295,7 @@ fn children(pid: u32) -> Vec<u32> {
 fn a_rank_killed_by_sigkill_ends_the_job_and_the_last_checkpoint_resumes_bitwise() {
     let root = tempfile::tempdir().unwrap();
     let (one, killed) = (root.path().join("serial"), root.path().join("killed"));
-    let sets: Vec<&str> =
-        plane().into_iter().filter(|s| !s.starts_with("time.end_s")).chain(["time.end_s=3e-4"]).collect();
+    let sets = plane_to("time.end_s=3e-4");
     run(0, "surface_loose_tnt6.toml", &sets, &one);
     let mut c = mpirun(2);
     c.arg("run").arg(case_path("surface_loose_tnt6.toml")).args([

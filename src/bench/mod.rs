@@ -80,6 +80,22 @@ pub(super) fn utc_now() -> (String, u64) {
     (format!("{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02} UTC", rem / 3600, rem % 3600 / 60, rem % 60), secs)
 }
 
+/// bench.json's `bench`: when, which commit and which machine, then the keys of `more` (an
+/// object) that say what was run.
+pub(super) fn meta(date: &str, unix: u64, commit: &Option<String>, more: serde_json::Value) -> serde_json::Value {
+    let mut m = json!({
+        "date_utc": date,
+        "unix_time": unix,
+        "commit": commit,
+        "version": env!("CARGO_PKG_VERSION"),
+        "cores": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
+    });
+    if let (Some(m), serde_json::Value::Object(more)) = (m.as_object_mut(), more) {
+        m.extend(more);
+    }
+    m
+}
+
 /// The commit of the working tree, if git can tell (with "-dirty" when it has changes).
 pub(super) fn commit() -> Option<String> {
     let out = std::process::Command::new("git").args(["rev-parse", "--short=10", "HEAD"]).output().ok()?;
@@ -196,23 +212,23 @@ pub fn bench(o: &BenchOptions) -> Result<BenchOutput> {
         rows.push(row);
     }
     let families = analyse(&mut rows);
-    let meta = json!({
-        "date_utc": date,
-        "unix_time": unix,
-        "commit": commit,
-        "version": env!("CARGO_PKG_VERSION"),
-        "cores": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
-        "pool_threads": rayon::current_num_threads(),
-        "cases": cases.iter().map(|c| c.path.display().to_string()).collect::<Vec<_>>(),
-        "resolutions": o.resolutions,
-        "backends": o.backends.iter().map(|b| b.name()).collect::<Vec<_>>(),
-        "nnps": o.nnps.iter().map(|n| nnps_name(*n)).collect::<Vec<_>>(),
-        "kernels": o.kernels.iter().map(|k| k.name()).collect::<Vec<_>>(),
-        "end_time_s": o.end_time,
-        "max_direct_particles": o.max_direct_particles,
-        "repeat": o.repeat,
-        "sets": o.sets,
-    });
+    let meta = meta(
+        &date,
+        unix,
+        &commit,
+        json!({
+            "pool_threads": rayon::current_num_threads(),
+            "cases": cases.iter().map(|c| c.path.display().to_string()).collect::<Vec<_>>(),
+            "resolutions": o.resolutions,
+            "backends": o.backends.iter().map(|b| b.name()).collect::<Vec<_>>(),
+            "nnps": o.nnps.iter().map(|n| nnps_name(*n)).collect::<Vec<_>>(),
+            "kernels": o.kernels.iter().map(|k| k.name()).collect::<Vec<_>>(),
+            "end_time_s": o.end_time,
+            "max_direct_particles": o.max_direct_particles,
+            "repeat": o.repeat,
+            "sets": o.sets,
+        }),
+    );
     let text = tables(&rows, &families, &warnings, &meta);
     let mut files = Vec::new();
     let write = |name: &str, body: &str, files: &mut Vec<PathBuf>| -> Result<()> {

@@ -166,7 +166,7 @@ impl BenchOptions {
         if thread_axis.len() < 2 {
             thread_axis.clear();
         }
-        let ranks = match &a.ranks {
+        let mut ranks = match &a.ranks {
             None => Vec::new(),
             Some(s) => {
                 let items: Vec<String> = s.split(',').map(String::from).collect();
@@ -178,6 +178,9 @@ impl BenchOptions {
                 )?
             }
         };
+        // in ascending order, once each: the ratio to one rank needs the one-rank run first
+        ranks.sort_unstable();
+        ranks.dedup();
         if !ranks.is_empty() && !thread_axis.is_empty() {
             return Err(input("--ranks: give --threads one value (the threads of each rank), not a list"));
         }

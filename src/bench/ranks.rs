@@ -143,18 +143,18 @@ pub(super) fn bench_ranks(
         }
     }
     let text = table(&rows, &warnings);
-    let meta = json!({
-        "date_utc": date,
-        "unix_time": unix,
-        "commit": commit,
-        "version": env!("CARGO_PKG_VERSION"),
-        "cores": std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1),
-        "ranks": o.ranks,
-        "threads_per_rank": o.threads,
-        "end_time_s": o.end_time,
-        "repeat": o.repeat,
-        "sets": o.sets,
-    });
+    let meta = super::meta(
+        &date,
+        unix,
+        &commit,
+        json!({
+            "ranks": o.ranks,
+            "threads_per_rank": o.threads,
+            "end_time_s": o.end_time,
+            "repeat": o.repeat,
+            "sets": o.sets,
+        }),
+    );
     let mut files = Vec::new();
     let mut write = |name: &str, body: &str| -> Result<()> {
         let p = o.out.join(name);

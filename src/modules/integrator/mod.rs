@@ -239,7 +239,7 @@ impl Stage for IntegratorStage {
             Which::Cfl(..) => "integrator.cfl",
             Which::Advance => "integrator.advance",
             Which::Efloor => "integrator.efloor",
-            Which::Clamp(_, _, true) => "integrator.clamp_predicted",
+            Which::Clamp(_, _, true) => "integrator.clamp_predict",
             Which::Clamp(_, _, false) => "integrator.clamp",
         }
     }
