@@ -50,6 +50,10 @@ pub struct Plan {
     /// The stage that owns each slot of the stacked acceleration and energy-rate terms.
     pub acc_terms: Vec<&'static str>,
     pub de_terms: Vec<&'static str>,
+    /// How gravity enters the acceleration, as `check` prints it after the terms: empty without
+    /// gravity, "(+ gravity)" when the integrator adds it, "(gravity inside the force stages)"
+    /// under `physics.gravity_in_forces`.
+    pub gravity: &'static str,
     /// Build the incidence lists after the search (some Rust twin gathers over them).
     pub incidence: bool,
     /// What the legacy routines replace and what is not run, for `blastsph check` (empty without
@@ -158,7 +162,12 @@ impl Plan {
         let acc_terms = acc.iter().map(|t| entries[t.1].stage.name()).collect();
         let de_terms = de.iter().map(|t| entries[t.1].stage.name()).collect();
         let incidence = entries.iter().any(|e| e.backend == Backend::Rust);
-        Plan { entries, modules, acc_terms, de_terms, incidence, notes, legacy }
+        let gravity = match (ctx.case.gravity_on(), ctx.case.physics.gravity_in_forces) {
+            (false, _) => "",
+            (true, false) => " (+ gravity)",
+            (true, true) => " (gravity inside the force stages)",
+        };
+        Plan { entries, modules, acc_terms, de_terms, gravity, incidence, notes, legacy }
     }
 
     pub fn is_active(&self, m: Module) -> bool {
@@ -277,7 +286,7 @@ impl Plan {
             }
         }
         if !self.acc_terms.is_empty() {
-            s += &format!("acceleration = {} (+ gravity)\n", self.acc_terms.join(" + "));
+            s += &format!("acceleration = {}{}\n", self.acc_terms.join(" + "), self.gravity);
         }
         if !self.de_terms.is_empty() {
             s += &format!("energy rate = {}\n", self.de_terms.join(" + "));
