@@ -87,6 +87,10 @@ pub fn start() -> Option<Session> {
     let world = universe.world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     ranks::install(Box::new(World { rank, size }));
+    if rank > 0 {
+        // rank 0 prints for the run; a legacy routine's own prints would repeat on every rank
+        crate::os_ffi::silence_stdout();
+    }
     Some(Session { _universe: universe })
 }
 

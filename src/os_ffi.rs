@@ -14,3 +14,29 @@ pub fn default_sigpipe() {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
+
+/// Points standard output (file descriptor 1) at `/dev/null`, for the ranks after the first of an
+/// MPI run: rank 0 prints for the run, and a legacy routine's own `write(*,*)` (Fortran unit 6,
+/// descriptor 1) would otherwise repeat once per rank. Standard error stays. Returns whether the
+/// descriptor was replaced.
+pub fn silence_stdout() -> bool {
+    #[cfg(unix)]
+    {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        // SAFETY: `open` takes a NUL-terminated literal path; `dup2` and `close` act on
+        // descriptors this process owns (the one `open` returned, and 1, which `dup2` replaces
+        // atomically for every thread).
+        unsafe {
+            let fd = libc::open(c"/dev/null".as_ptr(), libc::O_WRONLY);
+            if fd < 0 {
+                return false;
+            }
+            let ok = libc::dup2(fd, 1) >= 0;
+            libc::close(fd);
+            ok
+        }
+    }
+    #[cfg(not(unix))]
+    false
+}

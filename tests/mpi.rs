@@ -231,7 +231,8 @@ fn dual_is_refused_on_several_ranks_with_one_line() {
 }
 
 /// The legacy fixture (tests/legacy: the book's shock tube code, at most 1000 particles) built
-/// and run by `run --legacy` on 2 ranks: bitwise the single process's run.
+/// and run by `run --legacy` on 2 ranks: bitwise the single process's run, and the routines' own
+/// prints appear once.
 #[cfg(feature = "legacy")]
 #[test]
 fn run_legacy_on_2_ranks_is_the_serial_run_bitwise() {
@@ -242,11 +243,16 @@ fn run_legacy_on_2_ranks_is_the_serial_run_bitwise() {
     let o = finish(b, 300, "legacy build of the fixture");
     assert!(o.status.success(), "the fixture builds: {}", String::from_utf8_lossy(&o.stderr));
     let (one, two) = (root.path().join("serial"), root.path().join("np2"));
+    // the fixture's direct_find prints " pairs:" at every search
+    let mut prints = Vec::new();
     for (mut c, dir) in [(serial(), &one), (mpirun(2), &two)] {
         c.args(["run", "shock_tube", "--legacy"]).arg(&lg).args(["--threads", "1", "--quiet", "--out"]).arg(dir);
         let o = finish(c, 300, "run --legacy");
         assert!(o.status.success(), "run --legacy: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
+        prints.push(String::from_utf8_lossy(&o.stdout).lines().filter(|l| l.contains(" pairs:")).count());
     }
+    assert!(prints[0] > 0, "the serial run printed the routine's own lines");
+    assert_eq!(prints[1], prints[0], "the routine's own prints once, not once per rank");
     assert_eq!(summary(&two)["ranks"]["count"], 2, "the run went on 2 ranks");
     assert!(summary(&two)["legacy"].as_array().is_some_and(|a| !a.is_empty()), "legacy routines ran");
     if let Some(d) = difference(&one, &two) {

@@ -166,8 +166,9 @@ pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Resu
 
 /// A charge in air (an ideal gas beside a JWL): each gauge's peak overpressure and positive
 /// impulse (over its first reading, the ambient) against Kinney & Graham's fits at its scaled
-/// distance from the charge's centre (`crate::analysis::airblast`), printed and returned; None
-/// for a case without air, a charge or gauges.
+/// distance from the charge's centre (`crate::analysis::airblast`), printed and returned, for
+/// the gauges in the air (the particle nearest the point at t = 0 an ideal gas); None for a case
+/// without air, a charge or such gauges.
 pub fn air_blast(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Option<Value>> {
     use crate::analysis::airblast;
     use crate::case::EosCfg;
@@ -182,9 +183,28 @@ pub fn air_blast(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Option<Val
         return Ok(None);
     };
     let w = charge.mass_kg;
+    // a gauge in the air: the particle nearest its point at t = 0 is an ideal gas (a gauge in
+    // the soil, the water or the charge reads no air blast)
+    let f0 = &frames[0];
+    let in_air = |pt: &[f64]| -> bool {
+        let d2 = |i: usize| -> f64 {
+            let q = [f0.x[i], f0.y[i], f0.z[i]];
+            pt.iter().zip(q).map(|(a, b)| (a - b) * (a - b)).sum()
+        };
+        let near = (0..f0.x.len()).min_by(|&a, &b| d2(a).total_cmp(&d2(b)));
+        near.and_then(|i| case.materials.get(f0.mat[i] as usize))
+            .is_some_and(|m| matches!(m.eos, EosCfg::IdealGas { .. }))
+    };
+    let gauges: Vec<_> = read_gauges(&gpath)?
+        .into_iter()
+        .filter(|rec| case.gauges.iter().any(|g| g.name == rec.name && in_air(&g.point_m)))
+        .collect();
+    if gauges.is_empty() {
+        return Ok(None);
+    }
     println!("air blast against Kinney & Graham (1985), charge {}:", charge.mass_text());
     let mut rows = Vec::new();
-    for rec in read_gauges(&gpath)? {
+    for rec in gauges {
         let Some(g) = case.gauges.iter().find(|g| g.name == rec.name) else { continue };
         let r = g.point_m.iter().zip(&centre).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
         let t: Vec<f64> = rec.samples.iter().map(|s| s.0).collect();

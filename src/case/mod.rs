@@ -195,7 +195,8 @@ pub const THESIS_PARITY: [(&str, &str, &str); 12] = [
 ];
 
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
-/// preset, then `sph.density` (number density where an ideal gas meets another material, with
+/// preset, then `viscosity.beta` and `viscosity.switch` (2 and the Morris & Monaghan switch where an
+/// ideal gas meets another material), `sph.density` (number density where an ideal gas meets another material, with
 /// `sph.pressure_form = "interface"`; summation when every material is an ideal gas — gas
 /// dynamics — or detonation products; continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
 /// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0 but for a JWL's products alone, by the rate
@@ -261,6 +262,16 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
             .is_some_and(|a| a.iter().any(|m| kind(m).as_deref().is_some_and(ok)))
     };
     let mixed = some(&|k| k == "ideal_gas") && some(&|k| k != "ideal_gas");
+    if mixed {
+        // a blast wave in air: Monaghan's β = 2 with the Morris & Monaghan switch. The thesis's
+        // β = 10 spread the front and cut the peak overpressure (docs/validation.md, "Air blast")
+        for (k, v) in [("beta", toml::Value::Float(2.0)), ("switch", toml::Value::String("morris_monaghan".into()))] {
+            if get(root, "viscosity", k).is_none() {
+                put(root, "viscosity", k, v)?;
+                changed = true;
+            }
+        }
+    }
     if get(root, "sph", "density").is_none() {
         let d = if mixed {
             "number"
