@@ -10,7 +10,8 @@ For a blast centred at the origin (cases/verify/sedov_rz_axis.toml) it prints th
 2. the entropy p/rho^gamma of the rings of the first four columns (starting r = 0.5, 1.5, 2.5,
    3.5 dx) over that of the ring of the fifth column that started at the same z, the median over
    the rings that started between 0.2 and 0.8 of the exact shock radius along the axis, at the
-   last output (exact: about 1, their starting distances from the origin differ by under 3 %);
+   last output (exact: p/rho^gamma goes as R0^-3 of the starting distance R0, 1.02 to 1.03
+   for the first column);
 3. the deposit's rings (starting e above 1 J/kg), by starting column: their mean e over the
    adiabat e_0 (rho/rho_0)^(gamma-1) of their own start, at every output (exact: 1 for the
    deposit, which no shock crosses once it has spread).
