@@ -27,7 +27,8 @@ BANDS = [(0, 10), (10, 30), (30, 60), (60, 80), (80, 90)]
 
 def frames(path):
     f = h5py.File(path + "/particles.h5", "r")
-    steps = sorted((k for k in f.keys() if k.startswith("Step")), key=lambda s: int(s.split("#")[1]))
+    steps = [k for k in f.keys() if k.startswith("Step")]
+    steps.sort(key=lambda s: int(s.split("#")[1]))
     return [(float(f[s].attrs["TimeValue"]), f[s]) for s in steps]
 
 
