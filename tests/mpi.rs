@@ -243,13 +243,13 @@ fn run_legacy_on_2_ranks_is_the_serial_run_bitwise() {
     let o = finish(b, 300, "legacy build of the fixture");
     assert!(o.status.success(), "the fixture builds: {}", String::from_utf8_lossy(&o.stderr));
     let (one, two) = (root.path().join("serial"), root.path().join("np2"));
-    // the fixture's direct_find prints " pairs:" at every search
+    // the fixture's set-up routine prints " particles:" once
     let mut prints = Vec::new();
     for (mut c, dir) in [(serial(), &one), (mpirun(2), &two)] {
         c.args(["run", "shock_tube", "--legacy"]).arg(&lg).args(["--threads", "1", "--quiet", "--out"]).arg(dir);
         let o = finish(c, 300, "run --legacy");
         assert!(o.status.success(), "run --legacy: {:?}; stderr: {}", o.status, String::from_utf8_lossy(&o.stderr));
-        prints.push(String::from_utf8_lossy(&o.stdout).lines().filter(|l| l.contains(" pairs:")).count());
+        prints.push(String::from_utf8_lossy(&o.stdout).lines().filter(|l| l.contains(" particles:")).count());
     }
     assert!(prints[0] > 0, "the serial run printed the routine's own lines");
     assert_eq!(prints[1], prints[0], "the routine's own prints once, not once per rank");
