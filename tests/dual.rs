@@ -225,18 +225,25 @@ fn dual_shock_tube_every_module_within_tolerance() {
     assert!(modules.is_superset(&expected), "shock tube compared {modules:?}");
 }
 
-/// The shock tube with Price's artificial conductivity, both signal speeds: its stage is compared
-/// too (off by default, so no other dual run has it).
+/// The shock tube with Price's artificial conductivity, both signal speeds, and with the artificial
+/// heat (Noh): its stage is compared too (off by default, so no other dual run has it).
 #[test]
 fn dual_shock_tube_with_conductivity() {
-    for signal in ["pressure", "velocity"] {
+    let price = |signal: &str| vec!["conductivity.alpha=1.0".to_string(), format!("conductivity.signal=\"{signal}\"")];
+    for (what, sets) in [
+        ("pressure", price("pressure")),
+        ("velocity", price("velocity")),
+        ("noh", vec!["conductivity.kind=\"noh\"".to_string()]),
+    ] {
         let dir = tempfile::tempdir().unwrap();
-        let sets = vec!["conductivity.alpha=1.0".to_string(), format!("conductivity.signal=\"{signal}\"")];
         let c = case::load(&shock_tube(), &sets).expect("shock tube loads");
         let code = cli::dual_run(c, &Overrides::default(), 12, dir.path()).expect("dual run");
-        assert_eq!(code, 0, "{signal}: exit status of a dual run within tolerance");
+        assert_eq!(code, 0, "{what}: exit status of a dual run within tolerance");
         let modules = check_report(&dir.path().join("dual_report.json"), 12);
-        assert!(modules.contains("conductivity"), "{signal}: compared {modules:?}");
+        assert!(modules.contains("conductivity"), "{what}: compared {modules:?}");
+        let report = std::fs::read_to_string(dir.path().join("dual_report.json")).unwrap();
+        let stage = if what == "noh" { "conductivity.noh" } else { "conductivity.price" };
+        assert!(report.contains(stage), "{what}: no {stage} row");
     }
 }
 

@@ -81,6 +81,10 @@ void sph_conductivity_price(int dim, int ntotal, int npair, const int *pair_i, c
                             const double *rho, const double *p, const double *e,
                             const double *mass, double alpha, int signal, int nrinv, const double *rinv,
                             double *dedt);
+void sph_conductivity_noh(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
+                          const double *dwdx, const double *x, const double *v, const double *h,
+                          const double *rho, const double *c, const double *e, const double *mass,
+                          double g1, double g2, double phi2, double *dedt);
 
 /* strength (sph_strength.f90) */
 void sph_strength_rates(int dim, int ntotal, int n, int npair, const int *pair_i,

@@ -17,6 +17,7 @@
 //! Loading is [`load`] (the file, read with a size limit) then [`parse`] (overrides, serde,
 //! validation).
 
+mod conductivity;
 mod dims;
 mod forms;
 mod material;
@@ -27,6 +28,7 @@ pub mod slips;
 mod types;
 pub mod validate;
 
+pub use conductivity::*;
 pub use forms::*;
 pub use material::*;
 pub use sets::{apply_sets, apply_sets_by};

@@ -3,6 +3,7 @@
 //! checked in [`super::validate`]: one place per key.
 
 use super::PressureForm;
+use super::conductivity::ConductivityCfg;
 use super::material::MaterialCfg;
 use serde::Deserialize;
 
@@ -396,28 +397,6 @@ impl Default for ViscCfg {
             switch_decay: default_switch_decay(),
         }
     }
-}
-
-/// Signal speed of the artificial conductivity.
-#[derive(Debug, Clone, Copy, Default, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "lowercase")]
-pub enum ConductivitySignal {
-    /// √(|p_i − p_j|/ρ̄) (Price 2008): contact discontinuities.
-    #[default]
-    Pressure,
-    /// |v_ij·x̂_ij|: shocks, wall heating.
-    Velocity,
-}
-
-/// Artificial conductivity (Price 2008; theory.md §6): off while `alpha = 0`.
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ConductivityCfg {
-    /// α_u (dimensionless; 0 = off; Price uses 1).
-    #[serde(default)]
-    pub alpha: f64,
-    #[serde(default)]
-    pub signal: ConductivitySignal,
 }
 
 #[derive(Debug, Clone, Deserialize)]

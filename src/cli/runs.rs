@@ -2,6 +2,7 @@
 //! the free run of both backends.
 
 use crate::case;
+use crate::case::ConductivityKind;
 use crate::dual::Comparator;
 use crate::error::Result;
 use crate::modules::Backend;
@@ -74,10 +75,15 @@ pub(crate) fn check_text(sim: &Sim) -> String {
         c.sph.h_max_ratio.map(|r| format!(" (h <= {r} h0 max)")).unwrap_or_default(),
         if c.sph.e_floor { "on" } else { "off" },
         if c.time.viscous_step { "on" } else { "off" },
-        if c.conductivity.alpha > 0.0 {
-            format!(", conductivity alpha_u = {} ({:?})", c.conductivity.alpha, c.conductivity.signal).to_lowercase()
-        } else {
-            String::new()
+        match (c.conductivity.on(), c.conductivity.kind) {
+            (false, _) => String::new(),
+            (true, ConductivityKind::Noh) => {
+                format!(", artificial heat g1 = {}, g2 = {}", c.conductivity.g1(), c.conductivity.g2())
+            }
+            (true, ConductivityKind::Price) => {
+                format!(", conductivity alpha_u = {} ({:?})", c.conductivity.alpha, c.conductivity.signal)
+                    .to_lowercase()
+            }
         },
         if c.sph.jitter > 0.0 { format!(", lattice jittered by {:e} dx", c.sph.jitter) } else { String::new() },
         det

@@ -9,7 +9,7 @@
 //! `kernel.self` then joins the chain as a helper). So `direct_find` (nnps, kernel) stands for
 //! `nnps.search` and `kernel.pairs`; `int_force` (eos, force) for `eos.eval` and `force.internal`;
 //! `con_density` in a summation-density case stands for nothing and is not run. A routine that
-//! stands for no stage but adds a rate term (`dvxdt`, `dedt`: the book's `art_heat`) or makes a
+//! stands for no stage but adds a rate term (`dvxdt`, `dedt`: the book's `ext_force`) or makes a
 //! work array another mapped routine takes (`viscosity`'s `eta`) runs on its own, uncompared.
 //!
 //! **When.** At the phase of the first stage it stands for; routines of the book's `single_step`

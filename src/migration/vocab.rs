@@ -218,7 +218,7 @@ pub const TERMS: &[Term] = &[
     t!("du", &[], Real, Particle, NB, "J/(kg s)", "total energy rate, Work::de (single_step passes it to int_force as dedt)", Out,
       "single_step, time_integration"),
     t!("avdudt", &[], Real, Particle, NB, "J/(kg s)", "energy rate of the artificial viscosity (its term of Work::dde)", Out, "single_step"),
-    t!("ahdudt", &[], Real, Particle, NB, "J/(kg s)", "energy rate of the artificial heat (blastsph: none)", Out, "single_step"),
+    t!("ahdudt", &[], Real, Particle, NB, "J/(kg s)", "energy rate of the artificial heat (the conductivity's term of Work::dde, conductivity.noh)", Out, "single_step"),
     t!("tdsdt", &[], Real, Particle, NB, "J/(kg s)", "viscous entropy production T ds/dt (blastsph: none)", Out, "int_force"),
     t!("ds", &[], Real, Particle, NB, "J/(kg K s)", "entropy rate (not used by the book): a work array", Out, "single_step"),
     t!("av", &[], Real, ParticleVec, NB, "m/s", "averaged-velocity (XSPH) correction, Work::av", Out, "av_vel, single_step"),

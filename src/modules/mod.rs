@@ -86,7 +86,7 @@ registry! {
     strength: Strength => "strain/rotation rates, Jaumann rate, Drucker-Prager (4-29..4-32)",
     force: Force => "momentum and energy rates from the stress (4-33..4-38)",
     viscosity: Viscosity => "Monaghan artificial viscosity (4-47, 4-48)",
-    conductivity: Conductivity => "Price artificial conductivity: energy exchange across jumps of e (off by default)",
+    conductivity: Conductivity => "Price artificial conductivity or Noh artificial heat: energy exchange across jumps of e (off by default)",
     penalty: Penalty => "penalty force between materials (4-53, 4-54)",
     absorb: Absorb => "absorbing walls: Lysmer-Kuhlemeyer dashpots and the static reaction on a layer",
     xsph: Xsph => "averaged velocity (XSPH)",

@@ -4,7 +4,8 @@
 c-----------------------------------------------------------------------
 c     The right-hand side of one time step: neighbours and kernel,
 c     density, internal forces (with the equation of state),
-c     artificial viscosity, smoothing length, averaged velocity.
+c     artificial viscosity, smoothing length, artificial heat,
+c     averaged velocity.
 c     itimestep -- number of the time step                         (in)
 c     dt     -- time step                                          (in)
 c     ntotal -- number of particles                                (in)
@@ -74,6 +75,10 @@ c     no boundary particles in this code
 
       if (sle .ne. 0) call h_upgrade(dt, ntotal, mass, vx, rho, niac,
      &               pair_i, pair_j, dwdx, hsml)
+
+      if (heat_artificial) call art_heat(ntotal + nvirt, hsml, mass,
+     &               x, vx, niac, rho, u, c, pair_i, pair_j, w, dwdx,
+     &               ahdudt)
 
       if (average_velocity) call av_vel(ntotal, mass, niac, pair_i,
      &               pair_j, w, vx, rho, av)

@@ -11,6 +11,7 @@
 //! endless (a smoothing length a thousand spacings wide, a fixed step that needs more than
 //! `max_steps` steps), never a value a careful user might choose.
 
+use super::ConductivityKind;
 use super::material::*;
 use super::types::*;
 use crate::error::{Result, input};
@@ -238,6 +239,29 @@ impl Checker {
 mod regions;
 
 impl Case {
+    /// The keys of the conductivity's kind: g1 and g2 belong to the artificial heat, α_u and the
+    /// signal speed to Price's; the artificial heat has no axisymmetric form.
+    fn conductivity_kind(&self, v: &mut Checker, at: &At) -> Result<()> {
+        let c = &self.conductivity;
+        v.opt(at, "g1", c.g1, Range::within(0.0, 100.0))?;
+        v.opt(at, "g2", c.g2, Range::within(0.0, 100.0))?;
+        v.any(at, "kind");
+        match c.kind {
+            ConductivityKind::Price if c.g1.is_some() || c.g2.is_some() => Err(input(
+                "conductivity.g1, g2 are the artificial heat's: set conductivity.kind = \"noh\" (or drop them)",
+            )),
+            ConductivityKind::Noh if c.alpha > 0.0 => {
+                Err(input("conductivity.alpha is Price's: kind = \"noh\" takes g1 and g2 (drop alpha or the kind)"))
+            }
+            ConductivityKind::Noh if self.axisymmetric() => Err(input(
+                "conductivity.kind = \"noh\": the artificial heat has no axisymmetric form (use kind = \"price\")",
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl Case {
     /// Checks what serde cannot; errors are one line naming the key.
     pub fn validate(&self) -> Result<()> {
         self.validate_with(&mut Checker::default())
@@ -382,6 +406,7 @@ impl Case {
         let at = At::top("conductivity");
         v.num(&at, "alpha", self.conductivity.alpha, Range::within(0.0, 100.0))?;
         v.any(&at, "signal");
+        self.conductivity_kind(v, &at)?;
         if let Some(p) = &self.penalty {
             let at = At::top("penalty");
             v.num(&at, "pbar", p.pbar, Range::above(0.0, P_MAX))?;

@@ -87,7 +87,7 @@ impl IntegratorCompat {
                 let visc = vs.map_or(0.0, |t| w.acc[l + lda * t]);
                 w.dv[l] = (force + ext) + visc;
             }
-            // du = du + avdudt + ahdudt
+            // du = du + avdudt + ahdudt: the artificial heat's slot (conductivity.noh) comes last
             let mut s = if nde > 0 { w.dde[i] } else { 0.0 };
             for t in 1..nde {
                 s += w.dde[i + nt * t];

@@ -58,6 +58,7 @@ macro_rules! as_its_normal_stage {
 }
 pub(crate) use as_its_normal_stage;
 
+pub mod conductivity;
 pub mod density;
 pub mod eos;
 pub mod force;
@@ -97,8 +98,8 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
     (
         Item::Literals,
         "literals",
-        "kernel,viscosity,eos,xsph,integrator,setup",
-        "single-precision literals: 2./3. and pi in the kernel; the case's gamma, phi_over_h, alpha, beta, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0)",
+        "kernel,viscosity,conductivity,eos,xsph,integrator,setup",
+        "single-precision literals: 2./3. and pi in the kernel, 0.01 in the artificial heat; the case's gamma, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
     ),
     (
         Item::SoundSpeed,
@@ -352,6 +353,10 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
     let v = &mut case.viscosity;
     (v.alpha, v.beta, v.phi_over_h) = (single(v.alpha), single(v.beta), single(v.phi_over_h));
     case.sph.xsph_eps = single(case.sph.xsph_eps);
+    let c = &mut case.conductivity;
+    if c.kind == crate::case::ConductivityKind::Noh {
+        (c.g1, c.g2) = (Some(single(c.g1())), Some(single(c.g2())));
+    }
     for r in &mut case.regions {
         for x in [&mut r.rho_kgm3, &mut r.e_jkg, &mut r.mass_kg, &mut r.h_m].into_iter().flatten() {
             *x = single(*x);
@@ -378,6 +383,7 @@ pub fn plan(m: Module, ctx: &PlanCtx) -> Option<Contribution> {
         Module::Eos => eos::plan(ctx, f),
         Module::Force => force::plan(ctx, f),
         Module::Viscosity => viscosity::plan(ctx, f),
+        Module::Conductivity => conductivity::plan(ctx, f),
         Module::Xsph => xsph::plan(ctx, f),
         Module::Integrator => integrator::plan(ctx, f),
         _ => None,

@@ -9,7 +9,19 @@
 //! (`signal = "velocity"`, for shocks and wall heating). x̂·∇W ≤ 0, so heat flows from the hotter
 //! particle; the two ends' terms cancel in Σ m_i De_i/Dt (energy is conserved). Coincident
 //! particles exchange nothing. Off by default (`[conductivity] alpha = 0`, docs/reference/cases.md).
-//! Fortran twin: `fortran/src/sph_conductivity.f90`. Tier: 0 ULP (+ − × ÷ √ only).
+//!
+//! `kind = "noh"`: the artificial heat of Noh (1987) and Monaghan (1992) as Liu & Liu's book code
+//! (2003, `art_heat`) computes it. First the velocity divergence (1/s)
+//! div_i = Σ_j (m_j/ρ_j)(v_j − v_i)·∇_i W_ij, then per particle the coefficient (m²/s)
+//! q_i = g1 h_i c_i + g2 h_i² (|div_i| − div_i), then
+//!
+//! De_i/Dt += 2 Σ_j m_j q̄_ij/(ρ̄_ij (r_ij² + φ²)) (e_i − e_j) (x_ij·∇_i W_ij)  (W/kg),
+//!
+//! q̄, ρ̄ and h̄ the pair means, φ² = 0.01 h̄² (φ = 0.1 h̄). The book has no ρ_i in q_i (Monaghan's
+//! ρ_i q_i/(ρ_i ρ_j) form reduces to it). x·∇W ≤ 0: heat flows from the hotter particle, and the
+//! pair's terms cancel in Σ m_i De_i/Dt. Plane geometry only (validate refuses it in RZ).
+//!
+//! Fortran twin: `fortran/src/sph_conductivity.f90`. Tier: 0 ULP (+ − × ÷ √ and `abs` only).
 
 mod ffi;
 #[cfg(test)]
@@ -18,7 +30,7 @@ mod rust;
 
 use super::nnps::PairList;
 use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Terms, Twin};
-use crate::case::ConductivitySignal;
+use crate::case::{ConductivityKind, ConductivitySignal};
 use crate::state::{Clock, Field, Particles, Work};
 
 /// `sph_conductivity_price`: the conductive energy rate of every particle of the pair list
@@ -53,6 +65,99 @@ impl Twin for Price<'_> {
     }
     fn fortran(&mut self) {
         ffi::price(self)
+    }
+}
+
+/// `sph_conductivity_noh`: the artificial heat's energy rate of every particle of the pair list
+/// (ntotal = `mass.len()`).
+pub struct Noh<'a> {
+    pub dim: usize,
+    pub pairs: &'a PairList,
+    /// ∇_i W_ij per pair, dim × npair.
+    pub dwdx: &'a [f64],
+    pub x: &'a [f64],
+    pub v: &'a [f64],
+    pub h: &'a [f64],
+    pub rho: &'a [f64],
+    pub c: &'a [f64],
+    pub e: &'a [f64],
+    pub mass: &'a [f64],
+    pub coef: HeatCoef,
+    /// Energy rate (J/kg/s), ntotal.
+    pub dedt: &'a mut [f64],
+}
+
+/// The artificial heat's constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatCoef {
+    /// g1 (dimensionless).
+    pub g1: f64,
+    /// g2 (dimensionless).
+    pub g2: f64,
+    /// φ²/h̄² (dimensionless): 0.01, the book's `0.01*mhsml**2`.
+    pub phi2: f64,
+}
+
+impl HeatCoef {
+    /// φ²/h̄² = 0.01 (φ = 0.1 h̄).
+    pub const PHI2: f64 = 0.01;
+}
+
+impl Twin for Noh<'_> {
+    fn rust(&mut self) {
+        rust::noh(self)
+    }
+    fn fortran(&mut self) {
+        ffi::noh(self)
+    }
+}
+
+/// The artificial heat's term of the energy-rate sum (the conductivity's slot).
+pub struct HeatStage {
+    pub coef: HeatCoef,
+    pub slots: Slots,
+}
+
+impl Stage for HeatStage {
+    fn module(&self) -> Module {
+        Module::Conductivity
+    }
+    fn name(&self) -> &'static str {
+        "conductivity.noh"
+    }
+    fn reads(&self) -> &[Field] {
+        use Field::*;
+        &[PairI, PairJ, Dwdx, X, V, H, Rho, C, E, Mass]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::Dde]
+    }
+    fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        self.slots.size(w, p.dim, p.ntotal);
+    }
+    fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
+        let (dim, nt) = (p.dim, p.ntotal);
+        Noh {
+            dim,
+            pairs: &w.pairs,
+            dwdx: &w.dwdx,
+            x: &p.x[..dim * nt],
+            v: &p.v[..dim * nt],
+            h: &p.h[..nt],
+            rho: &p.rho[..nt],
+            c: &p.c[..nt],
+            e: &p.e[..nt],
+            mass: &p.mass[..nt],
+            coef: self.coef,
+            dedt: &mut w.dde[self.slots.de_range(nt)],
+        }
+        .run(b);
+    }
+    fn terms(&self) -> Terms {
+        Terms { acc: None, de: Some(3) }
+    }
+    fn assign(&mut self, slots: Slots) {
+        self.slots = slots;
     }
 }
 
@@ -113,15 +218,24 @@ impl Stage for ConductivityStage {
     }
 }
 
-/// Runs where `conductivity.alpha` > 0.
+/// Runs where `conductivity.alpha` > 0 (Price), or with `kind = "noh"` where g1 or g2 > 0.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let c = &ctx.case.conductivity;
+    if c.kind == ConductivityKind::Noh {
+        let (g1, g2) = (c.g1(), c.g2());
+        let why = format!("artificial heat (Noh), g1 = {g1}, g2 = {g2}");
+        if !c.on() {
+            return Contribution::skip(format!("{why} (off)"));
+        }
+        let st = HeatStage { coef: HeatCoef { g1, g2, phi2: HeatCoef::PHI2 }, slots: Slots::default() };
+        return Contribution::run(why, vec![(Phase::Rates, Box::new(st))]);
+    }
     let signal = match c.signal {
         ConductivitySignal::Pressure => 0,
         ConductivitySignal::Velocity => 1,
     };
     let why = format!("alpha_u = {}, {:?} signal speed", c.alpha, c.signal).to_lowercase();
-    if c.alpha > 0.0 {
+    if c.on() {
         let st = ConductivityStage { alpha: c.alpha, signal, slots: Slots::default(), rz: ctx.case.axisymmetric() };
         Contribution::run(why, vec![(Phase::Rates, Box::new(st))])
     } else {
