@@ -307,7 +307,8 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     // and a converging shock heated the axis 1.9-fold (docs/axis_results.md, "The conductivity
     // in RZ"). Under the parity preset, or with another kind, as the case says
     let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
-    let conductivity_given = get(root, "conductivity", "alpha").is_some() || get(root, "conductivity", "kind").is_some();
+    let conductivity_given =
+        get(root, "conductivity", "alpha").is_some() || get(root, "conductivity", "kind").is_some();
     if gas && rz && !conductivity_given && !root.contains_key("parity") {
         put(root, "conductivity", "alpha", toml::Value::Float(1.0))?;
         changed = true;
