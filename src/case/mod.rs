@@ -197,9 +197,9 @@ pub const THESIS_PARITY: [(&str, &str, &str); 12] = [
 ];
 
 /// Fills the keys whose default depends on the rest of the case, before it is read: the parity
-/// preset, then `viscosity.beta` and `viscosity.switch` (2 and the Morris & Monaghan switch where an
-/// ideal gas meets another material), `conductivity.alpha` (1 for gas dynamics in axisymmetric
-/// geometry), `sph.density` (number density where an ideal gas meets another material, with
+/// preset, then, without it, `viscosity.beta` and `viscosity.switch` (2 and the Morris & Monaghan
+/// switch where an ideal gas meets another material) and `conductivity.alpha` (1 for gas dynamics
+/// in axisymmetric geometry), then `sph.density` (number density where an ideal gas meets another material, with
 /// `sph.pressure_form = "interface"`; summation when every material is an ideal gas — gas
 /// dynamics — or detonation products; continuity otherwise), `sph.jitter` ([`GAS_JITTER`] for gas dynamics in 2D plane and 3D, else
 /// 0) and `sph.smoothing` (h from the density with summation, capped at 4 h0 but for a JWL's products alone, by the rate
@@ -265,7 +265,8 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
             .is_some_and(|a| a.iter().any(|m| kind(m).as_deref().is_some_and(ok)))
     };
     let mixed = some(&|k| k == "ideal_gas") && some(&|k| k != "ideal_gas");
-    if mixed {
+    let parity = root.contains_key("parity");
+    if mixed && !parity {
         // a blast wave in air: Monaghan's β = 2 with the Morris & Monaghan switch. The thesis's
         // β = 10 spread the front and cut the peak overpressure (docs/validation.md, "Air blast")
         for (k, v) in [("beta", toml::Value::Float(2.0)), ("switch", toml::Value::String("morris_monaghan".into()))] {
@@ -309,7 +310,7 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
     let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
     let conductivity_given =
         get(root, "conductivity", "alpha").is_some() || get(root, "conductivity", "kind").is_some();
-    if gas && rz && !conductivity_given && !root.contains_key("parity") {
+    if gas && rz && !conductivity_given && !parity {
         put(root, "conductivity", "alpha", toml::Value::Float(1.0))?;
         changed = true;
     }
