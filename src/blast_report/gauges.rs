@@ -172,10 +172,8 @@ pub fn gauges_only(dir: &Path, case: &Case, summary: &Value, t_end: f64) -> Resu
 pub fn air_blast(dir: &Path, case: &Case, frames: &[Frame]) -> Result<Option<Value>> {
     use crate::analysis::airblast;
     use crate::case::EosCfg;
-    let gas = case.materials.iter().any(|m| matches!(m.eos, EosCfg::IdealGas { .. }));
-    let jwl = case.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. }));
     let gpath = dir.join("gauges.csv");
-    if !gas || !jwl || frames.is_empty() || case.dim < 2 || !gpath.exists() {
+    if !super::peaks::charge_in_air(case) || frames.is_empty() || case.dim < 2 || !gpath.exists() {
         return Ok(None);
     }
     let charge = charge_of(case, frames);

@@ -53,7 +53,15 @@ pub(super) fn gauge_plots(cx: &Ctx, summary: &Value, charge: &Charge, written: &
                 ));
             }
             if w > 0.0 {
-                let curves = if charge.dim == 3 && dry_sand(case) { tm5_855_1_curves(&peaks_out) } else { Vec::new() };
+                let curves = if charge.dim != 3 {
+                    Vec::new()
+                } else if charge_in_air(case) {
+                    kinney_graham_curve(&peaks_out)
+                } else if dry_sand(case) {
+                    tm5_855_1_curves(&peaks_out)
+                } else {
+                    Vec::new()
+                };
                 plot::loglog_on_data(
                     &dir.join("peaks.png"),
                     &format!("{}: peak pressure against scaled distance (charge {})", case.name(), charge.mass_text()),
@@ -103,22 +111,51 @@ fn dry_sand(case: &Case) -> bool {
     !sands.is_empty() && sands.iter().all(|s| *s)
 }
 
+/// A charge in air: an ideal gas beside a JWL explosive.
+pub(super) fn charge_in_air(case: &Case) -> bool {
+    use crate::case::EosCfg;
+    let has = |f: &dyn Fn(&EosCfg) -> bool| case.materials.iter().any(|m| f(&m.eos));
+    has(&|e| matches!(e, EosCfg::IdealGas { .. })) && has(&|e| matches!(e, EosCfg::Jwl { .. }))
+}
+
+/// The scaled distances of `peaks` (and a little beyond) at which a reference curve is drawn:
+/// 61 points spaced evenly in log; empty without a finite positive distance.
+fn curve_span(peaks: &[(f64, f64, String)]) -> Vec<f64> {
+    let zs: Vec<f64> = peaks.iter().map(|p| p.0).filter(|z| z.is_finite() && *z > 0.0).collect();
+    if zs.is_empty() {
+        return Vec::new();
+    }
+    let (lo, hi) = zs.iter().fold((f64::INFINITY, 0.0f64), |a, z| (a.0.min(*z), a.1.max(*z)));
+    let (lo, hi) = (lo / 1.3, hi * 1.3);
+    (0..=60).map(|k| lo * (hi / lo).powf(k as f64 / 60.0)).collect()
+}
+
+/// Sea-level air pressure (Pa): the ambient of Kinney & Graham's fit and of the `air` preset.
+const SEA_LEVEL_PA: f64 = 101_325.0;
+
+/// Kinney & Graham's free-air TNT curve (`crate::analysis::airblast::overpressure`) as an
+/// absolute peak pressure (MPa, the overpressure plus sea-level air), the measure the gauges'
+/// peaks are, over the scaled distances of `peaks`.
+fn kinney_graham_curve(peaks: &[(f64, f64, String)]) -> Vec<(String, Vec<(f64, f64)>)> {
+    let zs = curve_span(peaks);
+    if zs.is_empty() {
+        return Vec::new();
+    }
+    let pts = zs.iter().map(|&z| (z, (crate::analysis::airblast::overpressure(z) + SEA_LEVEL_PA) / 1e6)).collect();
+    vec![("Kinney & Graham (1985) free-air TNT, peak overpressure + 101.325 kPa".to_string(), pts)]
+}
+
 /// The TM 5-855-1 loose dry sand curves (MPa against m/kg^⅓) for n = 3 and 3.25, fully coupled
 /// (f = 1), over the scaled distances of `peaks` (and a little beyond).
 fn tm5_855_1_curves(peaks: &[(f64, f64, String)]) -> Vec<(String, Vec<(f64, f64)>)> {
-    let zs: Vec<f64> = peaks.iter().map(|p| p.0).filter(|z| z.is_finite() && *z > 0.0).collect();
-    let (lo, hi) = zs.iter().fold((f64::INFINITY, 0.0f64), |a, z| (a.0.min(*z), a.1.max(*z)));
+    let zs = curve_span(peaks);
     if zs.is_empty() {
         return Vec::new();
     }
     let (rho_c, ns) = TM_LOOSE_DRY_SAND;
-    let (lo, hi) = (lo / 1.3, hi * 1.3);
     ns.iter()
         .map(|&n| {
-            let pts = (0..=60)
-                .map(|k| lo * (hi / lo).powf(k as f64 / 60.0))
-                .map(|z| (z, tm5_855_1_mpa(z, 1.0, rho_c, n)))
-                .collect();
+            let pts = zs.iter().map(|&z| (z, tm5_855_1_mpa(z, 1.0, rho_c, n))).collect();
             (format!("TM 5-855-1 (1986) loose dry sand, f = 1, ρc = {rho_c} psi/(ft/s), n = {n}"), pts)
         })
         .collect()
