@@ -293,6 +293,7 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
         put(root, "sph", "pressure_form", toml::Value::String("interface".into()))?;
         changed = true;
     }
+    let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
     if get(root, "sph", "jitter").is_none() {
         // gas dynamics in 2D plane and 3D: break the lattice's mirror symmetry about a point blast, or
         // its rows of particles along the symmetry lines run ahead of the front as jets
@@ -300,14 +301,12 @@ fn resolve_defaults(root: &mut toml::Table) -> Result<bool> {
         // their exact lattice (their results as validated), and so does axisymmetric geometry (its
         // blasts sit on the axis, a mirror by construction; no jets measured from the exact lattice)
         let dim = root.get("dim").and_then(|v| v.as_integer()).unwrap_or(0);
-        let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
         put(root, "sph", "jitter", toml::Value::Float(if gas && dim >= 2 && !rz { GAS_JITTER } else { 0.0 }))?;
         changed = true;
     }
     // gas dynamics in RZ: Price's conductivity. Without it the front near the axis lagged 4 %
     // and a converging shock heated the axis 1.9-fold (docs/axis_results.md, "The conductivity
     // in RZ"). Under the parity preset, or with another kind, as the case says
-    let rz = root.get("geometry").and_then(|v| v.as_str()) == Some("axisymmetric");
     let conductivity_given =
         get(root, "conductivity", "alpha").is_some() || get(root, "conductivity", "kind").is_some();
     if gas && rz && !conductivity_given && !parity {
