@@ -68,15 +68,16 @@ pub fn charge_mass_warnings(case: &Case, p: &Particles, region: &[u32]) -> Vec<S
 }
 
 /// A 2D plane point blast (`[analysis] kind = "sedov"`) grown past 50 spacings from its centre
-/// by the end, with the default h cap and no conductivity: one line, or None. The cap holds the
-/// deposit's h at 4 h0 while its neighbours are blown out of reach, so the deposit keeps heat the
+/// by the end, with the default h cap and no conductivity of either kind: one line, or None. The
+/// cap holds the deposit's h at 4 h0 while its neighbours are blown out of reach, so the deposit keeps heat the
 /// shock should carry, and the more so the finer the lattice: the case file's blast peaks at
 /// 0.994 of the exact radius at 104² (33 spacings) and 0.965 at 208² (66); with the conductivity
-/// (which leaves the cap out) 0.991 and 0.990 (docs/validation.md, "Sedov–Taylor in 2D: resolution").
+/// (which leaves the cap out) 0.991 and 0.990, and with the book's artificial heat (cap on) 0.991 at
+/// 208² (docs/validation.md, "Sedov–Taylor in 2D: resolution").
 /// The radius and Δx are the report's (`sedov_edge::sedov_end_radius`: its energy, ambient density
 /// and finest spacing).
 pub fn stranded_deposit_warning(case: &Case) -> Option<String> {
-    if case.dim != 2 || case.geometry == Geometry::Axisymmetric || case.conductivity.alpha > 0.0 {
+    if case.dim != 2 || case.geometry == Geometry::Axisymmetric || case.conductivity.on() {
         return None;
     }
     let cap = case.sph.h_max_ratio?;

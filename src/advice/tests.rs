@@ -93,6 +93,9 @@ fn a_2d_point_blast_grown_past_50_spacings_with_the_h_cap_warns() {
     assert!(w.as_deref().is_some_and(|l| l.contains("55 spacings") && l.contains("[conductivity] alpha = 1")), "{w:?}");
     // with the conductivity (no cap by default) or no cap, no warning
     assert!(stranded(0.3, "[conductivity]\nalpha = 1.0\n").is_none());
+    // the book's artificial heat carries the deposit's heat with the cap on
+    assert!(stranded(0.3, "[conductivity]\nkind = \"noh\"\n").is_none());
+    assert!(stranded(0.3, "[conductivity]\nkind = \"noh\"\ng1 = 0.0\ng2 = 0.0\n").is_some());
     assert!(stranded(0.3, "[sph]\nsmoothing = \"constant\"\n").is_none());
 }
 
