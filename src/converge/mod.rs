@@ -70,11 +70,42 @@ pub struct Figure {
     pub estimate: Option<gci::Estimate>,
     /// Why there is no estimate.
     pub note: Option<String>,
+    /// The exact value of a verification figure (1 for a ratio to the exact solution, 0 for an
+    /// error norm); None for the figures of a scene.
+    pub exact: Option<f64>,
+    /// Whether |value − exact| falls (or stays) at each refinement; None without an exact value or
+    /// without a value at every level.
+    pub error_falls: Option<bool>,
+}
+
+/// The figures of a verification problem (`[analysis]`, summary.json's `verification`): its key,
+/// label and exact value. A ratio to the exact solution is exact at 1, an error norm at 0.
+const VERIFICATION: [(&str, &str, f64); 7] = [
+    ("shock_radius_peak_ratio", "shock radius (peak) / exact", 1.0),
+    ("shock_radius_half_ratio", "shock radius (half) / exact", 1.0),
+    ("axis_shock_radius_peak_ratio", "axis shock radius / exact", 1.0),
+    ("equator_shock_radius_peak_ratio", "equator shock radius / exact", 1.0),
+    ("shock_distance_ratio", "shock position / exact", 1.0),
+    ("l1_rho_relative", "L1(rho) / jump", 0.0),
+    ("l1_p_taylor_relative", "L1(p) / p_CJ", 0.0),
+];
+
+/// The exact value of the figure under `key` (`verification.NAME`), if it is one of
+/// [`VERIFICATION`].
+fn exact_of(key: &str) -> Option<f64> {
+    let name = key.strip_prefix("verification.")?;
+    VERIFICATION.iter().find(|v| v.0 == name).map(|v| v.2)
+}
+
+/// Whether |v − exact| never grows from one level to the next (coarse to fine).
+fn error_falls(values: &[f64], exact: f64) -> bool {
+    values.windows(2).all(|w| (w[1] - exact).abs() <= (w[0] - exact).abs())
 }
 
 /// The headline figures of one run's summary.json, as (key, label, SI unit, value): the crater's
 /// diameter, depth and (3D) volume, the dome (the ground surface's highest rise), the ejecta
-/// height, and each gauge's peak, impulse and (when reached) arrival.
+/// height, each gauge's peak, impulse and (when reached) arrival, and a verification problem's
+/// figures against its exact solution ([`VERIFICATION`]).
 pub fn figures_of(summary: &Value) -> Vec<(String, String, String, f64)> {
     let mut out = Vec::new();
     let mut put = |key: &str, label: &str, unit: &str, v: Option<f64>| {
@@ -101,6 +132,9 @@ pub fn figures_of(summary: &Value) -> Vec<(String, String, String, f64)> {
         );
         put(&format!("gauges.{name}.arrival_s"), &format!("gauge {name} arrival"), "s", g["arrival_s"].as_f64());
     }
+    for (name, label, _) in VERIFICATION {
+        put(&format!("verification.{name}"), label, "1", summary["verification"][name].as_f64());
+    }
     out
 }
 
@@ -124,7 +158,8 @@ pub fn estimate_all(dx: &[f64], per_level: &[Vec<(String, String, String, f64)>]
                 (None, Some("not measured at every level".to_string()))
             } else if n >= 3 {
                 let v: Vec<f64> = values.iter().flatten().copied().collect();
-                let est = gci::three([dx[n - 1], dx[n - 2], dx[n - 3]], [v[n - 1], v[n - 2], v[n - 3]]);
+                let to_zero = exact_of(&key) == Some(0.0);
+                let est = gci::three_for([dx[n - 1], dx[n - 2], dx[n - 3]], [v[n - 1], v[n - 2], v[n - 3]], to_zero);
                 (est, None)
             } else if n == 2 {
                 let v: Vec<f64> = values.iter().flatten().copied().collect();
@@ -133,7 +168,10 @@ pub fn estimate_all(dx: &[f64], per_level: &[Vec<(String, String, String, f64)>]
                 (None, Some("one level: no estimate".to_string()))
             };
             let note = note.or_else(|| estimate.is_none().then(|| "the spacings do not shrink".to_string()));
-            Figure { key, label, unit, values, estimate, note }
+            let exact = exact_of(&key);
+            let all: Option<Vec<f64>> = values.iter().copied().collect();
+            let error_falls = exact.zip(all).map(|(x, v)| error_falls(&v, x));
+            Figure { key, label, unit, values, estimate, note, exact, error_falls }
         })
         .collect()
 }
@@ -269,7 +307,7 @@ pub fn table(case: &str, levels: &[Level], figures: &[Figure]) -> String {
     }
     let heads: Vec<String> = levels.iter().map(|l| format!("k={}", l.k)).collect();
     s += &format!(
-        "{:<24} {:>7} {} {:>7} {:>12} {:>9}  {}\n",
+        "{:<28} {:>7} {} {:>7} {:>12} {:>9}  {}\n",
         "figure",
         "unit",
         heads.iter().map(|h| format!("{h:>11}")).collect::<String>(),
@@ -291,7 +329,12 @@ pub fn table(case: &str, levels: &[Level], figures: &[Figure]) -> String {
             ),
             None => ("-".into(), "-".into(), "-".into(), f.note.clone().unwrap_or_default()),
         };
-        s += &format!("{:<24} {u:>7} {vals} {order:>7} {ext:>12} {g:>9}  {verdict}\n", f.label);
+        let verdict = match f.error_falls {
+            Some(true) => format!("error falls at each level; {verdict}"),
+            Some(false) => format!("ERROR GROWS with refinement; {verdict}"),
+            None => verdict,
+        };
+        s += &format!("{:<28} {u:>7} {vals} {order:>7} {ext:>12} {g:>9}  {verdict}\n", f.label);
     }
     s
 }
@@ -370,6 +413,11 @@ pub fn report_lines(run_dir: &Path) -> Vec<String> {
                 f["note"].as_str().or(e["not_asymptotic"].as_str()).unwrap_or("undetermined")
             ),
         };
+        let line = match f["error_falls"].as_bool() {
+            Some(true) => format!("{line}; its error falls at each level"),
+            Some(false) => format!("{line}; its ERROR GROWS with refinement"),
+            None => line,
+        };
         out.push(line);
     }
     out
@@ -400,5 +448,23 @@ mod tests {
         let per = vec![f(17.0), Vec::new(), f(2.0)];
         let fig = estimate_all(&[4.0, 2.0, 1.0], &per);
         assert!(fig[0].estimate.is_none() && fig[0].note.is_some());
+    }
+
+    /// A verification figure says whether its error falls with refinement: the 2D Sedov radius at
+    /// the defaults (1.015, 0.994, 0.965 of exact) does not; its L1(ρ) (12.7, 7.9, 4.8 %) does.
+    #[test]
+    fn a_verification_figure_says_whether_its_error_falls() {
+        let s = |r: f64, l1: f64| json!({"verification": {"shock_radius_peak_ratio": r, "l1_rho_relative": l1}});
+        let per: Vec<_> =
+            [(1.015, 0.127), (0.994, 0.079), (0.965, 0.048)].iter().map(|&(r, l)| figures_of(&s(r, l))).collect();
+        let fig = estimate_all(&[4.0, 2.0, 1.0], &per);
+        let get = |k: &str| fig.iter().find(|f| f.key == k).unwrap();
+        assert_eq!(get("verification.shock_radius_peak_ratio").error_falls, Some(false));
+        assert_eq!(get("verification.l1_rho_relative").error_falls, Some(true));
+        assert_eq!(get("verification.l1_rho_relative").exact, Some(0.0));
+        assert!(table("t", &[], &fig).contains("ERROR GROWS"));
+        // a scene's figure has no exact value
+        let per = vec![figures_of(&json!({"gauges": [{"name": "A", "peak_pa": 1.0}]})); 3];
+        assert_eq!(estimate_all(&[4.0, 2.0, 1.0], &per)[0].error_falls, None);
     }
 }
