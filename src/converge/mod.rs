@@ -159,7 +159,7 @@ pub fn estimate_all(dx: &[f64], per_level: &[Vec<(String, String, String, f64)>]
             } else if n >= 3 {
                 let v: Vec<f64> = values.iter().flatten().copied().collect();
                 let to_zero = exact_of(&key) == Some(0.0);
-                let est = gci::three_for([dx[n - 1], dx[n - 2], dx[n - 3]], [v[n - 1], v[n - 2], v[n - 3]], to_zero);
+                let est = gci::three([dx[n - 1], dx[n - 2], dx[n - 3]], [v[n - 1], v[n - 2], v[n - 3]], to_zero);
                 (est, None)
             } else if n == 2 {
                 let v: Vec<f64> = values.iter().flatten().copied().collect();
