@@ -117,6 +117,10 @@ impl Scratch {
     }
 }
 
+/// One probe: its name (`x(2)` for a component), the vocabulary name it perturbs, and the columns
+/// it changed, by file.
+type Probe = (String, String, BTreeMap<String, Vec<usize>>);
+
 /// The output routine and the buffers of its arguments, filled from the state.
 struct Call<'a> {
     lib: &'a LegacyLib,
@@ -155,12 +159,7 @@ impl Call<'_> {
     /// The columns each probe changes: for every per-particle argument (each component of a
     /// vector) and real scalar, the routine called with it perturbed (v → 1.25 v + 0.5; an
     /// integer + 1). Returns (probe name, vocabulary name) → changed columns by file.
-    fn probe(
-        &self,
-        base: &BTreeMap<String, Table>,
-        dim: usize,
-        n: usize,
-    ) -> Result<Vec<(String, String, BTreeMap<String, Vec<usize>>)>> {
+    fn probe(&self, base: &BTreeMap<String, Table>, dim: usize, n: usize) -> Result<Vec<Probe>> {
         let mut out = Vec::new();
         for (k, b) in self.r.bindings.iter().enumerate() {
             let stride = b.shape.stride(dim);
@@ -279,7 +278,7 @@ fn report(
     r: &RoutineInfo,
     (step, time, n): (usize, f64, usize),
     base: &BTreeMap<String, Table>,
-    probes: &[(String, String, BTreeMap<String, Vec<usize>>)],
+    probes: &[Probe],
 ) -> Result<(String, Value)> {
     if base.is_empty() {
         return Err(input(format!("legacy {}: the output routine wrote no file", r.name)));
