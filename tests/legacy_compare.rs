@@ -161,3 +161,55 @@ fn bad_input_is_one_line_and_exit_status_2() {
     // a missing program file
     refused(&s.run, &s.build, &scratch("compare_empty_program"), "compare_missing", &["no final_state.dat"]);
 }
+
+#[test]
+fn the_books_three_files_at_eight_digits_are_equal_at_the_digits_written() {
+    // the fixture with tests/legacy_extra/output_book.f in place of its output.f: f_xv.dat,
+    // f_state.dat and f_other.dat in ../data, written with e14.8
+    let d = variant("compare_book_fixture", |m| format!("{m}{OUTPUT}"));
+    std::fs::remove_file(d.join("output.f")).unwrap();
+    std::fs::copy(root().join("tests/legacy_extra/output_book.f"), d.join("output_book.f")).unwrap();
+    let build = d.join("build");
+    blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the book-style variant builds");
+    let prog = d.join("prog");
+    std::fs::create_dir_all(prog.join("work")).unwrap();
+    std::fs::create_dir_all(prog.join("data")).unwrap();
+    let mut child = Command::new(build.join("program"))
+        .current_dir(prog.join("work"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .spawn()
+        .expect("the program starts");
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+    }
+    assert!(child.wait().unwrap().success());
+    let run = d.join("run");
+    let b = build.to_str().unwrap();
+    let args = ["run", "shock_tube", "--legacy", b, "--compat", "liu-book", "--set", "time.end_s=0.2"];
+    blastsph_ok(&[&args[..], &["--out", run.to_str().unwrap(), "--quiet"]].concat(), 0);
+    let out = scratch("compare_book");
+    let (code, so, se) = compare(&run, &build, &prog.join("data"), &out);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert!(so.contains("equal at the 8 digits written"), "{so}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
+    assert_eq!(r["digits"], 8);
+    let files = r["files"].as_array().unwrap();
+    let fields = |name: &str| -> Vec<(String, String)> {
+        let f = files.iter().find(|f| f["file"] == format!("../data/{name}")).unwrap_or_else(|| panic!("{name}: {r}"));
+        f["columns"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| (c["field"].as_str().unwrap().to_string(), c["status"].as_str().unwrap().to_string()))
+            .collect()
+    };
+    let named = |name: &str| fields(name).into_iter().map(|(f, _)| f).collect::<Vec<_>>();
+    assert_eq!(named("f_xv.dat"), ["", "x", "vx"]);
+    assert_eq!(named("f_state.dat"), ["", "mass", "rho", "p", "u", "c"]);
+    assert_eq!(named("f_other.dat"), ["", "itype", "hsml"]);
+    // the sound speed is not in particles.h5: its column is named and left out
+    assert_eq!(fields("f_state.dat")[5].1, "not in particles.h5");
+    assert!(so.contains("not in particles.h5"), "{so}");
+}
