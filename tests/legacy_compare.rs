@@ -158,6 +158,23 @@ fn bad_input_is_one_line_and_exit_status_2() {
     let bad = scratch("compare_bad_token");
     std::fs::write(bad.join("final_state.dat"), text.replacen("\n      3 ", "\n      3x ", 1)).unwrap();
     refused(&s.run, &s.build, &bad, "compare_bad", &["final_state.dat", "line 4", "`3x`"]);
+    // a frame the run does not have
+    let o = blastsph(&[
+        "legacy",
+        "compare",
+        s.run.to_str().unwrap(),
+        "--legacy",
+        s.build.to_str().unwrap(),
+        "--program-out",
+        s.prog.to_str().unwrap(),
+        "--step",
+        "99",
+        "--out",
+        scratch("compare_step").to_str().unwrap(),
+    ]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!((o.status.code(), se.lines().count()), (Some(2), 1), "{se}");
+    assert!(se.contains("--step 99") && se.contains("Step#0 to Step#10"), "{se}");
     // a missing program file
     refused(&s.run, &s.build, &scratch("compare_empty_program"), "compare_missing", &["no final_state.dat"]);
 }
