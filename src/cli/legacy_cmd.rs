@@ -66,9 +66,27 @@ pub enum LegacyCmd {
         #[arg(last = true, value_name = "ARGS")]
         args: Vec<String>,
     },
+    /// Your program's own output against a run: your output routine (module "output") writes the
+    /// run's state in its own format, compared file by file, column by column; DIR/compare.json
+    Compare {
+        /// The run folder (particles.h5, case.toml) of `run --legacy`
+        run: PathBuf,
+        /// The `legacy build` folder of your code
+        #[arg(long, value_name = "DIR")]
+        legacy: PathBuf,
+        /// The folder where your program wrote its output files
+        #[arg(long = "program-out", value_name = "DIR")]
+        program_out: PathBuf,
+        /// The particles.h5 group Step#N to compare (default: the last)
+        #[arg(long, value_name = "N")]
+        step: Option<usize>,
+        /// Where compare.json and the run's files in your format go (default: runs/<run folder name>_compare)
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
 }
 
-/// `blastsph legacy build`, `blastsph legacy ledger` and `blastsph legacy host`.
+/// `blastsph legacy build`, `ledger`, `host` and `compare`.
 pub(super) fn legacy(cmd: LegacyCmd) -> Result<i32> {
     match cmd {
         LegacyCmd::Build { manifest, out } => {
@@ -99,6 +117,9 @@ pub(super) fn legacy(cmd: LegacyCmd) -> Result<i32> {
             }
             println!("written: {}, {}", out.join("build.json").display(), out.join("build.log").display());
             Ok(0)
+        }
+        LegacyCmd::Compare { run, legacy, program_out, step, out } => {
+            super::legacy_compare::compare(run, legacy, program_out, step, out)
         }
         LegacyCmd::Host { case, legacy, compat, rust_outputs, out, sets, case_dir, args } => {
             threads(Some(1))?;

@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 mod folders;
 mod legacy_cmd;
+mod legacy_compare;
 mod ranks;
 mod runs;
 mod validate_cmd;

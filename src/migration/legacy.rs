@@ -104,7 +104,7 @@ pub struct Legacy {
 pub(crate) type HostFill = Box<dyn FnOnce(&mut Particles, &mut Work) + Send>;
 
 /// The book's type code of an EOS kind.
-fn book_code(kind: &str) -> Option<i32> {
+pub(crate) fn book_code(kind: &str) -> Option<i32> {
     match kind {
         "ideal_gas" => Some(1),
         "water" => Some(2),

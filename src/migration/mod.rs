@@ -8,6 +8,7 @@
 pub mod attach;
 pub mod bind;
 pub mod builder;
+pub mod compare;
 pub mod compat;
 pub mod ffi;
 pub mod host_ffi;
