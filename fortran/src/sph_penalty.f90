@@ -1,7 +1,7 @@
 !-----------------------------------------------------------------------
 !  sph_penalty: interface force between materials (thesis 4-53, 4-54,
 !  docs/theory.md s.10).  For a pair whose materials are in
-!  different penalty groups:
+!  different penalty groups, neither of them exempt (a group < 0):
 !     pe = (h_i + h_j) / (2 r_ij);  while pe > 1 (repulsive):
 !     PB_ij = Pbar (pe^n1 - pe^n2) x_ij / r_ij^2
 !     dv_i/dt += PB_ij / m_i,  dv_j/dt -= PB_ij / m_j
@@ -41,6 +41,7 @@ contains
       i = pair_i(k) + 1
       j = pair_j(k) + 1
       if (group(mat(i) + 1) == group(mat(j) + 1)) cycle
+      if (group(mat(i) + 1) < 0 .or. group(mat(j) + 1) < 0) cycle
       r2 = 0.0d0
       do d = 1, dim
         dx(d) = x(d, i) - x(d, j)

@@ -6,6 +6,9 @@ use crate::param::EosKind;
 use crate::param::row::{CMP_C, CMP_CRHO, CMP_N, CMP_P, CMP_RHO, CMP_RMAX0, E1, ECHEM, RHO0, UNR_C, UNR_GAMMA, UNR_S};
 use serde::Deserialize;
 
+/// The penalty group of a material that feels no penalty force with any other (4-53).
+pub const PENALTY_EXEMPT: &str = "none";
+
 /// One material: its equation of state and, for soils, its strength. A `preset` fills in the keys
 /// the table does not give (`crate::presets`).
 #[derive(Debug, Clone, Deserialize)]
@@ -21,7 +24,7 @@ pub struct MaterialCfg {
     /// Specific internal energy at the start (J/kg) for regions of this material that give none.
     pub e0_jkg: Option<f64>,
     /// Materials with the same penalty group feel no penalty force between them
-    /// (default: each material its own group).
+    /// (default: each material its own group); [`PENALTY_EXEMPT`] feels none with any material.
     pub penalty_group: Option<String>,
 }
 

@@ -69,6 +69,8 @@ pub fn material_table(case: &Case) -> MatTable {
         }
         let gname = mc.penalty_group.clone().unwrap_or_else(|| format!("\u{0}{}", mc.name));
         group[m] = match groups.iter().position(|g| *g == gname) {
+            // exempt: no penalty force with any material
+            _ if gname == crate::case::PENALTY_EXEMPT => -1,
             Some(k) => k as i32,
             None => {
                 groups.push(gname);

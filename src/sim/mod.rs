@@ -235,8 +235,8 @@ impl Sim {
             if j < cnt.len() {
                 cnt[j] += 1;
             }
-            if multi && j < n && self.cfg.mt.group[self.p.mat[i] as usize] != self.cfg.mt.group[self.p.mat[j] as usize]
-            {
+            let (gi, gj) = (self.cfg.mt.group[self.p.mat[i] as usize], self.cfg.mt.group[self.p.mat[j] as usize]);
+            if multi && j < n && gi != gj && gi >= 0 && gj >= 0 {
                 let mut r2 = 0.0;
                 for d in 0..dim {
                     let dx = self.p.x[d + dim * i] - self.p.x[d + dim * j];

@@ -1,5 +1,5 @@
 //! Penalty force between materials (thesis (4-53), (4-54); docs/theory.md §10): for a pair in different
-//! penalty groups, pe = (h_i + h_j)/(2 r_ij); while pe > 1,
+//! penalty groups, neither exempt (group < 0, `penalty_group = "none"`), pe = (h_i + h_j)/(2 r_ij); while pe > 1,
 //! PB_ij = P̄ (pe^{n1} − pe^{n2}) x_ij / r_ij², a_i += PB_ij/m_i, a_j −= PB_ij/m_j (m/s²).
 //! Integer powers as products. Fortran twin: `sph_penalty.f90`.
 
@@ -88,14 +88,29 @@ impl Stage for PenaltyStage {
     }
 }
 
-/// Runs when the case has a `[penalty]` and its regions use more than one penalty group.
+/// Runs when the case has a `[penalty]` and its regions use more than one penalty group that is
+/// not exempt.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
-    let used: std::collections::BTreeSet<i32> =
-        case.regions.iter().filter_map(|r| case.material_index(&r.material)).map(|m| ctx.mt.group[m]).collect();
+    let used: std::collections::BTreeSet<i32> = case
+        .regions
+        .iter()
+        .filter_map(|r| case.material_index(&r.material))
+        .map(|m| ctx.mt.group[m])
+        .filter(|&g| g >= 0)
+        .collect();
+    let mut exempt: Vec<&str> = case
+        .regions
+        .iter()
+        .filter_map(|r| case.material_index(&r.material))
+        .filter(|&m| ctx.mt.group[m] < 0)
+        .map(|m| case.materials[m].name.as_str())
+        .collect();
+    exempt.dedup();
+    let none = if exempt.is_empty() { String::new() } else { format!("; none on {}", exempt.join(", ")) };
     match &case.penalty {
         Some(p) if used.len() > 1 => Contribution::run(
-            format!("{} penalty groups", used.len()),
+            format!("{} penalty groups{none}", used.len()),
             vec![(
                 Phase::Rates,
                 Box::new(PenaltyStage {
@@ -106,7 +121,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
                 }),
             )],
         ),
-        Some(_) => Contribution::skip("one material group: nothing to push apart"),
+        Some(_) => Contribution::skip("one material group (besides those exempt): nothing to push apart"),
         None => Contribution::skip("no [penalty]"),
     }
 }

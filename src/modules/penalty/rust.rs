@@ -14,7 +14,8 @@ pub(super) fn force(a: &mut Force) {
     let (pi, pj) = (&pl.i, &pl.j);
     let pair = |k: usize| -> Option<([f64; 3], f64, f64)> {
         let (i, j) = (pi[k] as usize, pj[k] as usize);
-        if mt.group[mat[i] as usize] == mt.group[mat[j] as usize] {
+        let (gi, gj) = (mt.group[mat[i] as usize], mt.group[mat[j] as usize]);
+        if gi == gj || gi < 0 || gj < 0 {
             return None;
         }
         let mut dx = [0.0; 3];
