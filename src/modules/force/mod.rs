@@ -28,6 +28,8 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+#[cfg(test)]
+mod shear;
 mod newtonian;
 mod rust;
 
