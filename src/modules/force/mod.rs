@@ -30,7 +30,7 @@ mod ffi;
 mod parity;
 #[cfg(test)]
 mod shear;
-mod newtonian;
+pub(crate) mod newtonian;
 mod rust;
 
 use super::nnps::PairList;
