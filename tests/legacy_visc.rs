@@ -74,3 +74,18 @@ fn the_books_physical_viscosity_is_compared_at_zero_ulp_and_run_as_its_program_r
     eprintln!("the viscosity moved the velocity of {moved} of {} particles", prog.len());
     assert_run_ends_as(&b, cs, "liu-book", &prog, "visc_run");
 }
+
+/// The physical viscosity in axisymmetric geometry, and a negative η: each refused in one line,
+/// exit status 2.
+#[test]
+fn misplaced_physical_viscosity_is_refused_in_one_line() {
+    for (case, set, needle) in [
+        ("cases/underwater_tnt_rz.toml", "material.water.dynamic_viscosity_pa_s=1.0e-3", "axisymmetric"),
+        ("cases/shock_tube.toml", "material.gas.dynamic_viscosity_pa_s=-1.0", "dynamic_viscosity_pa_s"),
+    ] {
+        let o = blastsph(&["check", case, "--set", set]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{set}: {err}");
+        assert!(err.contains(needle) && err.lines().count() == 1, "{set}: {err}");
+    }
+}
