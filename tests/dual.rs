@@ -85,6 +85,7 @@ name = "water"
 eos = { kind = "water", rho0_kgm3 = 1000.0, a1_pa = 2.19e9, a2_pa = 9.224e9, a3_pa = 8.767e9, b0 = 0.4934, b1 = 1.3937, c0_ms = 1480.0 }
 e0_jkg = 357.1
 pmin_pa = -1.0e5
+dynamic_viscosity_pa_s = 1.0e-3
 
 [[material]]
 name = "sand"
@@ -291,6 +292,28 @@ fn dual_every_module_on_a_synthetic_case() {
         // every module but the axisymmetric geometry's hoop terms (a plane case; tests/rz3d.rs)
         let plane: Vec<Module> = Module::ALL.iter().copied().filter(|m| *m != Module::Geometry).collect();
         assert_eq!(modules, names(&plane), "modules compared ({nnps})");
+    }
+}
+
+/// The physical viscosity (`force.newtonian`): the 1D shock tube with a viscous gas (0.1 mPa s;
+/// at 50 mPa s its fixed 5 ms step exceeds the viscous limit ρh²/(8η) and the run blows up), and the 2D
+/// synthetic case (its water at 1 mPa s, every other module on); the stage is compared at 0 ULP.
+#[test]
+fn dual_newtonian_viscosity_at_zero_ulp() {
+    let dir = tempfile::tempdir().unwrap();
+    let synthetic = write_all_modules(dir.path());
+    for (what, path, sets) in [
+        ("1D", shock_tube(), vec!["material.gas.dynamic_viscosity_pa_s=1.0e-4".to_string()]),
+        ("2D", synthetic, vec![]),
+    ] {
+        let out = dir.path().join(what);
+        std::fs::create_dir_all(&out).unwrap();
+        let c = case::load(&path, &sets).expect("the case loads");
+        let code = cli::dual_run(c, &Overrides::default(), 12, &out).expect("dual run");
+        assert_eq!(code, 0, "{what}: exit status of a dual run within tolerance");
+        check_report(&out.join("dual_report.json"), 12);
+        let report = std::fs::read_to_string(out.join("dual_report.json")).unwrap();
+        assert!(report.contains("force.newtonian"), "{what}: no force.newtonian row");
     }
 }
 

@@ -60,6 +60,9 @@ void sph_force_internal(int dim, int ntotal, int npair, const int *pair_i, const
                         const double *p, const double *v, int ntau, const double *tau,
                         int eform, int pform, int nrinv, const double *rinv, double *dvdt,
                         double *dedt);
+void sph_force_newtonian(int dim, int ntotal, int npair, const int *pair_i, const int *pair_j,
+                         const double *dwdx, const double *mass, const double *rho,
+                         const double *v, const double *eta, double *dvdt, double *dedt);
 
 /* viscosity (sph_viscosity.f90) */
 void sph_viscosity_monaghan(int dim, int ntotal, int npair, const int *pair_i,

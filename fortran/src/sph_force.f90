@@ -32,7 +32,7 @@ module sph_force
   use sph_param
   implicit none
   private
-  public :: sph_force_internal
+  public :: sph_force_internal, sph_force_newtonian
 
   integer, parameter :: iv(3, 3) = reshape([1, 4, 5, 4, 2, 6, 5, 6, 3], [3, 3])
 
@@ -141,5 +141,95 @@ contains
       end if
     end do
   end subroutine sph_force_internal
+
+  !---------------------------------------------------------------------
+  !  sph_force_newtonian: the physical (Newtonian) viscosity of Liu &
+  !  Liu's book (int_force with visc on, pa_sph = 2), in its order.
+  !  Per particle the shear strain rate (1/s), dv = v_j - v_i:
+  !     eps_i^ab = sum_j m_j/rho_j (dv^a dW/dx_i^b + dv^b dW/dx_i^a
+  !                - 2/3 delta^ab dv.grad_i W)
+  !  (per pair 2/3 (2 dv_a w_a - sum_{c /= a} dv_c w_c) for ab = aa,
+  !  dv_a w_b + dv_b w_a else; t += (m_j h)/rho_j at i, (m_i h)/rho_i
+  !  at j); the viscous heating (J/kg/s)
+  !     de_i/dt = ((1/2 eta_i)/rho_i) eps_i:eps_i
+  !  (eps:eps = xx^2 + 2xy^2 + 2xz^2 + yy^2 + 2yz^2 + zz^2, the book's
+  !  order); the acceleration (m/s^2)
+  !     dv_i^a/dt = sum_j m_j (eta_i eps_i^ab/rho_i^2
+  !                 + eta_j eps_j^ab/rho_j^2) dW/dx_i^b
+  !  (b ascending from 0, + m_j f at i, - m_i f at j).  eta: the dynamic
+  !  viscosity (Pa s) of every particle.
+  !---------------------------------------------------------------------
+  subroutine sph_force_newtonian(dim, ntotal, npair, pair_i, pair_j, dwdx, mass, rho, v, eta, &
+      dvdt, dedt) bind(C, name="sph_force_newtonian")
+    integer(c_int), value :: dim, ntotal, npair
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair)
+    real(c_double), intent(in) :: dwdx(dim, npair), mass(ntotal), rho(ntotal), v(dim, ntotal), &
+                                  eta(ntotal)
+    real(c_double), intent(out) :: dvdt(dim, ntotal), dedt(ntotal)
+    real(c_double), allocatable :: t(:, :)
+    real(c_double) :: dv(3), hs(nstr), f, s, ri2, rj2
+    integer :: i, j, k, a, b, q
+
+    allocate(t(nstr, ntotal))
+    t = 0.0d0
+    dvdt = 0.0d0
+    dedt = 0.0d0
+    hs = 0.0d0
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      do a = 1, dim
+        dv(a) = v(a, j) - v(a, i)
+      end do
+      if (dim == 1) then
+        hs(1) = 2.0d0*dv(1)*dwdx(1, k)
+      else if (dim == 2) then
+        hs(1) = 2.0d0*dv(1)*dwdx(1, k) - dv(2)*dwdx(2, k)
+        hs(4) = dv(1)*dwdx(2, k) + dv(2)*dwdx(1, k)
+        hs(2) = 2.0d0*dv(2)*dwdx(2, k) - dv(1)*dwdx(1, k)
+      else
+        hs(1) = 2.0d0*dv(1)*dwdx(1, k) - dv(2)*dwdx(2, k) - dv(3)*dwdx(3, k)
+        hs(4) = dv(1)*dwdx(2, k) + dv(2)*dwdx(1, k)
+        hs(5) = dv(1)*dwdx(3, k) + dv(3)*dwdx(1, k)
+        hs(2) = 2.0d0*dv(2)*dwdx(2, k) - dv(1)*dwdx(1, k) - dv(3)*dwdx(3, k)
+        hs(6) = dv(2)*dwdx(3, k) + dv(3)*dwdx(2, k)
+        hs(3) = 2.0d0*dv(3)*dwdx(3, k) - dv(1)*dwdx(1, k) - dv(2)*dwdx(2, k)
+      end if
+      do a = 1, dim
+        hs(a) = (2.0d0/3.0d0)*hs(a)
+      end do
+      do q = 1, nstr
+        t(q, i) = t(q, i) + mass(j)*hs(q)/rho(j)
+        t(q, j) = t(q, j) + mass(i)*hs(q)/rho(i)
+      end do
+    end do
+    do i = 1, ntotal
+      if (dim == 1) then
+        s = t(1, i)*t(1, i)
+      else if (dim == 2) then
+        s = t(1, i)*t(1, i) + 2.0d0*t(4, i)*t(4, i) + t(2, i)*t(2, i)
+      else
+        s = t(1, i)*t(1, i) + 2.0d0*t(4, i)*t(4, i) + 2.0d0*t(5, i)*t(5, i) + t(2, i)*t(2, i) &
+            + 2.0d0*t(6, i)*t(6, i) + t(3, i)*t(3, i)
+      end if
+      dedt(i) = 0.5d0*eta(i)/rho(i)*s
+    end do
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      ri2 = rho(i)*rho(i)
+      rj2 = rho(j)*rho(j)
+      do a = 1, dim
+        f = 0.0d0
+        do b = 1, dim
+          q = iv(a, b)
+          f = f + (eta(i)*t(q, i)/ri2 + eta(j)*t(q, j)/rj2)*dwdx(b, k)
+        end do
+        dvdt(a, i) = dvdt(a, i) + mass(j)*f
+        dvdt(a, j) = dvdt(a, j) - mass(i)*f
+      end do
+    end do
+    deallocate(t)
+  end subroutine sph_force_newtonian
 
 end module sph_force

@@ -26,6 +26,9 @@ pub struct MaterialCfg {
     /// Materials with the same penalty group feel no penalty force between them
     /// (default: each material its own group); [`PENALTY_EXEMPT`] feels none with any material.
     pub penalty_group: Option<String>,
+    /// Dynamic viscosity η (Pa s) of the physical (Newtonian) viscosity, `force.newtonian`
+    /// (docs/reference/cases.md). Absent or 0: none.
+    pub dynamic_viscosity_pa_s: Option<f64>,
 }
 
 /// The keys of a `[[material]]` table once its preset is merged in.
@@ -39,6 +42,7 @@ struct MaterialFields {
     pmin_pa: Option<f64>,
     e0_jkg: Option<f64>,
     penalty_group: Option<String>,
+    dynamic_viscosity_pa_s: Option<f64>,
 }
 
 impl TryFrom<toml::Table> for MaterialCfg {
@@ -74,6 +78,7 @@ impl TryFrom<toml::Table> for MaterialCfg {
             pmin_pa: f.pmin_pa,
             e0_jkg: f.e0_jkg,
             penalty_group: f.penalty_group,
+            dynamic_viscosity_pa_s: f.dynamic_viscosity_pa_s,
         })
     }
 }

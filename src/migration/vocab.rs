@@ -181,7 +181,7 @@ pub const TERMS: &[Term] = &[
     t!("e", &[], Real, Particle, NB, "J/kg", "total specific energy (the book never sets it): a work array", Out, "time_integration"),
     t!("s", &[], Real, Particle, NB, "J/(kg K)", "entropy (not used by the book): a work array", InOut, "single_step, time_integration"),
     t!("t", &["temp"], Real, Particle, NB, "K", "temperature (not used by the book): a work array", InOut, "int_force, single_step"),
-    t!("eta", &[], Real, Particle, NB, "Pa s", "dynamic viscosity (blastsph: none, zeros)", InOut, "viscosity (out), int_force (in)"),
+    t!("eta", &[], Real, Particle, NB, "Pa s", "dynamic viscosity, a work array (blastsph: the materials' dynamic_viscosity_pa_s, read by force.newtonian; not compared)", InOut, "viscosity (out), int_force (in)"),
     t!("burn", &["bf", "lambda"], Real, Particle, NB, "-", "burn fraction of a programmed burn, 0..1 (Particles::burn)", InOut, "thesis codes"),
     // deviatoric stress and its rates (thesis codes), each component its own array
     t!("sxx", &[], Real, Particle, NB, "Pa", "deviatoric stress xx, Particles::tau[0 + 6*i]", InOut, "thesis codes"),
@@ -219,7 +219,7 @@ pub const TERMS: &[Term] = &[
       "single_step, time_integration"),
     t!("avdudt", &[], Real, Particle, NB, "J/(kg s)", "energy rate of the artificial viscosity (its term of Work::dde)", Out, "single_step"),
     t!("ahdudt", &[], Real, Particle, NB, "J/(kg s)", "energy rate of the artificial heat (the conductivity's term of Work::dde, conductivity.noh)", Out, "single_step"),
-    t!("tdsdt", &[], Real, Particle, NB, "J/(kg s)", "viscous entropy production T ds/dt (blastsph: none)", Out, "int_force"),
+    t!("tdsdt", &[], Real, Particle, NB, "J/(kg s)", "viscous heating T ds/dt = η/(2ρ) ε:ε, added by int_force to dedt (blastsph: the energy term of force.newtonian; not compared on its own)", Out, "int_force"),
     t!("ds", &[], Real, Particle, NB, "J/(kg K s)", "entropy rate (not used by the book): a work array", Out, "single_step"),
     t!("av", &[], Real, ParticleVec, NB, "m/s", "averaged-velocity (XSPH) correction, Work::av", Out, "av_vel, single_step"),
     t!("dx", &[], Real, ParticleVec, NB, "m/s", "dx/dt (never set by the book): a work array; in each_pair calls the pair's separation", Out,

@@ -119,9 +119,9 @@ c       viscous entropy production  T ds/dt = eta/(2 rho) T_ab T_ab
             tdsdt(i) = sxx(i)*sxx(i) + 2.e0*sxy(i)*sxy(i)
      &                 + syy(i)*syy(i)
           else
-            tdsdt(i) = sxx(i)*sxx(i) + syy(i)*syy(i) + szz(i)*szz(i)
-     &                 + 2.e0*sxy(i)*sxy(i) + 2.e0*sxz(i)*sxz(i)
-     &                 + 2.e0*syz(i)*syz(i)
+            tdsdt(i) = sxx(i)*sxx(i) + 2.e0*sxy(i)*sxy(i)
+     &                 + 2.e0*sxz(i)*sxz(i) + syy(i)*syy(i)
+     &                 + 2.e0*syz(i)*syz(i) + szz(i)*szz(i)
           endif
           tdsdt(i) = 0.5e0*eta(i)/rho(i)*tdsdt(i)
         endif

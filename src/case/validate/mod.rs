@@ -452,6 +452,13 @@ impl Case {
             if let Some(g) = &m.penalty_group {
                 v.name(&at, "penalty_group", g)?;
             }
+            v.opt(&at, "dynamic_viscosity_pa_s", m.dynamic_viscosity_pa_s, Range::within(0.0, 1.0e6))?;
+            if m.dynamic_viscosity_pa_s.is_some_and(|e| e > 0.0) && self.axisymmetric() {
+                return Err(input(format!(
+                    "{}: the physical viscosity has no axisymmetric form (drop the key or use a plane case)",
+                    at.key("dynamic_viscosity_pa_s")
+                )));
+            }
         }
         Ok(())
     }

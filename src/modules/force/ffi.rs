@@ -1,7 +1,7 @@
 //! The Fortran twin of the internal force (`sph_force_internal`).
 #![allow(unsafe_code)]
 
-use super::Internal;
+use super::{Internal, Newtonian};
 use crate::modules::ffi_util::{chk, chk_opt, chk_pairs, n32, ptr_or};
 use crate::modules::param::NSTR;
 
@@ -44,6 +44,36 @@ pub(super) fn internal(a: &mut Internal) {
             i32::from(a.iface),
             n32(nrinv),
             ptr_or(a.rinv, &dummy),
+            a.dvdt.as_mut_ptr(),
+            a.dedt.as_mut_ptr(),
+        )
+    }
+}
+
+pub(super) fn newtonian(a: &mut Newtonian) {
+    let (dim, pl) = (a.dim, a.pairs);
+    let nt = a.mass.len();
+    chk("dwdx", a.dwdx.len(), dim * pl.len());
+    chk("v", a.v.len(), dim * nt);
+    chk("rho", a.rho.len(), nt);
+    chk("eta", a.eta.len(), nt);
+    chk("dvdt", a.dvdt.len(), dim * nt);
+    chk("dedt", a.dedt.len(), nt);
+    chk_pairs(&pl.i, &pl.j, nt);
+    // SAFETY: the arrays hold the values the explicit shapes declare and every pair index is in
+    // 0..ntotal (checked above).
+    unsafe {
+        sys::sph_force_newtonian(
+            n32(dim),
+            n32(nt),
+            n32(pl.len()),
+            pl.i.as_ptr(),
+            pl.j.as_ptr(),
+            a.dwdx.as_ptr(),
+            a.mass.as_ptr(),
+            a.rho.as_ptr(),
+            a.v.as_ptr(),
+            a.eta.as_ptr(),
             a.dvdt.as_mut_ptr(),
             a.dedt.as_mut_ptr(),
         )

@@ -18,10 +18,19 @@
 //! (σ_i + σ_j)/(ρ_i ρ_j) for σ_i/ρ_i² + σ_j/ρ_j², and p_i/(ρ_i ρ_j) for the asymmetric p_i/ρ_i²: at
 //! an interface between phases 10³ apart in density the light side's term no longer carries the
 //! heavy neighbour's mass over its own density squared. Fortran twin: `sph_force.f90`.
+//!
+//! The physical (Newtonian) viscosity of Liu & Liu's book (2003, `int_force` with `visc`), a stage of its own (`force.newtonian`) where a material has
+//! `dynamic_viscosity_pa_s` η > 0. Per particle the shear strain rate (1/s)
+//! ε_i^{αβ} = Σ_j (m_j/ρ_j) (v_j^α − v_i^α) ∂W_ij/∂x_i^β + (α↔β) − (2/3) δ^{αβ} (v_j − v_i)·∇_i W_ij,
+//! then Dv_i^α/Dt = Σ_j m_j (η_i ε_i^{αβ}/ρ_i² + η_j ε_j^{αβ}/ρ_j²) ∂W_ij/∂x_i^β (m/s²) and the
+//! viscous heating De_i/Dt = (η_i/(2ρ_i)) ε_i^{αβ} ε_i^{αβ} (J/kg/s). Plane geometry only.
 
 mod ffi;
 #[cfg(test)]
 mod parity;
+#[cfg(test)]
+mod shear;
+pub(crate) mod newtonian;
 mod rust;
 
 use super::nnps::PairList;
@@ -57,6 +66,78 @@ impl Twin for Internal<'_> {
     }
     fn fortran(&mut self) {
         ffi::internal(self)
+    }
+}
+
+/// `sph_force_newtonian`: the physical viscosity's acceleration and heating (ntotal =
+/// `mass.len()`).
+pub struct Newtonian<'a> {
+    pub dim: usize,
+    pub pairs: &'a PairList,
+    pub dwdx: &'a [f64],
+    pub mass: &'a [f64],
+    pub rho: &'a [f64],
+    pub v: &'a [f64],
+    /// Dynamic viscosity η (Pa s) per particle, ntotal.
+    pub eta: &'a [f64],
+    /// Acceleration (m/s²), dim × ntotal.
+    pub dvdt: &'a mut [f64],
+    /// Energy rate (J/kg/s), ntotal.
+    pub dedt: &'a mut [f64],
+}
+
+impl Twin for Newtonian<'_> {
+    fn rust(&mut self) {
+        newtonian::newtonian(self)
+    }
+    fn fortran(&mut self) {
+        ffi::newtonian(self)
+    }
+}
+
+/// The physical viscosity's terms of the rate sums; η per material (Pa s), indexed by `mat`.
+pub struct NewtonianStage {
+    pub(crate) slots: Slots,
+    pub(crate) eta_mat: Vec<f64>,
+}
+
+impl Stage for NewtonianStage {
+    fn module(&self) -> Module {
+        Module::Force
+    }
+    fn name(&self) -> &'static str {
+        "force.newtonian"
+    }
+    fn reads(&self) -> &[Field] {
+        &[Field::PairI, Field::PairJ, Field::Dwdx, Field::Mass, Field::Mat, Field::Rho, Field::V]
+    }
+    fn writes(&self) -> &[Field] {
+        &[Field::Acc, Field::Dde]
+    }
+    fn prepare(&self, p: &mut Particles, w: &mut Work) {
+        self.slots.size(w, p.dim, p.ntotal);
+    }
+    fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
+        let (dim, nt) = (p.dim, p.ntotal);
+        let eta: Vec<f64> = p.mat[..nt].iter().map(|&m| self.eta_mat[m as usize]).collect();
+        Newtonian {
+            dim,
+            pairs: &w.pairs,
+            dwdx: &w.dwdx,
+            mass: &p.mass[..nt],
+            rho: &p.rho[..nt],
+            v: &p.v[..dim * nt],
+            eta: &eta,
+            dvdt: &mut w.acc[self.slots.acc_range(dim * nt)],
+            dedt: &mut w.dde[self.slots.de_range(nt)],
+        }
+        .run(b);
+    }
+    fn terms(&self) -> Terms {
+        Terms { acc: Some(6), de: Some(4) }
+    }
+    fn assign(&mut self, slots: Slots) {
+        self.slots = slots;
     }
 }
 
@@ -137,5 +218,11 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         if iface { ", interface pressure form (Colagrossi & Landrini)" } else { "" }
     );
     let stage = ForceStage { slots: Slots::default(), rz, asym, iface };
+    let eta_mat: Vec<f64> = ctx.case.materials.iter().map(|m| m.dynamic_viscosity_pa_s.unwrap_or(0.0)).collect();
+    if eta_mat.iter().any(|&e| e > 0.0) {
+        let why = format!("{why}, physical viscosity (eta = {eta_mat:?} Pa s)");
+        let visc = NewtonianStage { slots: Slots::default(), eta_mat };
+        return Contribution::run(why, vec![(Phase::Rates, Box::new(stage)), (Phase::Rates, Box::new(visc))]);
+    }
     Contribution::run(why, vec![(Phase::Rates, Box::new(stage))])
 }

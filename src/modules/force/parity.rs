@@ -1,6 +1,6 @@
 //! Parity of the internal force, fluid and with a deviatoric stress, 1D to 3D.
 
-use super::Internal;
+use super::{Internal, Newtonian};
 use crate::modules::testkit::*;
 
 #[test]
@@ -40,5 +40,24 @@ fn force_internal_fluid_and_with_tau() {
                 nonzero(&tag, &acc);
             }
         }
+    }
+}
+
+#[test]
+fn force_newtonian_viscosity() {
+    for (dim, seed) in clouds(83) {
+        let cl = cloud(dim, side(dim), seed);
+        let pl = pairs(&cl, 2.0);
+        let (_, dwdx) = kernel_values(&cl, &pl);
+        // a water-like η on two of three particles, 0 (a gas) on the rest
+        let eta: Vec<f64> = cl.mat.iter().map(|&m| if m % 3 == 0 { 0.0 } else { 1.0e-3 * f64::from(1 + m % 3) }).collect();
+        let tag = format!("force::newtonian {dim}D seed {seed}");
+        let sz = [sentinel(dim * cl.nt), sentinel(cl.nt)];
+        let [acc, de] = parity(&tag, 0, ["dvdt", "dedt"], sz, |b, [dvdt, dedt]| {
+            let (mass, rho, v) = (&cl.mass, &cl.rho, &cl.v);
+            run(Newtonian { dim, pairs: &pl, dwdx: &dwdx, mass, rho, v, eta: &eta, dvdt, dedt }, b)
+        });
+        nonzero(&tag, &acc);
+        nonzero(&tag, &de);
     }
 }
