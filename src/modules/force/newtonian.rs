@@ -22,8 +22,8 @@ const fn comps(dim: usize) -> &'static [usize] {
     }
 }
 
-/// The strain-rate sums of the physical viscosity, shared with the book's `int_force` of
-/// `--compat` (`migration::compat::force`).
+/// The strain-rate sums of the physical viscosity, shared with the book-order force of the
+/// `liu-book` compat profile.
 pub(crate) struct Strain<'a> {
     pub pl: &'a PairList,
     pub dwdx: &'a [f64],
