@@ -1,5 +1,6 @@
 //! One figure of a converge ladder as a PNG: its value at each level against the spacing, the
-//! Richardson-extrapolated value at zero spacing, and the finest value's GCI as an error bar.
+//! Richardson-extrapolated value at zero spacing, the finest value's GCI as an error bar, and the
+//! exact value of a verification figure as a dashed line.
 
 use crate::error::{Result, SphError};
 use plotters::prelude::*;
@@ -17,6 +18,8 @@ pub struct FigurePlot<'a> {
     pub pts: &'a [(f64, f64)],
     pub extrapolated: Option<f64>,
     pub gci: Option<f64>,
+    /// The exact value of a verification figure.
+    pub exact: Option<f64>,
 }
 
 /// Draws `f` into `path` (900 × 560).
@@ -27,6 +30,7 @@ pub fn draw(path: &Path, f: &FigurePlot) -> Result<()> {
     let bar = f.gci.filter(|g| g.is_finite()).map(|g| g * finest.1.abs());
     let mut ys: Vec<f64> = f.pts.iter().map(|p| p.1).collect();
     ys.extend(f.extrapolated.filter(|v| v.is_finite()));
+    ys.extend(f.exact);
     if let Some(b) = bar {
         ys.extend([finest.1 - b, finest.1 + b]);
     }
@@ -66,6 +70,13 @@ pub fn draw(path: &Path, f: &FigurePlot) -> Result<()> {
             .map_err(perr)?
             .label("Richardson extrapolation (zero spacing)")
             .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 6, red.filled()));
+    }
+    if let Some(e) = f.exact {
+        let green = RGBColor(0, 140, 0);
+        ch.draw_series(DashedLineSeries::new([(-0.05 * xmax, e), (xmax, e)], 8, 5, green.stroke_width(2)))
+            .map_err(perr)?
+            .label("exact")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], green.stroke_width(2)));
     }
     // the legend in the right-hand corner away from the coarsest level's point
     let coarse_low = f.pts.first().is_some_and(|p| p.1 < 0.5 * (lo + hi));

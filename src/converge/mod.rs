@@ -358,7 +358,7 @@ fn plots(out: &Path, case: &str, levels: &[Level], figures: &[Figure]) -> Result
         let name = format!("converge_{}.png", crate::rundir::sanitize(&f.key.replace('.', "_")));
         let path = out.join(name);
         let title = format!("{case}: {} against the spacing", f.label);
-        let ylabel = format!("{} ({u})", f.label);
+        let ylabel = if u.is_empty() { f.label.clone() } else { format!("{} ({u})", f.label) };
         let e = f.estimate.as_ref();
         figure_plot::draw(
             &path,
@@ -368,6 +368,7 @@ fn plots(out: &Path, case: &str, levels: &[Level], figures: &[Figure]) -> Result
                 pts: &pts,
                 extrapolated: e.map(|e| e.extrapolated * x),
                 gci: e.map(|e| e.gci_fine),
+                exact: f.exact.map(|v| v * x),
             },
         )?;
         files.push(path);
