@@ -99,6 +99,8 @@ impl Twin for Newtonian<'_> {
 pub struct NewtonianStage {
     pub(crate) slots: Slots,
     pub(crate) eta_mat: Vec<f64>,
+    /// η per particle, refilled each step (kept to spare the allocation).
+    pub(crate) eta: std::sync::Mutex<Vec<f64>>,
 }
 
 impl Stage for NewtonianStage {
@@ -119,7 +121,9 @@ impl Stage for NewtonianStage {
     }
     fn run(&self, b: Backend, p: &mut Particles, w: &mut Work, _k: &Clock) {
         let (dim, nt) = (p.dim, p.ntotal);
-        let eta: Vec<f64> = p.mat[..nt].iter().map(|&m| self.eta_mat[m as usize]).collect();
+        let mut eta = self.eta.lock().unwrap_or_else(|e| e.into_inner());
+        eta.clear();
+        eta.extend(p.mat[..nt].iter().map(|&m| self.eta_mat[m as usize]));
         Newtonian {
             dim,
             pairs: &w.pairs,
@@ -221,7 +225,7 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let eta_mat: Vec<f64> = ctx.case.materials.iter().map(|m| m.dynamic_viscosity_pa_s.unwrap_or(0.0)).collect();
     if eta_mat.iter().any(|&e| e > 0.0) {
         let why = format!("{why}, physical viscosity (eta = {eta_mat:?} Pa s)");
-        let visc = NewtonianStage { slots: Slots::default(), eta_mat };
+        let visc = NewtonianStage { slots: Slots::default(), eta_mat, eta: Default::default() };
         return Contribution::run(why, vec![(Phase::Rates, Box::new(stage)), (Phase::Rates, Box::new(visc))]);
     }
     Contribution::run(why, vec![(Phase::Rates, Box::new(stage))])

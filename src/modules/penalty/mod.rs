@@ -92,21 +92,12 @@ impl Stage for PenaltyStage {
 /// not exempt.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
-    let used: std::collections::BTreeSet<i32> = case
-        .regions
-        .iter()
-        .filter_map(|r| case.material_index(&r.material))
-        .map(|m| ctx.mt.group[m])
-        .filter(|&g| g >= 0)
-        .collect();
-    let mut exempt: Vec<&str> = case
-        .regions
-        .iter()
-        .filter_map(|r| case.material_index(&r.material))
-        .filter(|&m| ctx.mt.group[m] < 0)
-        .map(|m| case.materials[m].name.as_str())
-        .collect();
-    exempt.dedup();
+    // the groups in use, and the exempt materials (group < 0) by name, each once
+    let mats: std::collections::BTreeSet<usize> =
+        case.regions.iter().filter_map(|r| case.material_index(&r.material)).collect();
+    let used: std::collections::BTreeSet<i32> = mats.iter().map(|&m| ctx.mt.group[m]).filter(|&g| g >= 0).collect();
+    let exempt: Vec<&str> =
+        mats.iter().filter(|&&m| ctx.mt.group[m] < 0).map(|&m| case.materials[m].name.as_str()).collect();
     let none = if exempt.is_empty() { String::new() } else { format!("; none on {}", exempt.join(", ")) };
     match &case.penalty {
         Some(p) if used.len() > 1 => Contribution::run(
