@@ -242,3 +242,26 @@ fn an_inviscid_strong_shock_that_interpenetrates_stops() {
         "{e}"
     );
 }
+
+/// A viscous gas (η = 50 mPa s) in the shock tube under the CFL step: the diffusion limit
+/// ρh²/(8η) holds the step, so the run ends stable, in more steps than the inviscid run's. A step
+/// near the inviscid one (9.5e-4 s, fixed) blows up at step 10 with this η.
+#[test]
+fn a_viscous_gas_keeps_the_diffusion_step_limit() {
+    let tube = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/shock_tube.toml");
+    let steps = |eta: f64| {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let opts = RunOptions {
+            out: Some(dir.path().to_path_buf()),
+            quiet: true,
+            sets: vec!["time.step=\"cfl\"".into(), format!("material.gas.dynamic_viscosity_pa_s={eta}")],
+            ..Default::default()
+        };
+        let r = runner::run(&tube, &opts).expect("the run");
+        assert_eq!(r.summary["status"], "ok", "eta {eta}: {}", r.summary["diagnostic"]);
+        r.summary["steps"].as_u64().expect("steps")
+    };
+    let (inviscid, viscous) = (steps(0.0), steps(0.05));
+    // ρh²/(8η) with ρ ≤ 1 kg/m³, h = 0.015 m: at most 5.6e-4 s, against 9.5e-4 s inviscid
+    assert!(viscous > 5 * inviscid, "steps {viscous} (viscous) against {inviscid} (inviscid)");
+}

@@ -171,7 +171,8 @@ void sph_integrator_advance(int dim, int n, int ntau, int first, double dt_prev,
                             const double *av, double *x);
 void sph_integrator_cfl(int dim, int n, double cfl, const double *h, const double *c,
                         const double *v, const double *dv, int nmu, double kv,
-                        const double *mumax, double *dt);
+                        const double *mumax, int neta, const double *eta, const int *mat,
+                        const double *rho, double *dt);
 void sph_integrator_efloor(int n, const double *mass, double *e, double *added);
 void sph_integrator_clamp(int n, double lo, double hi, double *rho);
 

@@ -15,7 +15,9 @@
 !  dam-break time_integration of G.R. Liu and M.B. Liu (2003) does (kg/m^3).
 !  cfl: dt = C min_i min( h_i/(c_i + |v_i| + kv mumax_i), sqrt(h_i/|a_i|) ),
 !  kv mumax_i the signal speed of the viscosity's beta term (nmu = n), or
-!  no such term (nmu = 0).
+!  no such term (nmu = 0); then, where a material has a physical viscosity
+!  eta (neta > 0), dt = min(dt, min_i 0.125 rho_i h_i^2/eta_i), the diffusion
+!  limit of Morris, Fox and Zhu (1997), in particle order.
 !-----------------------------------------------------------------------
 module sph_integrator
   use iso_c_binding, only: c_int, c_double
@@ -133,14 +135,17 @@ contains
     end do
   end subroutine sph_integrator_advance
 
-  subroutine sph_integrator_cfl(dim, n, cfl, h, c, v, dv, nmu, kv, mumax, dt) &
-      bind(C, name="sph_integrator_cfl")
-    integer(c_int), value :: dim, n, nmu
+  subroutine sph_integrator_cfl(dim, n, cfl, h, c, v, dv, nmu, kv, mumax, neta, eta, mat, rho, &
+      dt) bind(C, name="sph_integrator_cfl")
+    integer(c_int), value :: dim, n, nmu, neta
     real(c_double), value :: cfl, kv
     real(c_double), intent(in) :: h(n), c(n), v(dim, n), dv(dim, n), mumax(max(nmu, 1))
+    real(c_double), intent(in) :: eta(max(neta, 1))
+    integer(c_int), intent(in) :: mat(*)
+    real(c_double), intent(in) :: rho(*)
     real(c_double), intent(out) :: dt
     integer :: i, d
-    real(c_double) :: vv, aa, tc, tf
+    real(c_double) :: vv, aa, tc, tf, tv
 
     dt = huge(1.0d0)
     do i = 1, n
@@ -162,6 +167,14 @@ contains
       end if
     end do
     dt = cfl*dt
+    if (neta > 0) then
+      do i = 1, n
+        if (eta(mat(i) + 1) > 0.0d0) then
+          tv = 0.125d0*rho(i)*h(i)*h(i)/eta(mat(i) + 1)
+          dt = min(dt, tv)
+        end if
+      end do
+    end if
   end subroutine sph_integrator_cfl
 
   subroutine sph_integrator_efloor(n, mass, e, added) bind(C, name="sph_integrator_efloor")

@@ -127,9 +127,16 @@ pub(super) fn cfl(a: &mut Cfl) {
     chk("v", a.v.len(), dim * n);
     chk("dv", a.dv.len(), dim * n);
     let nmu = chk_opt("mumax", a.mumax.len(), n, 1);
-    let dummy = 0.0;
+    let neta = a.eta.len();
+    if neta > 0 {
+        chk("mat", a.mat.len(), n);
+        chk("rho", a.rho.len(), n);
+        assert!(a.mat[..n].iter().all(|&m| (m as usize) < neta), "legacy call: mat out of eta's range");
+    }
+    let (dummy, idummy) = (0.0, 0i32);
     // SAFETY: h and c hold n values, v and dv dim × n, mumax n or none (a one-value dummy for the
-    // extent max(nmu, 1)) (checked above); dt is one value.
+    // extent max(nmu, 1)); eta neta values, mat and rho n each where neta > 0, else one-value
+    // dummies that the routine does not read (checked above); dt is one value.
     unsafe {
         sys::sph_integrator_cfl(
             n32(dim),
@@ -142,6 +149,10 @@ pub(super) fn cfl(a: &mut Cfl) {
             n32(nmu),
             a.kv,
             ptr_or(a.mumax, &dummy),
+            n32(neta),
+            ptr_or(a.eta, &dummy),
+            if neta > 0 { a.mat.as_ptr() } else { &idummy },
+            if neta > 0 { a.rho.as_ptr() } else { &dummy },
             a.dt,
         )
     }

@@ -8,6 +8,8 @@
 //! With a fixed step this is Liu's scheme exactly. CFL (s):
 //! Δt = C min_i min(h_i/(c_i + |v_i| + k_v mumax_i), √(h_i/|a_i|)), k_v mumax_i the signal speed
 //! of the viscosity's β term (k_v = 1.2 β, Monaghan 1992; `time.viscous_step`) or none.
+//! Where a material has a physical viscosity η (Pa s), the step is also at most the diffusion
+//! limit Δt ≤ min_i ρ_i h_i²/(8 η_i) = 0.125 h²/ν of Morris, Fox & Zhu (1997), not scaled by C.
 //! The floor e_i ← max(e_i, 0) after the advance (`sph.e_floor`) returns the energy it adds,
 //! Σ_i m_i max(0, −e_i) (J; per metre of depth in 2D), which the solver books in the energy
 //! balance (theory.md §14).
@@ -98,6 +100,12 @@ pub struct Cfl<'a> {
     pub kv: f64,
     /// Largest |μ_ij| per particle (m/s), or empty (no viscous signal speed).
     pub mumax: &'a [f64],
+    /// The physical viscosity η per material (Pa s), or empty (no viscous diffusion limit).
+    pub eta: &'a [f64],
+    /// Material index per particle (into `eta`), read only with `eta`.
+    pub mat: &'a [i32],
+    /// Density per particle (kg/m³), read only with `eta`.
+    pub rho: &'a [f64],
     /// The step (s).
     pub dt: &'a mut f64,
 }
@@ -208,8 +216,9 @@ pub(crate) fn size_leapfrog(p: &Particles, w: &mut Work) {
 pub(crate) enum Which {
     Sum,
     Predict,
-    /// The Courant number and the weight of the viscous signal speed (None: without it).
-    Cfl(f64, Option<f64>),
+    /// The Courant number, the viscous signal speed's weight (None: without it), and η per material (Pa s; empty
+    /// where no material has a physical viscosity).
+    Cfl(f64, Option<f64>, Vec<f64>),
     Advance,
     Efloor,
     /// The density clamp's bounds (kg/m³), after the predict (true) or after the advance.
@@ -247,8 +256,10 @@ impl Stage for IntegratorStage {
         match self.which {
             Which::Sum => &[Field::Acc, Field::Dde],
             Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau],
-            Which::Cfl(_, None) => &[Field::H, Field::C, Field::V, Field::Dv],
-            Which::Cfl(_, Some(_)) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
+            Which::Cfl(_, None, ref eta) if eta.is_empty() => &[Field::H, Field::C, Field::V, Field::Dv],
+            Which::Cfl(_, None, _) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Rho],
+            Which::Cfl(_, Some(_), ref eta) if eta.is_empty() => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
+            Which::Cfl(_, Some(_), _) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Rho, Field::Mumax],
             Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
             Which::Efloor => &[Field::Mass, Field::E],
             Which::Clamp(..) => &[Field::Rho],
@@ -289,13 +300,14 @@ impl Stage for IntegratorStage {
                 let (lf, rates, _, _) = parts(p, w);
                 Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates }.run(b);
             }
-            Which::Cfl(cfl, kv) => {
+            Which::Cfl(cfl, kv, ref eta) => {
                 let (h, c, v) = (&p.h[..n], &p.c[..n], &p.v[..dim * n]);
                 let (kv, mumax) = match kv {
                     Some(k) => (k, &w.mumax[..n]),
                     None => (0.0, &[][..]),
                 };
-                Cfl { dim, cfl, h, c, v, dv: &w.dv, kv, mumax, dt: &mut w.dt_cfl[0] }.run(b);
+                let (mat, rho) = (&p.mat[..n], &p.rho[..n]);
+                Cfl { dim, cfl, h, c, v, dv: &w.dv, kv, mumax, eta, mat, rho, dt: &mut w.dt_cfl[0] }.run(b);
             }
             Which::Efloor => Efloor { mass: &p.mass[..n], e: &mut p.e[..n], added: &mut w.efloor[0] }.run(b),
             Which::Clamp(lo, hi, _) => Clamp { lo, hi, rho: &mut p.rho[..n] }.run(b),
@@ -346,7 +358,14 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         if kv.is_some() {
             why += " with the viscous signal speed";
         }
-        stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl, kv))));
+        let eta: Vec<f64> = case.materials.iter().map(|m| m.dynamic_viscosity_pa_s.unwrap_or(0.0)).collect();
+        let eta = if eta.iter().any(|&e| e > 0.0) {
+            why += ", at most rho h^2/(8 eta)";
+            eta
+        } else {
+            Vec::new()
+        };
+        stages.push((Phase::StepSize, st(Which::Cfl(case.time.cfl, kv, eta))));
     }
     stages.push((Phase::Advance, st(Which::Advance)));
     if let Some((lo, hi)) = clamp {

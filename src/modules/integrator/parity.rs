@@ -125,16 +125,27 @@ fn integrator_cfl() {
             let cfl = g.range(0.1, 0.4);
             // without and with the viscous signal speed (largest |μ| per particle, m/s)
             let mu = g.vec(n, 0.0, 3000.0);
+            // three materials, the first inviscid; η large enough in some trials to set the step
+            let eta = [0.0, 10f64.powf(g.range(-4.0, 2.0)), 10f64.powf(g.range(-4.0, 2.0))];
+            let mat: Vec<i32> = (0..n).map(|i| (i % 3) as i32).collect();
+            let rho = g.vec(n, 1.0, 3000.0);
             let mut steps = Vec::new();
-            for (kv, mumax) in [(0.0, &[][..]), (12.0, &mu[..])] {
-                let tag = format!("integrator::cfl {dim}D trial {trial} kv {kv}");
+            for (kv, mumax, eta) in [(0.0, &[][..], &[][..]), (12.0, &mu[..], &[][..]), (12.0, &mu[..], &eta[..])] {
+                let tag = format!("integrator::cfl {dim}D trial {trial} kv {kv} eta {}", eta.len());
                 let [f] = parity(&tag, 0, ["dt"], [sentinel(1)], |b, [dt]| {
-                    run(Cfl { dim, cfl, h: &h, c: &c, v: &v, dv: &dv, kv, mumax, dt: &mut dt[0] }, b)
+                    let (mat, rho) = (&mat[..], &rho[..]);
+                    run(Cfl { dim, cfl, h: &h, c: &c, v: &v, dv: &dv, kv, mumax, eta, mat, rho, dt: &mut dt[0] }, b)
                 });
                 assert!(f[0] > 0.0 && f[0].is_finite());
                 steps.push(f[0]);
             }
             assert!(steps[1] <= steps[0], "the viscous signal speed cannot lengthen the step");
+            // the diffusion limit: never longer, and exactly the smallest ρh²/(8η) where that binds
+            let tv = (0..n)
+                .filter(|&i| eta[mat[i] as usize] > 0.0)
+                .map(|i| 0.125 * rho[i] * h[i] * h[i] / eta[mat[i] as usize])
+                .fold(f64::MAX, f64::min);
+            assert_eq!(steps[2], steps[1].min(tv), "{dim}D trial {trial}");
         }
     }
 }

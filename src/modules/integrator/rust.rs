@@ -121,7 +121,7 @@ pub(super) fn advance(a: &mut Advance) {
 }
 
 pub(super) fn cfl(a: &Cfl) -> f64 {
-    let Cfl { dim, cfl, h, c, v, dv, kv, mumax, .. } = a;
+    let Cfl { dim, cfl, h, c, v, dv, kv, mumax, eta, mat, rho, .. } = a;
     let (dim, cfl, kv) = (*dim, *cfl, *kv);
     let with_mu = !mumax.is_empty();
     let n = h.len();
@@ -151,7 +151,20 @@ pub(super) fn cfl(a: &Cfl) -> f64 {
     let mins: Vec<f64> =
         if serial() { (0..nb).map(part).collect() } else { (0..nb).into_par_iter().map(part).collect() };
     let m = mins.into_iter().fold(f64::MAX, |a, b| if b < a { b } else { a });
-    cfl * m
+    let mut dt = cfl * m;
+    if !eta.is_empty() {
+        // the diffusion limit 0.125 h²/ν, ν = η/ρ, in index order as the Fortran takes it
+        for i in 0..n {
+            let e = eta[mat[i] as usize];
+            if e > 0.0 {
+                let tv = 0.125 * rho[i] * h[i] * h[i] / e;
+                if tv < dt {
+                    dt = tv;
+                }
+            }
+        }
+    }
+    dt
 }
 
 /// e_i = max(e_i, 0), in index order; the energy added Σ_i m_i max(0, −e_i), term by term as the
