@@ -66,7 +66,7 @@ fn dual_legacy_without_the_profile_names_each_difference() {
     // the kernel's single-precision 2/3 and the viscosity's order: named, item by item
     for (stage, field, item) in [
         ("legacy.kernel", "w", "kernel"),
-        ("legacy.sum_density", "rho", "literals"),
+        ("legacy.sum_density", "rho", "kernel_literals"),
         ("legacy.art_visc", "dde", "visc_energy"),
         ("legacy.int_force", "dde", "force_energy"),
     ] {
@@ -106,11 +106,11 @@ fn the_ledger_attributes_each_difference_to_its_item() {
     assert_eq!(get("profile")["particles_differing"], 0);
     assert_eq!(get("legacy")["steps"], 40);
     // the items this case exercises move the end state; the largest is the sound speed
-    for item in ["-literals", "-sound_speed", "-kernel", "-force_energy", "-visc_energy"] {
+    for item in ["-literals", "-kernel_literals", "-sound_speed", "-kernel", "-force_energy", "-visc_energy"] {
         assert!(num(item, "max_abs_rho") > 0.0 || num(item, "max_abs_e") > 0.0, "{item}: {so}");
     }
     assert!(num("-sound_speed", "max_abs_rho") > 1e-3, "{so}");
-    for item in ["-literals", "-kernel", "-force_energy", "-visc_energy"] {
+    for item in ["-literals", "-kernel_literals", "-kernel", "-force_energy", "-visc_energy"] {
         assert!(num(item, "max_abs_rho") < 1e-6, "{item}: {so}");
     }
     // items of what the case does not run (virtual particles, XSPH, the quintic kernel): no effect

@@ -1,6 +1,7 @@
 //! A legacy code with the book's physical viscosity (param.inc's `visc`, the routines `viscosity`
-//! and `int_force`): the fixture's gas given η = 1.0e-4 Pa s (param.inc's `eta_gas`), the case's
-//! gas `dynamic_viscosity_pa_s = 1.0e-4`. `int_force` stands for `eos.eval` and `force.internal`
+//! and `int_force`): the fixture's gas given η = 1.0e-4 Pa s (param.inc's `eta_gas`, a
+//! default-real literal as the book's water's 1.0e-3 is), the case's gas
+//! `dynamic_viscosity_pa_s = 1.0e-4`, which the item `literals` rounds the same way. `int_force` stands for `eos.eval` and `force.internal`
 //! of the book's profile, whose force then adds the viscous terms in the book's order; the dual
 //! run compares them at 0 ULP, and `run --legacy` ends in the state of the variant's own program,
 //! bit for bit.
@@ -25,7 +26,7 @@ fn visc_variant(name: &str) -> PathBuf {
     let mut new = text.clone();
     for (from, to) in [
         ("parameter (visc              = .false.)", "parameter (visc              = .true.)"),
-        ("parameter (eta_gas = 0.d0)", "parameter (eta_gas = 1.0d-4)"),
+        ("parameter (eta_gas = 0.d0)", "parameter (eta_gas = 1.0e-4)"),
     ] {
         assert!(new.contains(from), "{from}");
         new = new.replace(from, to);
@@ -54,6 +55,8 @@ fn the_books_physical_viscosity_is_compared_at_zero_ulp_and_run_as_its_program_r
     let so = blastsph_ok(&["check", cs, "--legacy", bs, "--compat", "liu-book"], 0);
     assert!(so.contains("physical viscosity"), "{so}");
     assert!(so.contains(&format!("2/3 = {}", f64::from(2.0f32 / 3.0f32))), "{so}");
+    // the case's η rounded to single precision by `literals`, as param.inc's literal is
+    assert!(so.contains(&format!("eta = [{:?}]", f64::from(1.0e-4f32))), "{so}");
     // dual: every mapped routine at 0 ULP over the 40 steps, int_force's rates with the viscosity
     let out = d.join("dual");
     let so = blastsph_ok(&["dual", cs, "--legacy", bs, "--compat", "liu-book", "--out", out.to_str().unwrap()], 0);

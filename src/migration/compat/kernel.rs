@@ -27,7 +27,7 @@ pub fn book(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, f: Flags, 
     if !f.has(Item::Kernel) || kind == KernelKind::Wendland {
         return w_dw(dim, kind, r, dx, h, dwdx);
     }
-    let lit = f.has(Item::Literals);
+    let lit = f.has(Item::KernelLiterals);
     let pi = if lit { single(PI) } else { PI };
     let q = r / h;
     let mut w = 0.0;

@@ -74,6 +74,7 @@ pub mod xsph;
 #[serde(rename_all = "snake_case")]
 pub enum Item {
     Literals,
+    KernelLiterals,
     SoundSpeed,
     Kernel,
     QuinticGradient,
@@ -98,8 +99,14 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
     (
         Item::Literals,
         "literals",
-        "kernel,viscosity,conductivity,eos,xsph,integrator,setup",
-        "single-precision literals: 2./3. and pi in the kernel, 0.01 in the artificial heat; the case's gamma, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
+        "force,conductivity,eos,viscosity,xsph,integrator,setup",
+        "single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
+    ),
+    (
+        Item::KernelLiterals,
+        "kernel_literals",
+        "kernel",
+        "the kernel's single-precision literals: 2./3. and pi (param.inc's pi) in the kernel's expressions (§0, §3)",
     ),
     (
         Item::SoundSpeed,
@@ -348,6 +355,9 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
     for m in &mut case.materials {
         if let EosCfg::IdealGas { gamma, .. } = &mut m.eos {
             *gamma = single(*gamma);
+        }
+        if let Some(eta) = m.dynamic_viscosity_pa_s.as_mut() {
+            *eta = single(*eta);
         }
     }
     let v = &mut case.viscosity;
