@@ -107,7 +107,8 @@ pub(crate) type HostFill = Box<dyn FnOnce(&mut Particles, &mut Work) + Send>;
 pub(crate) fn book_code(kind: &str) -> Option<i32> {
     match kind {
         "ideal_gas" => Some(1),
-        "water" => Some(2),
+        // the book's water: its Mie–Grüneisen kind and the Tait form of its p_art_water
+        "water" | "tait" => Some(2),
         _ => None,
     }
 }

@@ -100,7 +100,7 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         Item::Literals,
         "literals",
         "force,conductivity,eos,viscosity,xsph,integrator,setup",
-        "single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
+        "single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, gravity_ms2, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
     ),
     (
         Item::KernelLiterals,
@@ -363,6 +363,10 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
     let v = &mut case.viscosity;
     (v.alpha, v.beta, v.phi_over_h) = (single(v.alpha), single(v.beta), single(v.phi_over_h));
     case.sph.xsph_eps = single(case.sph.xsph_eps);
+    // the book's ext_force writes its gravity as the literal -9.8
+    if let Some(g) = case.physics.gravity_ms2.as_mut() {
+        g.iter_mut().for_each(|x| *x = single(*x));
+    }
     let c = &mut case.conductivity;
     if c.kind == crate::case::ConductivityKind::Noh {
         (c.g1, c.g2) = (Some(single(c.g1())), Some(single(c.g2())));

@@ -394,7 +394,9 @@ fn alone_writes(
             .filter(|m| !mods.contains(m) && modules.get(m).is_some_and(|p| p.active))
             .flat_map(|&m| fresh(m, ctx))
             .filter(|(_, s)| {
-                !s.writes().is_empty()
+                // a stage that only corrects what it reads (the density clamp) fits any
+                // routine that holds the field: no sign of a misplaced module
+                s.writes().iter().any(|f| !s.reads().contains(f))
                     && s.writes().iter().all(|f| argf.contains(f))
                     && s.reads().iter().all(|f| argf.contains(f) || IMPLIED.contains(f))
             })
