@@ -14,6 +14,9 @@
 //! The clamp ρ_i ← min(max(ρ_i, ρ_lo), ρ_hi) (kg/m³; `sph.density_clamp`) follows each density
 //! update of the leapfrog, the predict and the advance, as the dam-break `time_integration` of
 //! G.R. Liu and M.B. Liu (2003) does.
+//! Boundary particles (`bnd`, [`crate::case::BoundaryKind`]; Liu & Liu 2003's virtual particles):
+//! the advance moves neither kind; a held particle's ρ, e, v, τ keep their values through the
+//! predict and the advance (u_min is still saved). Their rates are computed and never applied.
 
 mod ffi;
 #[cfg(test)]
@@ -68,6 +71,8 @@ pub struct Predict<'a> {
     pub cont: bool,
     pub lf: Leapfrog<'a>,
     pub rates: Rates<'a>,
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// `sph_integrator_advance`: the staggered variables at t + Δt/2 and x at t + Δt.
@@ -83,6 +88,8 @@ pub struct Advance<'a> {
     /// The XSPH correction (dim × n), or empty.
     pub av: &'a [f64],
     pub x: &'a mut [f64],
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// `sph_integrator_cfl`: the CFL step of the first `h.len()` particles.
@@ -172,9 +179,12 @@ impl Twin for Cfl<'_> {
     }
 }
 
-/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off) and the
-/// positions of the real particles, borrowed from the state.
-fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>, &'a [f64], &'a mut [f64]) {
+/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off), the
+/// positions of the real particles and their boundary-particle kinds, borrowed from the state.
+type Parts<'a> = (Leapfrog<'a>, Rates<'a>, &'a [f64], &'a mut [f64], &'a [i32]);
+
+/// See [`Parts`].
+fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> Parts<'a> {
     let (dim, n) = (p.dim, p.nreal);
     let ntau = if p.tau.is_empty() { 0 } else { NSTR * n };
     let Work { rho_min, e_min, v_min, tau_min, drho, de, dv, dtau, av, .. } = w;
@@ -190,7 +200,7 @@ fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>,
     };
     let rates = Rates { drho: &drho[..n], de, dv, dtau: &dtau[..ntau] };
     let av: &[f64] = if av.is_empty() { &[] } else { &av[..dim * n] };
-    (lf, rates, av, &mut p.x[..dim * n])
+    (lf, rates, av, &mut p.x[..dim * n], &p.bnd)
 }
 
 /// Sizes the half-step values and the rates the leapfrog reads.
@@ -246,10 +256,12 @@ impl Stage for IntegratorStage {
     fn reads(&self) -> &[Field] {
         match self.which {
             Which::Sum => &[Field::Acc, Field::Dde],
-            Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau],
+            Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Bnd],
             Which::Cfl(_, None) => &[Field::H, Field::C, Field::V, Field::Dv],
             Which::Cfl(_, Some(_)) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
-            Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
+            Which::Advance => {
+                &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin, Field::Bnd]
+            }
             Which::Efloor => &[Field::Mass, Field::E],
             Which::Clamp(..) => &[Field::Rho],
         }
@@ -286,8 +298,8 @@ impl Stage for IntegratorStage {
                 SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: &mut w.de }.run(b);
             }
             Which::Predict => {
-                let (lf, rates, _, _) = parts(p, w);
-                Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates }.run(b);
+                let (lf, rates, _, _, bnd) = parts(p, w);
+                Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates, bnd }.run(b);
             }
             Which::Cfl(cfl, kv) => {
                 let (h, c, v) = (&p.h[..n], &p.c[..n], &p.v[..dim * n]);
@@ -301,8 +313,8 @@ impl Stage for IntegratorStage {
             Which::Clamp(lo, hi, _) => Clamp { lo, hi, rho: &mut p.rho[..n] }.run(b),
             Which::Advance => {
                 let (first, dt_prev, dt, cont) = (k.first, k.dt_prev, k.dt, self.cont);
-                let (lf, rates, av, x) = parts(p, w);
-                Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x }.run(b);
+                let (lf, rates, av, x, bnd) = parts(p, w);
+                Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x, bnd }.run(b);
             }
         }
     }
