@@ -555,6 +555,8 @@ pub struct Frame {
     pub ppv: Vec<f64>,
     /// Peak pressure so far (Pa); empty in files written before it was recorded.
     pub p_peak: Vec<f64>,
+    /// Boundary-particle kind (0 ordinary, 1 integrated, 2 held); empty without boundary particles.
+    pub bnd: Vec<i32>,
 }
 
 /// Opens a particles.h5 for reading and lists its `Step#N` groups by N (a file that cannot be
@@ -592,7 +594,9 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
             fr.mat.len(),
             fr.id.len(),
         ];
-        if lens.iter().any(|&l| l != n) || [fr.ppv.len(), fr.p_peak.len()].iter().any(|&l| l != 0 && l != n) {
+        if lens.iter().any(|&l| l != n)
+            || [fr.ppv.len(), fr.p_peak.len(), fr.bnd.len()].iter().any(|&l| l != 0 && l != n)
+        {
             return Err(crate::error::input(format!(
                 "{}: {name}: datasets of different lengths (damaged)",
                 path.display()
@@ -647,6 +651,11 @@ pub(crate) fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
         id: g.dataset("id").and_then(|d| d.read_raw::<i64>()).map_err(h5err)?,
         ppv: opt("ppv")?,
         p_peak: opt("p_peak")?,
+        bnd: if g.link_exists("bnd") {
+            g.dataset("bnd").and_then(|d| d.read_raw::<i32>()).map_err(h5err)?
+        } else {
+            Vec::new()
+        },
     })
 }
 

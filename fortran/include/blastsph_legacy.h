@@ -158,7 +158,7 @@ void sph_detonation_burn(int n, double t, const int *mat, int nmat, const double
 
 /* integrator (sph_integrator.f90) */
 void sph_integrator_sum_rates(int dim, int n, int lda, int nterm, const double *acc,
-                              const double *grav, double *dv);
+                              const double *grav, double *dv, int nbnd, const int *bnd);
 void sph_integrator_predict(int dim, int n, int ntau, double dt_prev, int cont, double *rho,
                             const double *drho, double *e, const double *de, double *v,
                             const double *dv, double *tau, const double *dtau, double *rho_min,

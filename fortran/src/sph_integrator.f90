@@ -31,16 +31,21 @@ module sph_integrator
 contains
 
   ! dv(d,i) = acc_1(d,i) + ... + acc_nterm(d,i) + grav(d); term t of the
-  ! stacked array holds (d,i) at acc(d + dim*(i-1), t)
-  subroutine sph_integrator_sum_rates(dim, n, lda, nterm, acc, grav, dv) &
+  ! stacked array holds (d,i) at acc(d + dim*(i-1), t); a boundary particle
+  ! (nbnd = n, bnd(i) /= 0) takes no gravity
+  subroutine sph_integrator_sum_rates(dim, n, lda, nterm, acc, grav, dv, nbnd, bnd) &
       bind(C, name="sph_integrator_sum_rates")
-    integer(c_int), value :: dim, n, lda, nterm
+    integer(c_int), value :: dim, n, lda, nterm, nbnd
+    integer(c_int), intent(in) :: bnd(max(nbnd, 1))
     real(c_double), intent(in) :: acc(lda, max(nterm, 1)), grav(dim)
     real(c_double), intent(out) :: dv(dim, n)
     integer :: i, d, t, l
     real(c_double) :: s
+    logical :: fixed
 
     do i = 1, n
+      fixed = .false.
+      if (nbnd > 0) fixed = bnd(i) /= 0
       do d = 1, dim
         l = d + dim*(i - 1)
         s = 0.0d0
@@ -48,7 +53,11 @@ contains
         do t = 2, nterm
           s = s + acc(l, t)
         end do
-        dv(d, i) = s + grav(d)
+        if (fixed) then
+          dv(d, i) = s
+        else
+          dv(d, i) = s + grav(d)
+        end if
       end do
     end do
   end subroutine sph_integrator_sum_rates

@@ -17,9 +17,10 @@ pub(super) fn sum_rates(a: &mut SumRates) {
     chk("grav", a.grav.len(), dim);
     chk("out", a.out.len(), dim * n);
     assert!(lda >= dim * n, "legacy call: lda too small");
+    let nbnd = chk_opt("bnd", a.bnd.len(), n, 1);
     let dummy = 0.0;
     // SAFETY: acc holds nterm × lda values (a one-value dummy when nterm = 0: the routine then
-    // reads none), grav dim, out dim × n (checked above).
+    // reads none), grav dim, out dim × n, bnd n or a one-value dummy (checked above).
     unsafe {
         sys::sph_integrator_sum_rates(
             n32(dim),
@@ -29,6 +30,8 @@ pub(super) fn sum_rates(a: &mut SumRates) {
             ptr_or(a.acc, &dummy),
             a.grav.as_ptr(),
             a.out.as_mut_ptr(),
+            n32(nbnd),
+            ptr_or(a.bnd, &0),
         )
     }
 }

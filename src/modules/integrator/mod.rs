@@ -16,7 +16,9 @@
 //! G.R. Liu and M.B. Liu (2003) does.
 //! Boundary particles (`bnd`, [`crate::case::BoundaryKind`]; Liu & Liu 2003's virtual particles):
 //! the advance moves neither kind; a held particle's ρ, e, v, τ keep their values through the
-//! predict and the advance (u_min is still saved). Their rates are computed and never applied.
+//! predict and the advance (u_min is still saved); the rate sum gives neither kind gravity (an
+//! integrated wall would otherwise fall with the fluid it holds). A held particle's rates are
+//! computed and never applied.
 
 mod ffi;
 #[cfg(test)]
@@ -28,8 +30,8 @@ use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Twin};
 use crate::case::{DensityKind, StepRule};
 use crate::state::{Clock, Field, Particles, Work};
 
-/// `sph_integrator_sum_rates`: `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks
-/// `nterm` arrays of `lda` values.
+/// `sph_integrator_sum_rates`: `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n, without grav(d)
+/// for a boundary particle (`bnd(i)` ≠ 0); `acc` stacks `nterm` arrays of `lda` values.
 pub struct SumRates<'a> {
     pub dim: usize,
     pub n: usize,
@@ -38,6 +40,8 @@ pub struct SumRates<'a> {
     pub acc: &'a [f64],
     pub grav: &'a [f64],
     pub out: &'a mut [f64],
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// The staggered leapfrog variables and their saved half-step values (τ empty without
@@ -255,7 +259,7 @@ impl Stage for IntegratorStage {
     }
     fn reads(&self) -> &[Field] {
         match self.which {
-            Which::Sum => &[Field::Acc, Field::Dde],
+            Which::Sum => &[Field::Acc, Field::Dde, Field::Bnd],
             Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Bnd],
             Which::Cfl(_, None) => &[Field::H, Field::C, Field::V, Field::Dv],
             Which::Cfl(_, Some(_)) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
@@ -294,8 +298,10 @@ impl Stage for IntegratorStage {
             Which::Sum => {
                 let Slots { nacc, nde, .. } = self.slots;
                 let (acc, out) = (&w.acc, &mut w.dv);
-                SumRates { dim, n, lda: dim * nt, nterm: nacc, acc, grav: &self.grav, out }.run(b);
-                SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: &mut w.de }.run(b);
+                let bnd = &p.bnd;
+                SumRates { dim, n, lda: dim * nt, nterm: nacc, acc, grav: &self.grav, out, bnd }.run(b);
+                let de = &mut w.de;
+                SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: de, bnd: &[] }.run(b);
             }
             Which::Predict => {
                 let (lf, rates, _, _, bnd) = parts(p, w);
@@ -347,6 +353,11 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     }
     stages.push((Phase::Sum, st(Which::Sum)));
     let mut why = format!("leapfrog, {:?} step", case.time.step).to_lowercase();
+    let kinds: Vec<_> = case.regions.iter().filter_map(|r| r.boundary_particles).collect();
+    if !kinds.is_empty() {
+        let held = kinds.contains(&crate::case::BoundaryKind::Held);
+        why += if held { ", boundary particles fixed (held: rho, e, v too)" } else { ", boundary particles fixed" };
+    }
     if case.physics.gravity_in_forces && case.gravity_on() {
         why += ", gravity left to the force stage that includes it";
     }

@@ -17,8 +17,22 @@ fn integrator_sum_rates() {
             let grav: Vec<f64> = (0..dim).map(|d| if d + 1 == dim { -9.81 } else { 0.0 }).collect();
             let tag = format!("integrator::sum_rates {dim}D {nterm} terms");
             parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
-                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out }, b)
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out, bnd: &[] }, b)
             });
+            // boundary particles of both kinds take no gravity
+            let bnd: Vec<i32> = (0..n as i32).map(|i| i % 3).collect();
+            let tag = format!("integrator::sum_rates bnd {dim}D {nterm} terms");
+            let [with] = parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out, bnd: &bnd }, b)
+            });
+            let [without] = parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
+                let zero = vec![0.0; dim];
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &zero, out, bnd: &[] }, b)
+            });
+            for i in 0..n {
+                let row = |a: &[f64]| a[dim * i..dim * (i + 1)].to_vec();
+                assert_eq!(row(&with) == row(&without), bnd[i] != 0, "{tag}: particle {i}");
+            }
         }
     }
 }

@@ -66,11 +66,14 @@ fn vars<'b>(dim: usize, n: usize, cont: bool, s: &'b mut Leapfrog<'_>, r: &'b Ra
     out
 }
 
-/// `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks `nterm` arrays of `lda` values.
+/// `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n (no gravity for a boundary particle); `acc`
+/// stacks `nterm` arrays of `lda` values.
 pub(super) fn sum_rates(a: &mut SumRates) {
-    let SumRates { dim, n, lda, nterm, acc, grav, out } = a;
+    let SumRates { dim, n, lda, nterm, acc, grav, out, bnd } = a;
     let (dim, n, lda, nterm) = (*dim, *n, *lda, *nterm);
+    let bnd: &[i32] = bnd;
     par_rows(&mut out[..dim * n], dim, |i, o| {
+            let fixed = !bnd.is_empty() && bnd[i] != 0;
             for d in 0..dim {
                 let l = d + dim * i;
                 let mut s = 0.0;
@@ -80,7 +83,7 @@ pub(super) fn sum_rates(a: &mut SumRates) {
                 for t in 1..nterm {
                     s += acc[l + lda * t];
                 }
-                o[d] = s + grav[d];
+                o[d] = if fixed { s } else { s + grav[d] };
             }
         });
 }
