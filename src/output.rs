@@ -103,6 +103,8 @@ struct StepInfo {
     stress: bool,
     burn: bool,
     peaks: bool,
+    /// The boundary-particle kinds (`bnd`: 0 ordinary, 1 integrated, 2 held).
+    bnd: bool,
 }
 
 /// H5Part writer: one `Step#N` group per output, flushed after each (so a crash keeps what was
@@ -190,6 +192,10 @@ impl H5Part {
         if burn {
             put("burn", &p.burn[..n])?;
         }
+        let bnd = !p.bnd.is_empty();
+        if bnd {
+            put_data(&g, "bnd", &p.bnd[..n], chunk)?;
+        }
         if let Some(pk) = peaks {
             let by_index = |src: &[f64]| -> Vec<f64> { (0..n).map(|i| src[p.id[i] as usize]).collect() };
             put("ppv", &by_index(&pk.ppv))?;
@@ -199,7 +205,7 @@ impl H5Part {
         put_time(&g, sim.t)?;
         self.file.flush().map_err(h5err)?;
         self.steps += 1;
-        self.written.push(StepInfo { time: sim.t, n, stress, burn, peaks: peaks.is_some() });
+        self.written.push(StepInfo { time: sim.t, n, stress, burn, peaks: peaks.is_some(), bnd });
         self.xmf_dirty = true;
         let due = self.xmf_at.is_none_or(|t| t.elapsed().as_secs_f64() >= 10.0 * self.xmf_cost);
         if due { self.sync_xdmf() } else { Ok(()) }
@@ -232,7 +238,9 @@ impl H5Part {
     pub(crate) fn save(&self, b: &mut Blob) {
         b.put_f64("h5.time", &self.written.iter().map(|s| s.time).collect::<Vec<_>>());
         b.put("h5.n", checkpoint::Item::U64(self.written.iter().map(|s| s.n as u64).collect()));
-        let flags = |s: &StepInfo| u32::from(s.stress) | u32::from(s.burn) << 1 | u32::from(s.peaks) << 2;
+        let flags = |s: &StepInfo| {
+            u32::from(s.stress) | u32::from(s.burn) << 1 | u32::from(s.peaks) << 2 | u32::from(s.bnd) << 3
+        };
         b.put("h5.flags", checkpoint::Item::U32(self.written.iter().map(flags).collect()));
         b.put("h5.dim", checkpoint::Item::U64(vec![self.dim as u64]));
     }
@@ -257,6 +265,7 @@ impl H5Part {
                 stress: f & 1 != 0,
                 burn: f & 2 != 0,
                 peaks: f & 4 != 0,
+                bnd: f & 8 != 0,
             })
             .collect();
         let steps = written.len();
@@ -510,6 +519,9 @@ fn xdmf_text(h5: &str, _dim: usize, steps: &[StepInfo]) -> String {
         if st.burn {
             attribute(&mut s, h5, k, &n1, "Scalar", "burn", &F8("burn"));
         }
+        if st.bnd {
+            attribute(&mut s, h5, k, &n1, "Scalar", "bnd", &Item { name: "bnd", number: "Int", precision: 4 });
+        }
         if st.peaks {
             attribute(&mut s, h5, k, &n1, "Scalar", "ppv", &F8("ppv"));
             attribute(&mut s, h5, k, &n1, "Scalar", "p_peak", &F8("p_peak"));
@@ -543,6 +555,8 @@ pub struct Frame {
     pub ppv: Vec<f64>,
     /// Peak pressure so far (Pa); empty in files written before it was recorded.
     pub p_peak: Vec<f64>,
+    /// Boundary-particle kind (0 ordinary, 1 integrated, 2 held); empty without boundary particles.
+    pub bnd: Vec<i32>,
 }
 
 /// Opens a particles.h5 for reading and lists its `Step#N` groups by N (a file that cannot be
@@ -580,7 +594,9 @@ pub fn read_frames(path: &Path) -> Result<Vec<Frame>> {
             fr.mat.len(),
             fr.id.len(),
         ];
-        if lens.iter().any(|&l| l != n) || [fr.ppv.len(), fr.p_peak.len()].iter().any(|&l| l != 0 && l != n) {
+        if lens.iter().any(|&l| l != n)
+            || [fr.ppv.len(), fr.p_peak.len(), fr.bnd.len()].iter().any(|&l| l != 0 && l != n)
+        {
             return Err(crate::error::input(format!(
                 "{}: {name}: datasets of different lengths (damaged)",
                 path.display()
@@ -635,6 +651,11 @@ pub(crate) fn read_group(f: &hdf5::File, name: &str) -> Result<Frame> {
         id: g.dataset("id").and_then(|d| d.read_raw::<i64>()).map_err(h5err)?,
         ppv: opt("ppv")?,
         p_peak: opt("p_peak")?,
+        bnd: if g.link_exists("bnd") {
+            g.dataset("bnd").and_then(|d| d.read_raw::<i32>()).map_err(h5err)?
+        } else {
+            Vec::new()
+        },
     })
 }
 

@@ -95,9 +95,12 @@ fn a_tait_eos_of_rho_alone_stands_for_the_eos_and_is_compared_at_zero_ulp() {
     let so = blastsph_ok(&args, 0);
     assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
     let (_, rows) = report_rows(&out.join("dual_report.json"));
-    for (stage, field) in
-        [("legacy.p_art_water", "p"), ("legacy.p_art_water", "c"), ("legacy.int_force", "p"), ("legacy.int_force", "acc")]
-    {
+    for (stage, field) in [
+        ("legacy.p_art_water", "p"),
+        ("legacy.p_art_water", "c"),
+        ("legacy.int_force", "p"),
+        ("legacy.int_force", "acc"),
+    ] {
         let x = row(&rows, stage, field);
         assert!(x["compared"].as_u64().unwrap() > 0, "{x}");
         assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{stage} {field}: {x}");

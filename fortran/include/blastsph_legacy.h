@@ -158,17 +158,18 @@ void sph_detonation_burn(int n, double t, const int *mat, int nmat, const double
 
 /* integrator (sph_integrator.f90) */
 void sph_integrator_sum_rates(int dim, int n, int lda, int nterm, const double *acc,
-                              const double *grav, double *dv);
+                              const double *grav, double *dv, int nbnd, const int *bnd);
 void sph_integrator_predict(int dim, int n, int ntau, double dt_prev, int cont, double *rho,
                             const double *drho, double *e, const double *de, double *v,
                             const double *dv, double *tau, const double *dtau, double *rho_min,
-                            double *e_min, double *v_min, double *tau_min);
+                            double *e_min, double *v_min, double *tau_min, int nbnd,
+                            const int *bnd);
 void sph_integrator_advance(int dim, int n, int ntau, int first, double dt_prev, double dt,
                             int cont, double *rho, const double *drho, double *e,
                             const double *de, double *v, const double *dv, double *tau,
                             const double *dtau, const double *rho_min, const double *e_min,
                             const double *v_min, const double *tau_min, int nav,
-                            const double *av, double *x);
+                            const double *av, double *x, int nbnd, const int *bnd);
 void sph_integrator_cfl(int dim, int n, double cfl, const double *h, const double *c,
                         const double *v, const double *dv, int nmu, double kv,
                         const double *mumax, int neta, const double *eta, const int *mat,

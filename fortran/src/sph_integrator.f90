@@ -8,6 +8,9 @@
 !            later steps: u(t_n+1/2) = u_min + (dt_prev + dt)/2 * du(t_n)
 !            then x(t_n+1) = x(t_n) + dt * (v(t_n+1/2) + av)
 !  For a fixed step (dt_prev = dt) this is Liu's scheme exactly.
+!  Boundary particles (bnd(i) = 1 integrated, 2 held; nbnd = n, or 0 for
+!  none): x is never moved; a held particle's rho, e, v, tau keep their
+!  values (u_min is still saved), the virtual particles of Liu & Liu (2003).
 !  sum_rates adds the acceleration terms in a fixed order, then gravity.
 !  efloor: e_i = max(e_i, 0), returning the energy added, sum_i m_i max(0, -e_i)
 !  (J; booked in the energy balance by the solver).
@@ -30,16 +33,21 @@ module sph_integrator
 contains
 
   ! dv(d,i) = acc_1(d,i) + ... + acc_nterm(d,i) + grav(d); term t of the
-  ! stacked array holds (d,i) at acc(d + dim*(i-1), t)
-  subroutine sph_integrator_sum_rates(dim, n, lda, nterm, acc, grav, dv) &
+  ! stacked array holds (d,i) at acc(d + dim*(i-1), t); a boundary particle
+  ! (nbnd = n, bnd(i) /= 0) takes no gravity
+  subroutine sph_integrator_sum_rates(dim, n, lda, nterm, acc, grav, dv, nbnd, bnd) &
       bind(C, name="sph_integrator_sum_rates")
-    integer(c_int), value :: dim, n, lda, nterm
+    integer(c_int), value :: dim, n, lda, nterm, nbnd
+    integer(c_int), intent(in) :: bnd(max(nbnd, 1))
     real(c_double), intent(in) :: acc(lda, max(nterm, 1)), grav(dim)
     real(c_double), intent(out) :: dv(dim, n)
     integer :: i, d, t, l
     real(c_double) :: s
+    logical :: fixed
 
     do i = 1, n
+      fixed = .false.
+      if (nbnd > 0) fixed = bnd(i) /= 0
       do d = 1, dim
         l = d + dim*(i - 1)
         s = 0.0d0
@@ -47,46 +55,64 @@ contains
         do t = 2, nterm
           s = s + acc(l, t)
         end do
-        dv(d, i) = s + grav(d)
+        if (fixed) then
+          dv(d, i) = s
+        else
+          dv(d, i) = s + grav(d)
+        end if
       end do
     end do
   end subroutine sph_integrator_sum_rates
 
+  ! true where particle i is a held boundary particle
+  pure logical function held(nbnd, bnd, i)
+    integer(c_int), intent(in) :: nbnd, bnd(max(nbnd, 1))
+    integer, intent(in) :: i
+
+    held = .false.
+    if (nbnd > 0) held = bnd(i) == 2
+  end function held
+
   subroutine sph_integrator_predict(dim, n, ntau, dt_prev, cont, rho, drho, e, de, v, dv, tau, &
-      dtau, rho_min, e_min, v_min, tau_min) bind(C, name="sph_integrator_predict")
-    integer(c_int), value :: dim, n, ntau, cont
+      dtau, rho_min, e_min, v_min, tau_min, nbnd, bnd) bind(C, name="sph_integrator_predict")
+    integer(c_int), value :: dim, n, ntau, cont, nbnd
+    integer(c_int), intent(in) :: bnd(max(nbnd, 1))
     real(c_double), value :: dt_prev
     real(c_double), intent(inout) :: rho(n), e(n), v(dim, n), tau(nstr, max(ntau, 1))
     real(c_double), intent(in) :: drho(n), de(n), dv(dim, n), dtau(nstr, max(ntau, 1))
     real(c_double), intent(out) :: rho_min(n), e_min(n), v_min(dim, n), tau_min(nstr, max(ntau, 1))
     integer :: i, d
     real(c_double) :: half
+    logical :: hold
 
     half = 0.5d0*dt_prev
     do i = 1, n
+      hold = held(nbnd, bnd, i)
       e_min(i) = e(i)
-      e(i) = e(i) + half*de(i)
+      if (.not. hold) e(i) = e(i) + half*de(i)
       if (cont /= 0) then
         rho_min(i) = rho(i)
-        rho(i) = rho(i) + half*drho(i)
+        if (.not. hold) rho(i) = rho(i) + half*drho(i)
       end if
       do d = 1, dim
         v_min(d, i) = v(d, i)
-        v(d, i) = v(d, i) + half*dv(d, i)
+        if (.not. hold) v(d, i) = v(d, i) + half*dv(d, i)
       end do
     end do
     do i = 1, ntau
+      hold = held(nbnd, bnd, i)
       do d = 1, nstr
         tau_min(d, i) = tau(d, i)
-        tau(d, i) = tau(d, i) + half*dtau(d, i)
+        if (.not. hold) tau(d, i) = tau(d, i) + half*dtau(d, i)
       end do
     end do
   end subroutine sph_integrator_predict
 
   subroutine sph_integrator_advance(dim, n, ntau, first, dt_prev, dt, cont, rho, drho, e, de, &
-      v, dv, tau, dtau, rho_min, e_min, v_min, tau_min, nav, av, x) &
+      v, dv, tau, dtau, rho_min, e_min, v_min, tau_min, nav, av, x, nbnd, bnd) &
       bind(C, name="sph_integrator_advance")
-    integer(c_int), value :: dim, n, ntau, first, cont, nav
+    integer(c_int), value :: dim, n, ntau, first, cont, nav, nbnd
+    integer(c_int), intent(in) :: bnd(max(nbnd, 1))
     real(c_double), value :: dt_prev, dt
     real(c_double), intent(inout) :: rho(n), e(n), v(dim, n), tau(nstr, max(ntau, 1)), x(dim, n)
     real(c_double), intent(in) :: drho(n), de(n), dv(dim, n), dtau(nstr, max(ntau, 1)), &
@@ -98,6 +124,7 @@ contains
     if (first /= 0) then
       s = 0.5d0*dt
       do i = 1, n
+        if (held(nbnd, bnd, i)) cycle
         e(i) = e(i) + s*de(i)
         if (cont /= 0) rho(i) = rho(i) + s*drho(i)
         do d = 1, dim
@@ -105,6 +132,7 @@ contains
         end do
       end do
       do i = 1, ntau
+        if (held(nbnd, bnd, i)) cycle
         do d = 1, nstr
           tau(d, i) = tau(d, i) + s*dtau(d, i)
         end do
@@ -112,6 +140,7 @@ contains
     else
       s = 0.5d0*(dt_prev + dt)
       do i = 1, n
+        if (held(nbnd, bnd, i)) cycle
         e(i) = e_min(i) + s*de(i)
         if (cont /= 0) rho(i) = rho_min(i) + s*drho(i)
         do d = 1, dim
@@ -119,12 +148,16 @@ contains
         end do
       end do
       do i = 1, ntau
+        if (held(nbnd, bnd, i)) cycle
         do d = 1, nstr
           tau(d, i) = tau_min(d, i) + s*dtau(d, i)
         end do
       end do
     end if
     do i = 1, n
+      if (nbnd > 0) then
+        if (bnd(i) /= 0) cycle
+      end if
       do d = 1, dim
         if (nav > 0) then
           x(d, i) = x(d, i) + dt*(v(d, i) + av(d, i))

@@ -59,6 +59,7 @@ pub(crate) fn frame_of(sim: &crate::sim::Sim) -> Frame {
         id: p.id[..n].to_vec(),
         ppv: Vec::new(),
         p_peak: Vec::new(),
+        bnd: p.bnd.clone(),
     }
 }
 
@@ -82,6 +83,7 @@ pub(crate) fn slim(f: Frame) -> Frame {
         id: Vec::new(),
         ppv: Vec::new(),
         p_peak: Vec::new(),
+        bnd: Vec::new(),
     }
 }
 

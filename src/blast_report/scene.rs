@@ -145,6 +145,7 @@ pub(super) fn section_frames(case: &Case, frames: &[Frame]) -> Vec<Frame> {
                 id: idx.iter().map(|&i| f.id[i]).collect(),
                 ppv: pick(&f.ppv),
                 p_peak: pick(&f.p_peak),
+                bnd: if f.bnd.is_empty() { Vec::new() } else { idx.iter().map(|&i| f.bnd[i]).collect() },
             }
         })
         .collect()

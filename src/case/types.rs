@@ -544,6 +544,19 @@ pub struct RegionCfg {
     /// (the normal points out of the kept side). See [`ClipPlane`].
     #[serde(default)]
     pub keep_below: Vec<ClipPlane>,
+    /// Makes the region's particles boundary particles of this kind; absent: ordinary ones.
+    pub boundary_particles: Option<BoundaryKind>,
+}
+
+/// A region's boundary particles (Liu & Liu 2003's virtual particles): in every pair sum, never
+/// moved. The value is the one the state stores per particle ([`crate::state::Particles::bnd`]).
+#[derive(Debug, Clone, Copy, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+pub enum BoundaryKind {
+    /// ρ, e, v (and τ) integrated like any particle's; x fixed.
+    Integrated = 1,
+    /// ρ, e, v, τ and x held at their initial values by the leapfrog.
+    Held = 2,
 }
 
 /// One plane of a region's `keep_below`: the region keeps the closed half-space

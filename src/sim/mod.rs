@@ -173,6 +173,10 @@ impl Sim {
             id: (0..n as i64).collect(),
             ..Default::default()
         };
+        if case.regions.iter().any(|r| r.boundary_particles.is_some()) {
+            let kind = |r: &u32| case.regions[*r as usize].boundary_particles.map_or(0, |k| k as i32);
+            p.bnd = init.region.iter().map(kind).collect();
+        }
         for e in &plan.entries {
             e.stage.register(&mut p);
         }

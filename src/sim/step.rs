@@ -97,6 +97,7 @@ impl Sim {
             perm(a, &order, 1);
         }
         perm(&mut p.mat, &order, 1);
+        perm(&mut p.bnd, &order, 1);
         perm(&mut p.id, &order, 1);
         perm(&mut p.tau, &order, NSTR);
         perm(&mut p.sigma0, &order, NSTR);

@@ -56,6 +56,10 @@ pub struct Particles {
     /// Compaction history: the largest density each real particle has reached (kg/m³), nreal;
     /// empty without a compaction EOS.
     pub rho_max: Vec<f64>,
+    /// Boundary-particle kind of each real particle (`[[region]] boundary_particles`): 0 an
+    /// ordinary particle, 1 integrated, 2 held ([`crate::case::BoundaryKind`]), nreal; empty
+    /// without boundary particles.
+    pub bnd: Vec<i32>,
 }
 
 impl Particles {
@@ -199,6 +203,7 @@ pub enum Field {
     Alpha,
     Sigma0,
     RhoMax,
+    Bnd,
 }
 
 /// A field's array, borrowed.
@@ -256,6 +261,7 @@ impl Field {
         use Field::*;
         Array::F(match self {
             Mat => return Array::I(&p.mat),
+            Bnd => return Array::I(&p.bnd),
             PairI => return Array::I(&w.pairs.i),
             PairJ => return Array::I(&w.pairs.j),
             Gsrc => return Array::I(&w.gsrc),
@@ -312,6 +318,7 @@ impl Field {
         use Field::*;
         ArrayMut::F(match self {
             Mat => return ArrayMut::I(&mut p.mat),
+            Bnd => return ArrayMut::I(&mut p.bnd),
             PairI => return ArrayMut::I(&mut w.pairs.i),
             PairJ => return ArrayMut::I(&mut w.pairs.j),
             Gsrc => return ArrayMut::I(&mut w.gsrc),

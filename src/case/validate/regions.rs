@@ -98,6 +98,15 @@ impl Case {
                     return Err(input(format!("{}: no other region named `{}`", at.key("subtract"), shown(s))));
                 }
             }
+            v.any(&at, "boundary_particles");
+            if r.boundary_particles == Some(crate::case::BoundaryKind::Held)
+                && self.sph.smoothing == crate::case::SmoothingKind::Rate
+            {
+                return Err(input(format!(
+                    "{} = \"held\" with sph.smoothing = \"rate\": dh/dt would change h while the leapfrog holds rho (use smoothing = \"constant\" or \"density\", or \"integrated\" particles)",
+                    at.key("boundary_particles")
+                )));
+            }
         }
         Ok(())
     }

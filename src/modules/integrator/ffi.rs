@@ -17,9 +17,10 @@ pub(super) fn sum_rates(a: &mut SumRates) {
     chk("grav", a.grav.len(), dim);
     chk("out", a.out.len(), dim * n);
     assert!(lda >= dim * n, "legacy call: lda too small");
+    let nbnd = chk_opt("bnd", a.bnd.len(), n, 1);
     let dummy = 0.0;
     // SAFETY: acc holds nterm × lda values (a one-value dummy when nterm = 0: the routine then
-    // reads none), grav dim, out dim × n (checked above).
+    // reads none), grav dim, out dim × n, bnd n or a one-value dummy (checked above).
     unsafe {
         sys::sph_integrator_sum_rates(
             n32(dim),
@@ -29,6 +30,8 @@ pub(super) fn sum_rates(a: &mut SumRates) {
             ptr_or(a.acc, &dummy),
             a.grav.as_ptr(),
             a.out.as_mut_ptr(),
+            n32(nbnd),
+            ptr_or(a.bnd, &0),
         )
     }
 }
@@ -57,10 +60,11 @@ fn check_leapfrog(dim: usize, n: usize, s: &Leapfrog, r: &Rates) -> usize {
 pub(super) fn predict(a: &mut Predict) {
     let (dim, n) = (a.dim, a.n);
     let ntau = check_leapfrog(dim, n, &a.lf, &a.rates);
+    let nbnd = chk_opt("bnd", a.bnd.len(), n, 1);
     let (s, r) = (&mut a.lf, &a.rates);
     let (mut d1, mut d2, d3) = (0.0, 0.0, 0.0);
     // SAFETY: every array holds the n (dim × n, NSTR × n) values the explicit shapes declare
-    // (checked above); the stress arrays are one-value dummies when ntau = 0.
+    // (checked above); the stress arrays are one-value dummies when ntau = 0, bnd when nbnd = 0.
     unsafe {
         sys::sph_integrator_predict(
             n32(dim),
@@ -80,6 +84,8 @@ pub(super) fn predict(a: &mut Predict) {
             s.e_min.as_mut_ptr(),
             s.v_min.as_mut_ptr(),
             mptr_or(s.tau_min, &mut d2),
+            n32(nbnd),
+            ptr_or(a.bnd, &0),
         )
     }
 }
@@ -89,10 +95,11 @@ pub(super) fn advance(a: &mut Advance) {
     let ntau = check_leapfrog(dim, n, &a.lf, &a.rates);
     chk("x", a.x.len(), dim * n);
     let nav = chk_opt("av", a.av.len(), n, dim);
+    let nbnd = chk_opt("bnd", a.bnd.len(), n, 1);
     let (s, r) = (&mut a.lf, &a.rates);
     let (mut d1, d2, d3, d4) = (0.0, 0.0, 0.0, 0.0);
     // SAFETY: every array holds the values the explicit shapes declare (checked above); the
-    // stress arrays and av are one-value dummies when ntau = 0 or nav = 0.
+    // stress arrays, av and bnd are one-value dummies when ntau, nav or nbnd is 0.
     unsafe {
         sys::sph_integrator_advance(
             n32(dim),
@@ -117,6 +124,8 @@ pub(super) fn advance(a: &mut Advance) {
             n32(nav),
             ptr_or(a.av, &d4),
             a.x.as_mut_ptr(),
+            n32(nbnd),
+            ptr_or(a.bnd, &0),
         )
     }
 }

@@ -16,6 +16,11 @@
 //! The clamp ρ_i ← min(max(ρ_i, ρ_lo), ρ_hi) (kg/m³; `sph.density_clamp`) follows each density
 //! update of the leapfrog, the predict and the advance, as the dam-break `time_integration` of
 //! G.R. Liu and M.B. Liu (2003) does.
+//! Boundary particles (`bnd`, [`crate::case::BoundaryKind`]; Liu & Liu 2003's virtual particles):
+//! the advance moves neither kind; a held particle's ρ, e, v, τ keep their values through the
+//! predict and the advance (u_min is still saved); the rate sum gives neither kind gravity (an
+//! integrated wall would otherwise fall with the fluid it holds). A held particle's rates are
+//! computed and never applied.
 
 mod ffi;
 #[cfg(test)]
@@ -27,8 +32,8 @@ use super::{Backend, Contribution, Module, Phase, PlanCtx, Slots, Stage, Twin};
 use crate::case::{DensityKind, StepRule};
 use crate::state::{Clock, Field, Particles, Work};
 
-/// `sph_integrator_sum_rates`: `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks
-/// `nterm` arrays of `lda` values.
+/// `sph_integrator_sum_rates`: `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n, without grav(d)
+/// for a boundary particle (`bnd(i)` ≠ 0); `acc` stacks `nterm` arrays of `lda` values.
 pub struct SumRates<'a> {
     pub dim: usize,
     pub n: usize,
@@ -37,6 +42,8 @@ pub struct SumRates<'a> {
     pub acc: &'a [f64],
     pub grav: &'a [f64],
     pub out: &'a mut [f64],
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// The staggered leapfrog variables and their saved half-step values (τ empty without
@@ -70,6 +77,8 @@ pub struct Predict<'a> {
     pub cont: bool,
     pub lf: Leapfrog<'a>,
     pub rates: Rates<'a>,
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// `sph_integrator_advance`: the staggered variables at t + Δt/2 and x at t + Δt.
@@ -85,6 +94,8 @@ pub struct Advance<'a> {
     /// The XSPH correction (dim × n), or empty.
     pub av: &'a [f64],
     pub x: &'a mut [f64],
+    /// The boundary-particle kind of each particle (n values), or empty (none).
+    pub bnd: &'a [i32],
 }
 
 /// `sph_integrator_cfl`: the CFL step of the first `h.len()` particles.
@@ -180,9 +191,12 @@ impl Twin for Cfl<'_> {
     }
 }
 
-/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off) and the
-/// positions of the real particles, borrowed from the state.
-fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>, &'a [f64], &'a mut [f64]) {
+/// The leapfrog's staggered variables, their rates, the XSPH correction (empty when off), the
+/// positions of the real particles and their boundary-particle kinds, borrowed from the state.
+type Parts<'a> = (Leapfrog<'a>, Rates<'a>, &'a [f64], &'a mut [f64], &'a [i32]);
+
+/// See [`Parts`].
+fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> Parts<'a> {
     let (dim, n) = (p.dim, p.nreal);
     let ntau = if p.tau.is_empty() { 0 } else { NSTR * n };
     let Work { rho_min, e_min, v_min, tau_min, drho, de, dv, dtau, av, .. } = w;
@@ -198,7 +212,7 @@ fn parts<'a>(p: &'a mut Particles, w: &'a mut Work) -> (Leapfrog<'a>, Rates<'a>,
     };
     let rates = Rates { drho: &drho[..n], de, dv, dtau: &dtau[..ntau] };
     let av: &[f64] = if av.is_empty() { &[] } else { &av[..dim * n] };
-    (lf, rates, av, &mut p.x[..dim * n])
+    (lf, rates, av, &mut p.x[..dim * n], &p.bnd)
 }
 
 /// Sizes the half-step values and the rates the leapfrog reads.
@@ -254,13 +268,15 @@ impl Stage for IntegratorStage {
     }
     fn reads(&self) -> &[Field] {
         match self.which {
-            Which::Sum => &[Field::Acc, Field::Dde],
-            Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau],
+            Which::Sum => &[Field::Acc, Field::Dde, Field::Bnd],
+            Which::Predict => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Bnd],
             Which::Cfl(_, None, ref eta) if eta.is_empty() => &[Field::H, Field::C, Field::V, Field::Dv],
             Which::Cfl(_, None, _) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Rho],
             Which::Cfl(_, Some(_), ref eta) if eta.is_empty() => &[Field::H, Field::C, Field::V, Field::Dv, Field::Mumax],
             Which::Cfl(_, Some(_), _) => &[Field::H, Field::C, Field::V, Field::Dv, Field::Rho, Field::Mumax],
-            Which::Advance => &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin],
+            Which::Advance => {
+                &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin, Field::Bnd]
+            }
             Which::Efloor => &[Field::Mass, Field::E],
             Which::Clamp(..) => &[Field::Rho],
         }
@@ -293,12 +309,14 @@ impl Stage for IntegratorStage {
             Which::Sum => {
                 let Slots { nacc, nde, .. } = self.slots;
                 let (acc, out) = (&w.acc, &mut w.dv);
-                SumRates { dim, n, lda: dim * nt, nterm: nacc, acc, grav: &self.grav, out }.run(b);
-                SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: &mut w.de }.run(b);
+                let bnd = &p.bnd;
+                SumRates { dim, n, lda: dim * nt, nterm: nacc, acc, grav: &self.grav, out, bnd }.run(b);
+                let de = &mut w.de;
+                SumRates { dim: 1, n, lda: nt, nterm: nde, acc: &w.dde, grav: &[0.0], out: de, bnd: &[] }.run(b);
             }
             Which::Predict => {
-                let (lf, rates, _, _) = parts(p, w);
-                Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates }.run(b);
+                let (lf, rates, _, _, bnd) = parts(p, w);
+                Predict { dim, n, dt_prev: k.dt_prev, cont: self.cont, lf, rates, bnd }.run(b);
             }
             Which::Cfl(cfl, kv, ref eta) => {
                 let (h, c, v) = (&p.h[..n], &p.c[..n], &p.v[..dim * n]);
@@ -313,8 +331,8 @@ impl Stage for IntegratorStage {
             Which::Clamp(lo, hi, _) => Clamp { lo, hi, rho: &mut p.rho[..n] }.run(b),
             Which::Advance => {
                 let (first, dt_prev, dt, cont) = (k.first, k.dt_prev, k.dt, self.cont);
-                let (lf, rates, av, x) = parts(p, w);
-                Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x }.run(b);
+                let (lf, rates, av, x, bnd) = parts(p, w);
+                Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x, bnd }.run(b);
             }
         }
     }
@@ -347,6 +365,11 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     }
     stages.push((Phase::Sum, st(Which::Sum)));
     let mut why = format!("leapfrog, {:?} step", case.time.step).to_lowercase();
+    let kinds: Vec<_> = case.regions.iter().filter_map(|r| r.boundary_particles).collect();
+    if !kinds.is_empty() {
+        let held = kinds.contains(&crate::case::BoundaryKind::Held);
+        why += if held { ", boundary particles fixed (held: rho, e, v too)" } else { ", boundary particles fixed" };
+    }
     if case.physics.gravity_in_forces && case.gravity_on() {
         why += ", gravity left to the force stage that includes it";
     }

@@ -1,6 +1,6 @@
 //! Parity of the leapfrog: the rate sums (0 to 5 terms), predict and advance (first and later
-//! steps, with and without τ, XSPH and continuity density), the CFL step, the energy floor and
-//! the density clamp.
+//! steps, with and without τ, XSPH and continuity density; with boundary particles of both kinds),
+//! the CFL step, the energy floor and the density clamp.
 
 use super::{Advance, Cfl, Clamp, Efloor, Leapfrog, Predict, Rates, SumRates};
 use crate::modules::param::NSTR;
@@ -17,8 +17,22 @@ fn integrator_sum_rates() {
             let grav: Vec<f64> = (0..dim).map(|d| if d + 1 == dim { -9.81 } else { 0.0 }).collect();
             let tag = format!("integrator::sum_rates {dim}D {nterm} terms");
             parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
-                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out }, b)
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out, bnd: &[] }, b)
             });
+            // boundary particles of both kinds take no gravity
+            let bnd: Vec<i32> = (0..n as i32).map(|i| i % 3).collect();
+            let tag = format!("integrator::sum_rates bnd {dim}D {nterm} terms");
+            let [with] = parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &grav, out, bnd: &bnd }, b)
+            });
+            let [without] = parity(&tag, 0, ["out"], [sentinel(dim * n)], |b, [out]| {
+                let zero = vec![0.0; dim];
+                run(SumRates { dim, n, lda, nterm, acc: &acc, grav: &zero, out, bnd: &[] }, b)
+            });
+            for i in 0..n {
+                let row = |a: &[f64]| a[dim * i..dim * (i + 1)].to_vec();
+                assert_eq!(row(&with) == row(&without), bnd[i] != 0, "{tag}: particle {i}");
+            }
         }
     }
 }
@@ -71,7 +85,7 @@ fn integrator_predict() {
                 let f = parity(&tag, 0, LF, start.clone(), |b, s| {
                     let (lf, _) = split(s);
                     let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
-                    run(Predict { dim, n, dt_prev, cont, lf, rates }, b)
+                    run(Predict { dim, n, dt_prev, cont, lf, rates, bnd: &[] }, b)
                 });
                 assert_ne!(f[2], start[2]);
                 assert_eq!(f[0] != start[0], cont);
@@ -99,9 +113,58 @@ fn integrator_advance_first_and_later_steps() {
                         let f = parity(&tag, 0, LF, start.clone(), |b, s| {
                             let (lf, x) = split(s);
                             let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
-                            run(Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av: &av, x }, b)
+                            run(Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av: &av, x, bnd: &[] }, b)
                         });
                         assert_ne!(f[8], start[8]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn integrator_boundary_particles() {
+    let mut g = Rng::new(197);
+    for dim in 1..=3 {
+        // more than one block of the Rust twin; ordinary, integrated and held particles mixed
+        let n = 2000 + dim;
+        let bnd: Vec<i32> = (0..n).map(|i| [0, 1, 2, 0, 2][(i * 7 + i / 3) % 5]).collect();
+        for first in [true, false] {
+            for with_tau in [false, true] {
+                for cont in [false, true] {
+                    let start = state(&mut g, dim, n, with_tau);
+                    let rt = rates(&mut g, dim, n, with_tau);
+                    let av = g.vec(dim * n, -5.0, 5.0);
+                    let dt_prev = g.range(1e-8, 1e-6);
+                    let dt = dt_prev * g.range(0.8, 1.2);
+                    let tag = format!("integrator::predict bnd {dim}D tau {with_tau} cont {cont}");
+                    let pre = parity(&tag, 0, LF, start.clone(), |b, s| {
+                        let (lf, _) = split(s);
+                        let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
+                        run(Predict { dim, n, dt_prev, cont, lf, rates, bnd: &bnd }, b)
+                    });
+                    let tag = format!("integrator::advance bnd {dim}D first {first} tau {with_tau} cont {cont}");
+                    let f = parity(&tag, 0, LF, pre.clone(), |b, s| {
+                        let (lf, x) = split(s);
+                        let rates = Rates { drho: &rt[0], de: &rt[1], dv: &rt[2], dtau: &rt[3] };
+                        run(Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av: &av, x, bnd: &bnd }, b)
+                    });
+                    // per particle: (field, values per particle) of the leapfrog variables present
+                    let mut lfv = vec![(1, 1), (2, dim)];
+                    if cont {
+                        lfv.push((0, 1));
+                    }
+                    if with_tau {
+                        lfv.push((3, NSTR));
+                    }
+                    for i in 0..n {
+                        let xs = |a: &[f64]| a[dim * i..dim * (i + 1)].to_vec();
+                        assert_eq!(xs(&f[8]) == xs(&start[8]), bnd[i] != 0, "{tag}: x of particle {i} ({})", bnd[i]);
+                        for &(k, w) in &lfv {
+                            let (a0, a1) = (&start[k][w * i..w * (i + 1)], &f[k][w * i..w * (i + 1)]);
+                            assert_eq!(a0 == a1, bnd[i] == 2, "{tag}: {} of particle {i} ({})", LF[k], bnd[i]);
+                        }
                     }
                 }
             }

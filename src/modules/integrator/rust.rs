@@ -10,29 +10,40 @@ use rayon::prelude::*;
 /// One staggered variable for [`zip_vars`]: u, u_min, du, values per particle.
 type Var<'a> = (&'a mut [f64], &'a mut [f64], &'a [f64], usize);
 
-/// A block's share of one variable: u, u_min, du.
-type Part<'a> = (&'a mut [f64], &'a mut [f64], &'a [f64]);
+/// A block's share of one variable: u, u_min, du, values per particle.
+type Part<'a> = (&'a mut [f64], &'a mut [f64], &'a [f64], usize);
 
-/// `f(u, umin, du)` over every variable, in one parallel pass over blocks of particles (each
-/// block handles the block's values of every variable, in the order given).
-fn zip_vars<F>(n: usize, vars: Vec<Var<'_>>, f: F)
+/// True where row `r` of a block's boundary-particle kinds (empty: none) is a held particle.
+fn held(bnd: &[i32], r: usize) -> bool {
+    bnd.get(r) == Some(&2)
+}
+
+/// `f(u, umin, du, w, bnd)` over every variable, in one parallel pass over blocks of particles
+/// (each block handles the block's values of every variable, in the order given; `w` values per
+/// particle, `bnd` the block's boundary-particle kinds or empty).
+fn zip_vars<F>(n: usize, vars: Vec<Var<'_>>, bnd: &[i32], f: F)
 where
-    F: Fn(&mut [f64], &mut [f64], &[f64]) + Sync + Send,
+    F: Fn(&mut [f64], &mut [f64], &[f64], usize, &[i32]) + Sync + Send,
 {
     // particles per block
     let rows = 4 * CHUNK;
     let nb = n.div_ceil(rows);
-    let mut blocks: Vec<Vec<Part<'_>>> = (0..nb).map(|_| Vec::with_capacity(vars.len())).collect();
+    let mut blocks: Vec<(Vec<Part<'_>>, &[i32])> = (0..nb)
+        .map(|k| {
+            let kb: &[i32] = if bnd.is_empty() { &[] } else { &bnd[k * rows..((k + 1) * rows).min(n)] };
+            (Vec::with_capacity(vars.len()), kb)
+        })
+        .collect();
     for (u, um, du, w) in vars {
         let parts =
             u[..w * n].chunks_mut(w * rows).zip(um[..w * n].chunks_mut(w * rows)).zip(du[..w * n].chunks(w * rows));
         for (blk, ((a, b), c)) in blocks.iter_mut().zip(parts) {
-            blk.push((a, b, c));
+            blk.0.push((a, b, c, w));
         }
     }
-    let run = |blk: Vec<Part<'_>>| {
-        for (a, b, c) in blk {
-            f(a, b, c);
+    let run = |(blk, kb): (Vec<Part<'_>>, &[i32])| {
+        for (a, b, c, w) in blk {
+            f(a, b, c, w, kb);
         }
     };
     if serial() {
@@ -55,11 +66,14 @@ fn vars<'b>(dim: usize, n: usize, cont: bool, s: &'b mut Leapfrog<'_>, r: &'b Ra
     out
 }
 
-/// `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n; `acc` stacks `nterm` arrays of `lda` values.
+/// `out(d,i) = Σ_t acc_t(d,i) + grav(d)` for i < n (no gravity for a boundary particle); `acc`
+/// stacks `nterm` arrays of `lda` values.
 pub(super) fn sum_rates(a: &mut SumRates) {
-    let SumRates { dim, n, lda, nterm, acc, grav, out } = a;
+    let SumRates { dim, n, lda, nterm, acc, grav, out, bnd } = a;
     let (dim, n, lda, nterm) = (*dim, *n, *lda, *nterm);
+    let bnd: &[i32] = bnd;
     par_rows(&mut out[..dim * n], dim, |i, o| {
+            let fixed = !bnd.is_empty() && bnd[i] != 0;
             for d in 0..dim {
                 let l = d + dim * i;
                 let mut s = 0.0;
@@ -69,50 +83,62 @@ pub(super) fn sum_rates(a: &mut SumRates) {
                 for t in 1..nterm {
                     s += acc[l + lda * t];
                 }
-                o[d] = s + grav[d];
+                o[d] = if fixed { s } else { s + grav[d] };
             }
         });
 }
 
 pub(super) fn predict(a: &mut Predict) {
-    let Predict { dim, n, dt_prev, cont, lf, rates } = a;
+    let Predict { dim, n, dt_prev, cont, lf, rates, bnd } = a;
     let (dim, n, dt_prev, cont) = (*dim, *n, *dt_prev, *cont);
     let half = 0.5 * dt_prev;
-    let step = |u: &mut [f64], umin: &mut [f64], du: &[f64]| {
-        for ((u, m), d) in u.iter_mut().zip(umin.iter_mut()).zip(du) {
-            *m = *u;
-            *u += half * d;
+    let step = |u: &mut [f64], umin: &mut [f64], du: &[f64], w: usize, kb: &[i32]| {
+        for l in 0..u.len() {
+            umin[l] = u[l];
+            if !held(kb, l / w) {
+                u[l] += half * du[l];
+            }
         }
     };
-    zip_vars(n, vars(dim, n, cont, lf, rates), step);
+    zip_vars(n, vars(dim, n, cont, lf, rates), bnd, step);
 }
 
 pub(super) fn advance(a: &mut Advance) {
-    let Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x } = a;
+    let Advance { dim, n, first, dt_prev, dt, cont, lf, rates, av, x, bnd } = a;
+    let bnd: &[i32] = bnd;
     let (dim, n, first, dt_prev, dt, cont) = (*dim, *n, *first, *dt_prev, *dt, *cont);
     let sc = if first { 0.5 * dt } else { 0.5 * (dt_prev + dt) };
     // (u_min is read, not written: it comes mutably only to share the helper)
-    let upd = |u: &mut [f64], umin: &mut [f64], du: &[f64]| {
-        if first {
-            for l in 0..u.len() {
-                u[l] += sc * du[l];
+    let upd = |u: &mut [f64], umin: &mut [f64], du: &[f64], w: usize, kb: &[i32]| {
+        for l in 0..u.len() {
+            if held(kb, l / w) {
+                continue;
             }
-        } else {
-            for l in 0..u.len() {
+            if first {
+                u[l] += sc * du[l];
+            } else {
                 u[l] = umin[l] + sc * du[l];
             }
         }
     };
-    zip_vars(n, vars(dim, n, cont, lf, rates), upd);
+    zip_vars(n, vars(dim, n, cont, lf, rates), bnd, upd);
     let v: &[f64] = &*lf.v;
+    // boundary particles of either kind stay where they are
+    let fixed = |i: usize| !bnd.is_empty() && bnd[i] != 0;
     if av.is_empty() {
         par_rows(&mut x[..dim * n], dim, |i, xi| {
+            if fixed(i) {
+                return;
+            }
             for d in 0..dim {
                 xi[d] += dt * v[d + dim * i];
             }
         });
     } else {
         par_rows(&mut x[..dim * n], dim, |i, xi| {
+            if fixed(i) {
+                return;
+            }
             for d in 0..dim {
                 xi[d] += dt * (v[d + dim * i] + av[d + dim * i]);
             }

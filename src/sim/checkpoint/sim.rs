@@ -221,6 +221,7 @@ fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
         alpha,
         sigma0,
         rho_max,
+        bnd,
     } = p;
     b.put("p.sizes", Item::U64(vec![*dim as u64, *nreal as u64, *ntotal as u64]));
     for (name, a) in [
@@ -244,6 +245,7 @@ fn save_particles<'a>(p: &'a Particles, b: &mut Blob<'a>) {
         b.put_ref(name, Ref::F64(a));
     }
     b.put_ref("p.mat", Ref::I32(mat));
+    b.put_ref("p.bnd", Ref::I32(bnd));
     b.put_ref("p.id", Ref::I64(id));
 }
 
@@ -339,6 +341,7 @@ fn restore_particles(
         alpha,
         sigma0,
         rho_max,
+        bnd,
     } = p;
     let new_mat = b.i32("p.mat")?;
     sized("p.mat", new_mat.len(), ntotal)?;
@@ -381,6 +384,14 @@ fn restore_particles(
     let new_rmax = b.f64("p.rho_max").or_else(|e| if rho_max.is_empty() { Ok(vec![]) } else { Err(e) })?;
     sized("p.rho_max", new_rmax.len(), rho_max.len())?;
     *rho_max = new_rmax;
+    // the boundary-particle kinds: absent from a checkpoint of a binary without them, which is
+    // only right for a case without boundary particles
+    let new_bnd = b.i32("p.bnd").or_else(|e| if bnd.is_empty() { Ok(vec![]) } else { Err(e) })?;
+    sized("p.bnd", new_bnd.len(), bnd.len())?;
+    if new_bnd.iter().any(|&k| !(0..=2).contains(&k)) {
+        return Err(bad("a boundary-particle kind out of range"));
+    }
+    *bnd = new_bnd;
     let new_tau = b.f64("p.tau")?;
     sized("p.tau", new_tau.len(), if tau.is_empty() { 0 } else { crate::modules::param::NSTR * ntotal })?;
     *tau = new_tau;
