@@ -203,9 +203,10 @@ fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
         t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")
     });
     refused(&d, &["exclude", "nosuch.f", "matches no file"]);
-    let d =
-        variant("run_dirs_outside", |t| t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../x\"]"));
-    refused(&d, &["run_dirs", "../x"]);
+    let d = variant("run_dirs_outside", |t| {
+        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../../x\"]")
+    });
+    refused(&d, &["run_dirs", "../../x"]);
 }
 
 /// A search that returns the same pairs in another order and the other way round
