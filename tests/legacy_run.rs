@@ -237,6 +237,29 @@ fn a_pair_list_in_another_order_is_compared_as_a_set() {
     }
 }
 
+/// A search that declares `hsml` a scalar, as the book's link_list does (`double precision
+/// hsml`: it reads the first particle's h, the compat item global_h): it builds, and in the
+/// shock tube (one h for all) its pairs agree with the twins'.
+#[test]
+fn a_search_with_a_scalar_hsml_builds_as_the_books_link_list() {
+    let d = variant_built("scalar_hsml", "direct_find.f", |t| {
+        t.replacen("hsml(maxn), x(dim,maxn)", "hsml, x(dim,maxn)", 1).replacen(
+            "hij = (hsml(i) + hsml(j))/2.",
+            "hij = hsml",
+            1,
+        )
+    });
+    let lg = d.join("build");
+    let mut args = dual_book_args(&lg, Some(2), &d.join("dual"));
+    args[5] = "liu-book,global_h".to_string();
+    blastsph_ok(&args, 0);
+    let (_, rows) = report_rows(&d.join("dual/dual_report.json"));
+    for f in ["pair_i", "pair_j", "w", "dwdx"] {
+        let x = row(&rows, "legacy.direct_find", f);
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
+    }
+}
+
 /// A legacy routine that adds rate terms but cannot stand for its module's Rust stage (here the
 /// CFL step reads max|μ|, which the book's art_visc does not give) is not run beside that stage:
 /// running both would count the viscosity twice.

@@ -192,7 +192,10 @@ fn check_args(
         // one particle's or pair's vector in a 1D build may be declared either way
         let either = r.call != CallMode::Whole && array_here && sizes.dim == 1;
         let decl = decls.as_deref().map_or(Decl::Undeclared, |b| declaration(b, dummy));
+        // the book's link_list declares hsml a scalar: it reads the first particle's h (global_h)
+        let global_h = r.call == CallMode::Whole && a.term.name == "hsml" && decl == Decl::Scalar;
         let mismatch = !either
+            && !global_h
             && match &decl {
                 Decl::Array(g) => !array_here && g != "1",
                 Decl::Scalar => array_here,
