@@ -447,3 +447,26 @@ fn check_gives_the_setup_the_builds_layout_and_run_dirs_may_climb_once() {
     assert_eq!(status, Some(0), "{se}");
     assert!(!build.join("data").exists() && !build.join("out").exists(), "check wrote in the build");
 }
+
+/// An include file with a comment that is not UTF-8 (GBK's 0xB0 0xA1, as in codes commented in
+/// Chinese): gfortran compiles it, and the build reads its parameters (direct_find's `x` declared
+/// `(maxdim,maxn)`, `maxdim` a parameter of that include).
+#[test]
+fn an_include_with_a_comment_that_is_not_utf8_builds() {
+    let d = variant("param_gbk", |m| m.to_string());
+    let src = d.join("direct_find.f");
+    let text = std::fs::read_to_string(&src).unwrap();
+    std::fs::write(&src, text.replacen("x(dim,maxn)", "x(maxdim,maxn)", 1)).unwrap();
+    let f = d.join("param.inc");
+    let mut bytes = b"c     \xb0\xa1 sizes\n".to_vec();
+    bytes.extend(std::fs::read(&f).unwrap());
+    bytes.extend(b"      integer maxdim\n      parameter (maxdim = 1)\n");
+    assert!(String::from_utf8(bytes.clone()).is_err());
+    std::fs::write(&f, bytes).unwrap();
+    let out = d.join("build");
+    let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{se}");
+    let info: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("build.json")).unwrap()).unwrap();
+    assert_eq!((info["dim"].as_u64(), info["maxn"].as_u64()), (Some(1), Some(1000)), "{info}");
+}
