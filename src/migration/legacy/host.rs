@@ -462,7 +462,7 @@ impl Run {
                     s.compared,
                     s.max_abs,
                     s.max_rel,
-                    s.max_ulp,
+                    crate::dual::ulp_text(s.max_ulp),
                     s.out_of_tolerance
                 );
             }
