@@ -153,7 +153,7 @@ pub fn flush_fortran() {
 const EXIT_FLUSH_WAIT_S: u64 = 2;
 
 /// [`flush_fortran`] from an exit handler, on a thread of its own, waited for at most
-/// [`EXIT_FLUSH_WAIT_S`]. A Fortran runtime error inside an I/O statement (an OPEN of a missing
+/// `EXIT_FLUSH_WAIT_S` (2 s). A Fortran runtime error inside an I/O statement (an OPEN of a missing
 /// file) exits with that statement's unit still locked; libgfortran's flush would then wait for
 /// it for ever. The process then ends without the unflushed output.
 pub fn flush_fortran_at_exit() {
