@@ -33,7 +33,7 @@ pub(crate) fn sticky_max(m: f64, v: f64) -> f64 {
 
 /// A ULP distance as the table prints it: "NaN" where a side was NaN, and in powers of ten above
 /// 10^6 (a distance across zero or between far values: its digits say nothing more).
-fn ulp_text(u: u64) -> String {
+pub(crate) fn ulp_text(u: u64) -> String {
     match u {
         u64::MAX => "NaN".into(),
         u if u >= 1_000_000 => format!("{:.0e}", u as f64),

@@ -230,3 +230,33 @@ fn the_books_three_files_at_eight_digits_are_equal_at_the_digits_written() {
     assert_eq!(fields("f_state.dat")[5].1, "not in particles.h5");
     assert!(so.contains("not in particles.h5"), "{so}");
 }
+
+#[test]
+fn a_tecplot_header_before_the_numbers_is_left_out() {
+    let s = setup();
+    let prog = scratch("compare_tecplot_program");
+    let text = std::fs::read_to_string(s.prog.join("final_state.dat")).unwrap();
+    let head = "TITLE=\"shock tube\"\nVARIABLES=\"n\",\"type\",\"x\",\"vx\",\"mass\",\"rho\",\"p\",\"u\",\"hsml\"\nZONE I=400, F=POINT\n";
+    std::fs::write(prog.join("final_state.dat"), format!("{head}{text}")).unwrap();
+    let out = scratch("compare_tecplot");
+    let (code, so, se) = compare(&s.run, &s.build, &prog, &out);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert!(so.contains("equal at the 17 digits written: bit for bit"), "{so}");
+}
+
+#[test]
+fn a_failed_compare_leaves_nothing_that_refuses_the_next() {
+    let s = setup();
+    let text = std::fs::read_to_string(s.prog.join("final_state.dat")).unwrap();
+    let bad = scratch("compare_retry_program");
+    std::fs::write(bad.join("final_state.dat"), text.replacen("\n      3 ", "\n      3x ", 1)).unwrap();
+    let out = scratch("compare_retry").join("out");
+    for _ in 0..2 {
+        let (code, so, se) = compare(&s.run, &s.build, &bad, &out);
+        assert_eq!(code, Some(2), "{so}{se}");
+        assert!(se.contains("`3x` is not a number"), "{se}");
+        assert!(!out.exists(), "a failed compare left {}", out.display());
+    }
+    let (code, so, se) = compare(&s.run, &s.build, &s.prog, &out);
+    assert_eq!(code, Some(0), "{so}{se}");
+}

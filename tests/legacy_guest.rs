@@ -335,3 +335,138 @@ fn an_eos_that_gives_p_only_stands_for_p_and_leaves_c_at_zero() {
     assert_ne!(rows, program_final_state(), "c = 0 changes the program's run");
     assert_run_ends_as(lg, "shock_tube", "liu-book", &rows, "p_only_run");
 }
+
+/// The fixture with a set-up routine that reads a file its folder does not hold (a code run away
+/// from its `../data`): gfortran's runtime error ends the routine inside an OPEN statement.
+fn missing_file_setup() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        variant_built("setup_missing_file", "input.f", |t| {
+            t.replacen(
+                "      write(*,*) ' particles:', ntotal\n",
+                "      write(*,*) ' particles:', ntotal\n      open(11, file='../data/ini_xv.dat', status='old')\n      read(11,*) ntotal\n      close(11)\n",
+                1,
+            )
+        })
+    })
+}
+
+/// `blastsph ARGS` with `stdin` on its standard input, killed after `secs` seconds: (status, stderr),
+/// status None when it had to be killed.
+fn within(args: &[&str], stdin: &[u8], secs: u64) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("blastsph starts");
+    {
+        use std::io::Write;
+        let _ = child.stdin.take().unwrap().write_all(stdin);
+    }
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s.code();
+        }
+        if start.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut se = String::new();
+    use std::io::Read;
+    let _ = child.stderr.take().unwrap().read_to_string(&mut se);
+    (status, se)
+}
+
+#[test]
+fn a_runtime_error_in_an_open_statement_ends_every_command_with_status_3() {
+    let d = missing_file_setup();
+    let build = d.join("build");
+    let b = build.to_str().unwrap();
+    let dual = d.join("dual");
+    let run = d.join("run");
+    let host = d.join("host");
+    let commands: [Vec<&str>; 4] = [
+        vec!["check", "shock_tube", "--legacy", b],
+        vec!["run", "shock_tube", "--legacy", b, "--compat", "liu-book", "--quiet", "--out", run.to_str().unwrap()],
+        vec![
+            "dual",
+            "shock_tube",
+            "--legacy",
+            b,
+            "--compat",
+            "liu-book",
+            "--steps",
+            "1",
+            "--out",
+            dual.to_str().unwrap(),
+        ],
+        vec!["legacy", "host", "shock_tube", "--legacy", b, "--compat", "liu-book", "--out", host.to_str().unwrap()],
+    ];
+    for args in &commands {
+        let (status, se) = within(args, b"1\n0\n", 60);
+        assert!(status.is_some(), "blastsph {args:?} did not end in 60 s; stderr: {se}");
+        assert!(se.contains("Cannot open file '../data/ini_xv.dat'"), "blastsph {args:?}: libgfortran's line: {se}");
+        assert!(!se.contains("panicked"), "{se}");
+        if args[0] != "legacy" {
+            assert_eq!(status, Some(3), "blastsph {args:?}: {se}");
+            let ours: Vec<&str> = se.lines().filter(|l| l.starts_with("error:")).collect();
+            assert_eq!(ours.len(), 1, "one line of blastsph's: {se}");
+            assert!(ours[0].contains("legacy routine input ended the process"), "{se}");
+        } else {
+            assert_ne!(status, Some(0), "blastsph {args:?}: {se}");
+        }
+    }
+}
+
+/// The fixture with a set-up routine that writes into the build's `data` folder beside where it
+/// runs (the book's `../data`) and into a `run_dirs` folder one level up.
+#[test]
+fn check_gives_the_setup_the_builds_layout_and_run_dirs_may_climb_once() {
+    let d = variant("setup_writes_up", |m| {
+        m.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../out/frames\"]")
+    });
+    let f = d.join("input.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = text.replacen(
+        "      write(*,*) ' particles:', ntotal\n",
+        "      open(11, file='../data/ini_count.dat')\n      write(11,*) ntotal\n      close(11)\n      open(12, file='../out/frames/f.dat')\n      write(12,*) ntotal\n      close(12)\n",
+        1,
+    );
+    assert_ne!(new, text);
+    std::fs::write(&f, new).unwrap();
+    let build = d.join("build");
+    blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the variant builds");
+    let (status, se) = within(&["check", "shock_tube", "--legacy", build.to_str().unwrap()], b"", 60);
+    assert_eq!(status, Some(0), "{se}");
+    assert!(!build.join("data").exists() && !build.join("out").exists(), "check wrote in the build");
+}
+
+/// An include file with a comment that is not UTF-8 (GBK's 0xB0 0xA1, as in codes commented in
+/// Chinese): gfortran compiles it, and the build reads its parameters (direct_find's `x` declared
+/// `(maxdim,maxn)`, `maxdim` a parameter of that include).
+#[test]
+fn an_include_with_a_comment_that_is_not_utf8_builds() {
+    let d = variant("param_gbk", |m| m.to_string());
+    let src = d.join("direct_find.f");
+    let text = std::fs::read_to_string(&src).unwrap();
+    std::fs::write(&src, text.replacen("x(dim,maxn)", "x(maxdim,maxn)", 1)).unwrap();
+    let f = d.join("param.inc");
+    let mut bytes = b"c     \xb0\xa1 sizes\n".to_vec();
+    bytes.extend(std::fs::read(&f).unwrap());
+    bytes.extend(b"      integer maxdim\n      parameter (maxdim = 1)\n");
+    assert!(String::from_utf8(bytes.clone()).is_err());
+    std::fs::write(&f, bytes).unwrap();
+    let out = d.join("build");
+    let o = blastsph(&["legacy", "build", d.join("legacy.toml").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let se = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{se}");
+    let info: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("build.json")).unwrap()).unwrap();
+    assert_eq!((info["dim"].as_u64(), info["maxn"].as_u64()), (Some(1), Some(1000)), "{info}");
+}

@@ -238,3 +238,22 @@ fn arrays_declared_with_a_leading_extent_above_dim_are_laid_out_as_declared() {
     // blastsph as the host: the program's end, bit for bit
     assert_run_ends_as_the_program(&build, "maxdim_run");
 }
+
+/// An EOS whose sound speed is NaN (the square root of a negative number): the table prints the
+/// ULP distance of a NaN as `NaN`, as the dual run's table does.
+#[test]
+fn a_nan_from_the_users_routine_is_printed_as_nan() {
+    let d = variant_built("host_nan", "eos.f", |t| {
+        t.replacen("      c = sqrt((gam - 1)*u)\n", "      c = sqrt((gam - 1)*u - 1.d10)\n", 1)
+    });
+    let out = scratch("host_nan_run");
+    let (code, so, se) = host(&d.join("build"), &out, false);
+    assert_eq!(code, Some(4), "{so}{se}");
+    assert!(!so.contains(&u64::MAX.to_string()), "{so}");
+    // a row: [routine calls compared] field values max-abs max-rel maxULP out first-divergence
+    let nan_ulp = |l: &str| {
+        let t: Vec<&str> = l.split_whitespace().collect();
+        t.iter().position(|x| *x == "c").is_some_and(|k| t.get(k + 4) == Some(&"NaN"))
+    };
+    assert!(so.lines().any(nan_ulp), "no row of c with maxULP NaN: {so}");
+}

@@ -203,9 +203,10 @@ fn a_file_that_does_not_compile_with_gfortran_can_be_excluded() {
         t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nexclude = [\"nosuch.f\"]")
     });
     refused(&d, &["exclude", "nosuch.f", "matches no file"]);
-    let d =
-        variant("run_dirs_outside", |t| t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../x\"]"));
-    refused(&d, &["run_dirs", "../x"]);
+    let d = variant("run_dirs_outside", |t| {
+        t.replace("sources = [\"*.f\"]", "sources = [\"*.f\"]\nrun_dirs = [\"../../x\"]")
+    });
+    refused(&d, &["run_dirs", "../../x"]);
 }
 
 /// A search that returns the same pairs in another order and the other way round
@@ -233,6 +234,29 @@ fn a_pair_list_in_another_order_is_compared_as_a_set() {
     assert_eq!((o["only_counterpart"].as_u64(), o["only_rust"].as_u64()), (Some(0), Some(0)), "{o}");
     for (stage, field) in [("legacy.sum_density", "rho"), ("legacy.int_force", "acc"), ("legacy.art_visc", "dde")] {
         assert_eq!(row(&rows, stage, field)["max_ulp"], 0, "{stage} {field}");
+    }
+}
+
+/// A search that declares `hsml` a scalar, as the book's link_list does (`double precision
+/// hsml`: it reads the first particle's h, the compat item global_h): it builds, and in the
+/// shock tube (one h for all) its pairs agree with the twins'.
+#[test]
+fn a_search_with_a_scalar_hsml_builds_as_the_books_link_list() {
+    let d = variant_built("scalar_hsml", "direct_find.f", |t| {
+        t.replacen("hsml(maxn), x(dim,maxn)", "hsml, x(dim,maxn)", 1).replacen(
+            "hij = (hsml(i) + hsml(j))/2.",
+            "hij = hsml",
+            1,
+        )
+    });
+    let lg = d.join("build");
+    let mut args = dual_book_args(&lg, Some(2), &d.join("dual"));
+    args[5] = "liu-book,global_h".to_string();
+    blastsph_ok(&args, 0);
+    let (_, rows) = report_rows(&d.join("dual/dual_report.json"));
+    for f in ["pair_i", "pair_j", "w", "dwdx"] {
+        let x = row(&rows, "legacy.direct_find", f);
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {x}");
     }
 }
 

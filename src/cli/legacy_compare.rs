@@ -69,8 +69,17 @@ pub(super) fn compare(
         PathBuf::from("runs").join(format!("{}_compare", crate::rundir::sanitize(&name)))
     });
     own_folder(&out, "compare.json", "legacy compare")?;
+    let (existed, ours) = (out.exists(), out.join("compare.json").is_file());
     let o = Opts { run, legacy, program_out, out: out.clone() };
-    let (text, _) = crate::migration::compare::compare(&o, &c, &snap)?;
+    let (text, _) = crate::migration::compare::compare(&o, &c, &snap).inspect_err(|_| {
+        // a compare that failed leaves nothing that would refuse the next one in this folder
+        if !ours {
+            let _ = std::fs::remove_dir_all(out.join("written"));
+            if !existed {
+                let _ = std::fs::remove_dir(&out);
+            }
+        }
+    })?;
     print!("{text}");
     println!(
         "written: {} (the run's files in your program's format: {})",

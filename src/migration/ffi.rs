@@ -106,13 +106,12 @@ extern "C" fn legacy_exit() {
     {
         mark_summary(p, &what);
     }
-    // SAFETY: flushing every Fortran unit takes no pointer of ours (NULL: all units); H5close
-    // closes the HDF5 library's open files (no HDF5 call is in progress: the legacy call is, and
-    // they are serialised on this thread); `_exit` ends the process at once without running the
-    // remaining exit handlers (this one would otherwise return into libgfortran's exit with
-    // status 0).
+    flush_fortran_at_exit();
+    // SAFETY: H5close closes the HDF5 library's open files (no HDF5 call is in progress: the
+    // legacy call is, and they are serialised on this thread); `_exit` ends the process at once
+    // without running the remaining exit handlers (this one would otherwise return into
+    // libgfortran's exit with status 0).
     unsafe {
-        _gfortran_flush_i4(std::ptr::null());
         #[cfg(feature = "io")]
         H5close();
         libc::_exit(STOP_STATUS);
@@ -145,8 +144,27 @@ fn mark_summary(path: &Path, what: &str) {
 /// buffers when it is a file or a pipe), so that they come out in order with blastsph's own lines.
 pub fn flush_fortran() {
     // SAFETY: FLUSH with no unit (NULL) takes no pointer of ours and flushes every open unit; it
-    // is called between legacy calls, on the thread that makes them.
+    // is called between legacy calls (on the thread that makes them), or at exit (on a thread
+    // of its own, while the legacy call that ended the process waits in `exit`).
     unsafe { _gfortran_flush_i4(std::ptr::null()) }
+}
+
+/// How long an exit handler waits for libgfortran's flush of every unit (s).
+const EXIT_FLUSH_WAIT_S: u64 = 2;
+
+/// [`flush_fortran`] from an exit handler, on a thread of its own, waited for at most
+/// `EXIT_FLUSH_WAIT_S` (2 s). A Fortran runtime error inside an I/O statement (an OPEN of a missing
+/// file) exits with that statement's unit still locked; libgfortran's flush would then wait for
+/// it for ever. The process then ends without the unflushed output.
+pub fn flush_fortran_at_exit() {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let spawned = std::thread::Builder::new().spawn(move || {
+        flush_fortran();
+        let _ = tx.send(());
+    });
+    if spawned.is_ok() {
+        let _ = rx.recv_timeout(std::time::Duration::from_secs(EXIT_FLUSH_WAIT_S));
+    }
 }
 
 /// Runs `f` with the process's standard output (file descriptor 1) sent to `file`: what a

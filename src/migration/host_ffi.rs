@@ -115,7 +115,7 @@ pub fn at_exit(f: extern "C" fn()) {
 /// Ends the process now with `code`, after the Fortran units are flushed (from an exit
 /// handler: the status of the program's `STOP` is replaced).
 pub fn exit_now(code: i32) -> ! {
-    super::ffi::flush_fortran();
+    super::ffi::flush_fortran_at_exit();
     // SAFETY: `_exit` ends the process at once; the Fortran units were flushed above and the
     // report written by the caller.
     unsafe { libc::_exit(code) }

@@ -82,7 +82,7 @@ pub struct Legacy {
     /// The code's type code of each material.
     itype: Vec<i32>,
     setup_only: bool,
-    /// `cwd` is a scratch folder of its own (`check`), removed when the build is closed.
+    /// `cwd` is `work` in a scratch folder of its own (`check`), removed when the build is closed.
     scratch: bool,
     /// The warnings said so far, shared by every opening of one bridge (the ledger opens the
     /// build once per row): each is said once.
@@ -136,8 +136,10 @@ fn scratch_folder() -> Result<PathBuf> {
 
 impl Drop for Legacy {
     fn drop(&mut self) {
-        if self.scratch {
-            let _ = std::fs::remove_dir_all(&self.cwd);
+        if self.scratch
+            && let Some(root) = self.cwd.parent()
+        {
+            let _ = std::fs::remove_dir_all(root);
         }
     }
 }
@@ -231,10 +233,11 @@ impl Legacy {
             }
         }
         let abs = std::path::absolute(dir).map_err(|e| SphError::Io(format!("{shown}: {e}")))?;
-        let cwd = if scratch { scratch_folder()? } else { abs.join("work") };
+        // a scratch folder has the build's layout: `work` where the routines run, `data` beside it
+        let root = if scratch { scratch_folder()? } else { abs.clone() };
+        let cwd = root.join("work");
         let run_dirs = info.run_dirs.iter().map(|d| cwd.join(d));
-        let data = (!scratch).then(|| abs.join("data"));
-        for d in [cwd.clone()].into_iter().chain(data).chain(run_dirs) {
+        for d in [cwd.clone(), root.join("data")].into_iter().chain(run_dirs) {
             std::fs::create_dir_all(&d).map_err(|e| SphError::Io(format!("{}: {e}", d.display())))?;
         }
         let dt = (case.time.step == StepRule::Fixed).then_some(case.time.dt_s).flatten();

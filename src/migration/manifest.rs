@@ -295,6 +295,26 @@ fn refused_flag(f: &str) -> Option<&'static str> {
     None
 }
 
+/// A `run_dirs` entry names a folder inside the build: relative to `work`, where the routines
+/// run, climbing at most to `work`'s parent (the build folder, `../data`), and not that folder
+/// itself.
+fn stays_in_build(d: &str) -> bool {
+    use std::path::Component;
+    let mut depth = 0i32;
+    for c in Path::new(d).components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir => depth -= 1,
+            Component::RootDir | Component::Prefix(_) => return false,
+        }
+        if depth < -1 {
+            return false;
+        }
+    }
+    !d.is_empty() && depth >= 0
+}
+
 fn is_ident(s: &str) -> bool {
     let mut ch = s.chars();
     matches!(ch.next(), Some(c) if c.is_ascii_alphabetic()) && ch.all(|c| c.is_ascii_alphanumeric() || c == '_')
@@ -396,11 +416,12 @@ pub fn load(path: &Path) -> Result<Manifest> {
     }
 
     for d in &raw.run_dirs {
-        let p = Path::new(d);
-        if d.is_empty() || p.is_absolute() || p.components().any(|c| matches!(c, std::path::Component::ParentDir)) {
+        if !stays_in_build(d) {
             return Err(err(
                 "run_dirs",
-                format!("\"{d}\": a folder inside the one the routines run in (relative, no ..)"),
+                format!(
+                    "\"{d}\": a folder of the build's, relative to where the routines run (`../data` at most one level up)"
+                ),
             ));
         }
     }

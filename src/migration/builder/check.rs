@@ -103,7 +103,7 @@ fn find_proto<'a>(m: &Manifest, r: &manifest::Routine, protos: &'a [Vec<Proto>])
             let inner = m
                 .sources
                 .iter()
-                .find(|f| std::fs::read_to_string(f).is_ok_and(|t| routine_text(&t, &r.name, fixed_form(f)).is_some()));
+                .find(|f| read_source(f).is_some_and(|t| routine_text(&t, &r.name, fixed_form(f)).is_some()));
             if let Some(f) = inner {
                 return Err(input(format!(
                     "{}: routine {}: defined in {} inside a module or after CONTAINS: only external subroutines (outside any module) can be mapped",
@@ -113,7 +113,7 @@ fn find_proto<'a>(m: &Manifest, r: &manifest::Routine, protos: &'a [Vec<Proto>])
                 )));
             }
             // an ENTRY statement of another subroutine (gfortran prints no prototype for it)
-            let entry = m.sources.iter().find(|f| std::fs::read_to_string(f).is_ok_and(|t| has_entry(&t, &r.name)));
+            let entry = m.sources.iter().find(|f| read_source(f).is_some_and(|t| has_entry(&t, &r.name)));
             if let Some(f) = entry {
                 return Err(input(format!(
                     "{}: routine {}: an ENTRY point (in {}), not a SUBROUTINE: entries cannot be mapped; map the SUBROUTINE that holds it, or a SUBROUTINE of your own in a new file that calls the entry",
@@ -152,10 +152,8 @@ fn check_args(
     // was found (else a dummy that no statement declares may be declared in the one not read)
     let fixed_src = fixed_form(&m.sources[k]);
     let beside = m.sources[k].parent().unwrap_or(Path::new("."));
-    let (decls, included) = std::fs::read_to_string(&m.sources[k])
-        .ok()
-        .and_then(|t| routine_text(&t, &r.name, fixed_src))
-        .map_or((None, false), |b| {
+    let (decls, included) =
+        read_source(&m.sources[k]).and_then(|t| routine_text(&t, &r.name, fixed_src)).map_or((None, false), |b| {
             let (d, all) = with_includes(&b, beside, &m.include_dirs, fixed_src, 0);
             (Some(d), all)
         });
@@ -192,7 +190,10 @@ fn check_args(
         // one particle's or pair's vector in a 1D build may be declared either way
         let either = r.call != CallMode::Whole && array_here && sizes.dim == 1;
         let decl = decls.as_deref().map_or(Decl::Undeclared, |b| declaration(b, dummy));
+        // the book's link_list declares hsml a scalar: it reads the first particle's h (global_h)
+        let global_h = r.call == CallMode::Whole && a.term.name == "hsml" && decl == Decl::Scalar;
         let mismatch = !either
+            && !global_h
             && match &decl {
                 Decl::Array(g) => !array_here && g != "1",
                 Decl::Scalar => array_here,

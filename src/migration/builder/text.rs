@@ -72,6 +72,12 @@ pub(super) fn swapped_arguments(name: &str, file: &str, args: &[ArgInfo]) -> Vec
     out
 }
 
+/// A Fortran source or include file as text, its bytes that are not UTF-8 (comments in GBK or
+/// Latin-1) replaced: gfortran reads such files, and their statements are ASCII.
+pub(super) fn read_source(p: &Path) -> Option<String> {
+    std::fs::read(p).ok().map(|b| String::from_utf8_lossy(&b).into_owned())
+}
+
 /// Whether a source is fixed form (by its extension, as the build compiles it).
 pub(super) fn fixed_form(p: &Path) -> bool {
     p.extension().and_then(|e| e.to_str()).is_some_and(|e| FIXED_FORM.contains(&e))
@@ -372,7 +378,7 @@ pub(super) fn with_includes(body: &str, beside: &Path, dirs: &[PathBuf], fixed: 
                 .map(|e| e.path())
                 .find(|p| p.file_name().and_then(|f| f.to_str()).is_some_and(|f| f.eq_ignore_ascii_case(name)))
         });
-        let text = found.and_then(|p| std::fs::read_to_string(p).ok());
+        let text = found.and_then(|p| read_source(&p));
         // the file's statements, as those of a routine of its own
         let inc = text.filter(|_| depth < 4).and_then(|t| {
             let wrapped = if fixed {
@@ -410,7 +416,7 @@ impl GlobalTexts {
             .global_includes
             .iter()
             .map(|(name, path)| {
-                let text = std::fs::read_to_string(path).unwrap_or_default();
+                let text = read_source(path).unwrap_or_default();
                 let beside = path.parent().unwrap_or(Path::new("."));
                 let mut all = String::new();
                 for fixed in [true, false] {
@@ -426,7 +432,7 @@ impl GlobalTexts {
         let mut modules = Vec::new();
         for name in &m.global_modules {
             let found = m.sources.iter().find_map(|src| {
-                let t = std::fs::read_to_string(src).ok()?;
+                let t = read_source(src)?;
                 let fixed = fixed_form(src);
                 let b = unit_text(&t, "module", name, fixed)?;
                 Some(with_includes(&b, src.parent().unwrap_or(Path::new(".")), &m.include_dirs, fixed, 0).0)

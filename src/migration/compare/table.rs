@@ -12,7 +12,8 @@ pub struct Table {
 }
 
 impl Table {
-    /// Reads `path`: tokens split at blanks and commas.
+    /// Reads `path`: tokens split at blanks and commas. The lines before the first line of
+    /// numbers only are a header (Tecplot's `TITLE=`, `VARIABLES=`, `ZONE`) and are left out.
     pub fn read(path: &Path) -> Result<Table> {
         let text = std::fs::read(path).map_err(|e| input(format!("{}: {e}", path.display())))?;
         let text = String::from_utf8_lossy(&text);
@@ -21,6 +22,7 @@ impl Table {
             .enumerate()
             .map(|(k, l)| (k + 1, l.split([' ', '\t', ',']).filter(|t| !t.is_empty()).map(String::from).collect()))
             .filter(|(_, t): &(usize, Vec<String>)| !t.is_empty())
+            .skip_while(|(_, t)| !t.iter().all(|x| number(x).is_some()))
             .collect();
         Ok(Table { lines })
     }

@@ -199,7 +199,7 @@ fn finish() -> i32 {
     if let Some(c) = run.done {
         return c;
     }
-    super::super::ffi::flush_fortran();
+    super::super::ffi::flush_fortran_at_exit();
     let (text, json, ok) = run.report();
     let _ = std::fs::write(&run.report, serde_json::to_string_pretty(&json).unwrap_or_default());
     use std::io::Write;
@@ -462,7 +462,7 @@ impl Run {
                     s.compared,
                     s.max_abs,
                     s.max_rel,
-                    s.max_ulp,
+                    crate::dual::ulp_text(s.max_ulp),
                     s.out_of_tolerance
                 );
             }
