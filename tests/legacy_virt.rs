@@ -84,3 +84,23 @@ fn virtual_is_refused_on_another_routine_and_of_another_kind() {
     let d = with_virt("virt_bad_kind", "virtual = \"frozen\"\n");
     refused(&d, &["virtual", "frozen"]);
 }
+
+#[test]
+fn dual_compares_every_mapped_routine_at_zero_ulp_with_the_virtual_particles() {
+    let d = with_virt("virt_dual", "");
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let out = d.join("dual");
+    let args = ["dual", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    let so = blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap()]].concat(), 0);
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let legacy: Vec<_> =
+        rows.iter().filter(|x| x["stage"].as_str().is_some_and(|s| s.starts_with("legacy."))).collect();
+    assert!(legacy.len() >= 10, "{rows:?}");
+    for x in legacy {
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{x}");
+    }
+    // the 400 real particles and the 6 virtual ones, at each of the 40 steps
+    assert_eq!(row(&rows, "legacy.sum_density", "rho")["compared"].as_u64(), Some(406 * 40));
+}
