@@ -145,7 +145,8 @@ pub fn gather(name: &str, vec: bool, per_pair: bool, c: &mut Ctx, p: &Particles,
             &(0..nt)
                 .map(|i| {
                     let code = c.itype.get(p.mat[i] as usize).copied().unwrap_or(0);
-                    if i < p.nreal { code } else { -code }
+                    // the book's virtual particles: ghosts and boundary particles, itype < 0
+                    if i < p.nreal && p.bnd.get(i).is_none_or(|&b| b == 0) { code } else { -code }
                 })
                 .collect::<Vec<_>>(),
             len,

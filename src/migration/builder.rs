@@ -99,6 +99,9 @@ pub struct RoutineInfo {
     /// the call and back after).
     #[serde(default)]
     pub globals: Vec<GlobalInfo>,
+    /// `virt_part` only: "held" or "integrated", the kind of the boundary particles it makes.
+    #[serde(default)]
+    pub virtual_kind: Option<String>,
 }
 
 /// A routine's global variable, as built.

@@ -39,6 +39,7 @@ use std::sync::{Arc, Mutex};
 mod differences;
 pub mod host;
 mod plan;
+mod virt;
 
 use differences::state_differences;
 
@@ -72,6 +73,8 @@ struct Shared {
     calls: BTreeMap<String, u64>,
     /// (routine, argument) pairs already warned of a changed input.
     warned: std::collections::HashSet<(String, String)>,
+    /// What the set-up's `virt_part` made: its boundary particles and their kind.
+    virt_made: Option<(usize, String)>,
 }
 
 /// An opened legacy build, bound to a case.
@@ -338,7 +341,7 @@ impl Legacy {
     /// The initial particles from the user's set-up routine (the book's `input`); `base` (the
     /// case's own particles) gives the finest spacing and the regions.
     pub fn setup(&self, case: &Case, base: Initial) -> Result<Initial> {
-        let Some(r) = self.setup_routine() else { return Ok(base) };
+        let Some(r) = self.setup_routine() else { return self.virt_part(case, base) };
         let info = self.lib.info();
         let (dim, maxn) = (case.dim, info.maxn);
         let mut bufs = self.start_bufs(r, dim);
@@ -397,14 +400,14 @@ impl Legacy {
                 r.name
             ));
         }
-        let made = Initial { x, v, rho, e, h, mass, mat, region, counts, dx_min: base.dx_min };
+        let made = Initial { x, v, rho, e, h, mass, mat, region, counts, dx_min: base.dx_min, bnd: Vec::new() };
         if let Some(diff) = state_differences(case, &base, &made) {
             self.warn(format!(
                 "legacy {}'s particles are not the state the case describes: {diff}; the run takes the routine's, while the case's exact solution, gauges and charge are the case's",
                 r.name
             ));
         }
-        Ok(made)
+        self.virt_part(case, made)
     }
 
     /// [`Self::call_raw`] for an init or set-up routine. In a scratch folder (`check`) what it

@@ -102,6 +102,10 @@ struct RawRoutine {
     /// The routine adds gravity to its acceleration (the book's `ext_force`).
     #[serde(default)]
     includes_gravity: bool,
+    /// `virt_part` only: the kind of boundary particle it makes, "held" (the default) or
+    /// "integrated".
+    #[serde(default, rename = "virtual")]
+    virtual_kind: Option<String>,
 }
 
 /// The names of the three compile-time parameters in the user's include file.
@@ -168,6 +172,8 @@ pub struct Routine {
     pub globals: Vec<Global>,
     /// Its dummies bound to values (`values`), not among `args`.
     pub values: Vec<Constant>,
+    /// `virt_part` only: "held" or "integrated", the kind of the boundary particles it makes.
+    pub virtual_kind: Option<String>,
 }
 
 /// What blastsph passes to a routine's shim, in order: a vocabulary name with its whole-array shape.
@@ -587,7 +593,30 @@ fn routine_of(
             "name the include file of their COMMON blocks (global_includes) or their module (global_modules)".into(),
         ));
     }
-    Ok(Routine { name, modules, call, args, globals, values })
+    let virtual_kind = virtual_of(r, &name, &modules, &key, err)?;
+    Ok(Routine { name, modules, call, args, globals, values, virtual_kind })
+}
+
+/// The `virtual` key: only on `virt_part` (module `boundary`), "held" or "integrated"; "held"
+/// where `virt_part` leaves it out.
+fn virtual_of(
+    r: &RawRoutine,
+    name: &str,
+    modules: &[String],
+    key: &str,
+    err: &dyn Fn(&str, String) -> SphError,
+) -> Result<Option<String>> {
+    let is_virt = name == "virt_part" && modules.iter().any(|m| m == "boundary");
+    match (&r.virtual_kind, is_virt) {
+        (None, false) => Ok(None),
+        (None, true) => Ok(Some("held".into())),
+        (Some(_), false) => Err(err(
+            &format!("{key}.virtual"),
+            "only the routine virt_part (module = \"boundary\") takes `virtual`".into(),
+        )),
+        (Some(k), true) if k == "held" || k == "integrated" => Ok(Some(k.clone())),
+        (Some(k), true) => Err(err(&format!("{key}.virtual"), format!("\"{k}\": must be \"held\" or \"integrated\""))),
+    }
 }
 
 /// The arguments of routine `r` (manifest key `key`), each a name of the vocabulary of its call.

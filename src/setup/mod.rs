@@ -26,6 +26,9 @@ pub struct Initial {
     pub counts: Vec<usize>,
     /// Finest initial spacing (m).
     pub dx_min: f64,
+    /// Boundary kind of each particle (0 ordinary, 1 integrated, 2 held), where something other
+    /// than the regions' `boundary_particles` sets it; empty: the regions say.
+    pub bnd: Vec<i32>,
 }
 
 /// The material table of the legacy interface, built from the case's materials.

@@ -157,6 +157,7 @@ impl Sim {
             ));
         }
         let cfg = Config::new(&case, mt, &init.x, init.dx_min);
+        let bnd = std::mem::take(&mut init.bnd);
         let mut p = Particles {
             dim,
             nreal: n,
@@ -173,7 +174,9 @@ impl Sim {
             id: (0..n as i64).collect(),
             ..Default::default()
         };
-        if case.regions.iter().any(|r| r.boundary_particles.is_some()) {
+        if !bnd.is_empty() {
+            p.bnd = bnd;
+        } else if case.regions.iter().any(|r| r.boundary_particles.is_some()) {
             let kind = |r: &u32| case.regions[*r as usize].boundary_particles.map_or(0, |k| k as i32);
             p.bnd = init.region.iter().map(kind).collect();
         }

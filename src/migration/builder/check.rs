@@ -85,6 +85,7 @@ pub(super) fn routine(
         args,
         bindings,
         globals,
+        virtual_kind: r.virtual_kind.clone(),
     };
     Ok((info, copies, warnings))
 }

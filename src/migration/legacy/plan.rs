@@ -120,6 +120,11 @@ impl Legacy {
         if r.modules.iter().any(|m| m == "setup") {
             return note("setup", "makes the initial particles (called once, before the first step)".into(), json!({}));
         }
+        if let Some(k) = &r.virtual_kind {
+            let (n, k) = self.shared().virt_made.clone().unwrap_or((0, k.clone()));
+            let why = format!("made {n} boundary particles, {k} (called once after the set-up, with itimestep = 1)");
+            return note("setup", why, json!({ "virtual": k, "made": n }));
+        }
         if r.modules.iter().any(|m| m == "init") {
             return note(
                 "init",

@@ -1,0 +1,116 @@
+//! The book's `virt_part` as a set-up step: called once after the set-up (the user's `input`,
+//! or blastsph's own particles), with `itimestep = 1`. The `nvirt` particles it appends after
+//! the `ntotal` real ones become boundary particles of the manifest's kind (`virtual = "held"`
+//! or `"integrated"`), each of the material whose code is `-itype`.
+
+use super::super::bind::{self, Buf, Ctx};
+use super::{Legacy, is_vec};
+use crate::case::Case;
+use crate::error::{Result, input};
+use crate::modules::Slots;
+use crate::setup::Initial;
+use crate::state::{Particles, Work};
+
+impl Legacy {
+    /// The mapped `virt_part` routine, if any.
+    fn virt_routine(&self) -> Option<&super::super::builder::RoutineInfo> {
+        self.lib.info().routines.iter().find(|r| r.virtual_kind.is_some())
+    }
+
+    /// `made` with the boundary particles of the mapped `virt_part` appended; `made` as it is
+    /// where none is mapped.
+    pub(super) fn virt_part(&self, case: &Case, mut made: Initial) -> Result<Initial> {
+        let Some(r) = self.virt_routine() else { return Ok(made) };
+        let kind = r.virtual_kind.as_deref().unwrap_or("held");
+        let (dim, maxn) = (case.dim, self.lib.info().maxn);
+        let n = made.mass.len();
+        self.check_capacity(n)?;
+        let p = Particles {
+            dim,
+            nreal: n,
+            ntotal: n,
+            x: made.x.clone(),
+            v: made.v.clone(),
+            rho: made.rho.clone(),
+            p: vec![0.0; n],
+            c: vec![0.0; n],
+            e: made.e.clone(),
+            h: made.h.clone(),
+            mass: made.mass.clone(),
+            mat: made.mat.clone(),
+            ..Default::default()
+        };
+        let mut bufs = {
+            let mut sh = self.shared();
+            let mut ctx = Ctx {
+                dim,
+                itimestep: 1,
+                dt: self.dt.unwrap_or(0.0),
+                time: 0.0,
+                slots: Slots::default(),
+                itype: &self.itype,
+                nbuf: maxn,
+                pbuf: 0,
+                scratch: &mut sh.scratch,
+            };
+            let work = Work::default();
+            r.bindings
+                .iter()
+                .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &p, &work))
+                .collect::<Vec<Buf>>()
+        };
+        self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
+        let get = |name: &str| r.bindings.iter().position(|b| b.name == name).map(|k| &bufs[k]);
+        let int = |name: &str| match get(name) {
+            Some(Buf::I(v)) => Ok(v.clone()),
+            _ => Err(input(format!("legacy {}: a virt_part routine must take {name}", r.name))),
+        };
+        let nv = int("nvirt")?[0];
+        if nv < 0 || n + nv as usize > maxn {
+            return Err(input(format!("legacy {}: returned nvirt = {nv} ({n} real particles, maxn = {maxn})", r.name)));
+        }
+        let (nv, itype) = (nv as usize, int("itype")?);
+        let real = |name: &str, w: usize| -> Result<Vec<f64>> {
+            match get(name) {
+                Some(Buf::R(v)) => Ok(v[w * n..w * (n + nv)].to_vec()),
+                _ => Err(input(format!("legacy {}: a virt_part routine must give {name}", r.name))),
+            }
+        };
+        let (x, v, rho, e, h, mass) =
+            (real("x", dim)?, real("vx", dim)?, real("rho", 1)?, real("u", 1)?, real("hsml", 1)?, real("mass", 1)?);
+        // the real particles' kinds, from the regions, before the boundary particles'
+        let region_kind =
+            |g: &u32| case.regions.get(*g as usize).and_then(|rg| rg.boundary_particles).map_or(0, |k| k as i32);
+        if made.bnd.is_empty() {
+            made.bnd = made.region.iter().map(region_kind).collect();
+        }
+        let code = if kind == "integrated" { 1 } else { 2 };
+        for (i, &t) in itype[n..n + nv].iter().enumerate() {
+            let m = self.itype.iter().position(|&k| k == -t).ok_or_else(|| {
+                input(format!(
+                    "legacy {}: virtual particle {} has itype {t}, but no material of the case has code {} (codes: {:?})",
+                    r.name,
+                    n + i + 1,
+                    -t,
+                    self.itype
+                ))
+            })?;
+            let name = &case.materials[m].name;
+            let g = case.regions.iter().position(|rg| &rg.material == name).unwrap_or(0);
+            made.mat.push(m as i32);
+            made.region.push(g as u32);
+            if let Some(c) = made.counts.get_mut(g) {
+                *c += 1;
+            }
+            made.bnd.push(code);
+        }
+        made.x.extend(x);
+        made.v.extend(v);
+        made.rho.extend(rho);
+        made.e.extend(e);
+        made.h.extend(h);
+        made.mass.extend(mass);
+        self.shared().virt_made = Some((nv, kind.to_string()));
+        Ok(made)
+    }
+}

@@ -1,0 +1,106 @@
+//! The book's `virt_part` mapped as a set-up step: called once after the set-up, its virtual
+//! particles become boundary particles of the manifest's `virtual` kind.
+
+mod legacy_kit;
+use legacy_kit::*;
+
+/// A virt_part in the book's dialect: three particles beyond each end of the fixture's tube,
+/// at rest, with the state of the end particle next to them and itype = -1.
+const VIRT_PART: &str = "      subroutine virt_part(itimestep, ntotal, nvirt, hsml, mass, x,
+     &                     vx, rho, u, p, itype)
+      implicit none
+      include 'param.inc'
+      integer itimestep, ntotal, nvirt, itype(maxn)
+      double precision hsml(maxn), mass(maxn), x(dim,maxn),
+     &        vx(dim,maxn), rho(maxn), u(maxn), p(maxn)
+      integer i, k, j, e
+      double precision dl, dr
+
+      dl = 0.6/80./4.
+      dr = 0.6/80.
+      nvirt = 0
+      do 20 k = 1, 2
+        if (k .eq. 1) then
+          e = 1
+        else
+          e = ntotal
+        endif
+        do 10 i = 1, 3
+          nvirt = nvirt + 1
+          j = ntotal + nvirt
+          if (k .eq. 1) then
+            x(1,j) = x(1,e) - dl*i
+          else
+            x(1,j) = x(1,e) + dr*i
+          endif
+          vx(1,j) = 0.
+          mass(j) = mass(e)
+          hsml(j) = hsml(e)
+          rho(j) = rho(e)
+          u(j) = u(e)
+          p(j) = p(e)
+          itype(j) = -1
+   10   continue
+   20 continue
+
+      end
+";
+
+const ENTRY: &str = "
+[[routine]]
+name = \"virt_part\"
+module = \"boundary\"
+args = [\"itimestep\", \"ntotal\", \"nvirt\", \"hsml\", \"mass\", \"x\", \"vx\", \"rho\", \"u\", \"p\", \"itype\"]
+";
+
+/// The fixture with `virt_part.f`, its manifest entry carrying `extra` keys.
+fn with_virt(name: &str, extra: &str) -> PathBuf {
+    let d = variant(name, |m| format!("{m}{ENTRY}{extra}"));
+    std::fs::write(d.join("virt_part.f"), VIRT_PART).unwrap();
+    d
+}
+
+#[test]
+fn check_says_what_virt_part_made() {
+    for (kind, extra) in [("held", ""), ("integrated", "virtual = \"integrated\"\n")] {
+        let d = with_virt(&format!("virt_{kind}"), extra);
+        build(&d.join("legacy.toml"), &d.join("build")).expect("the variant builds");
+        let o = blastsph(&["check", "shock_tube", "--legacy", d.join("build").to_str().unwrap()]);
+        let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+        assert_eq!(o.status.code(), Some(0), "{so}{se}");
+        let line =
+            so.lines().find(|l| l.contains("virt_part")).unwrap_or_else(|| panic!("check names virt_part: {so}"));
+        assert!(line.contains(&format!("made 6 boundary particles, {kind}")), "{line}");
+        assert!(!so.contains("virt_part is not run"), "{so}");
+    }
+}
+
+#[test]
+fn virtual_is_refused_on_another_routine_and_of_another_kind() {
+    let d = variant("virt_elsewhere", |m| {
+        m.replacen("module = \"setup\"\n", "module = \"setup\"\nvirtual = \"held\"\n", 1)
+    });
+    refused(&d, &["virtual", "virt_part"]);
+    let d = with_virt("virt_bad_kind", "virtual = \"frozen\"\n");
+    refused(&d, &["virtual", "frozen"]);
+}
+
+#[test]
+fn dual_compares_every_mapped_routine_at_zero_ulp_with_the_virtual_particles() {
+    let d = with_virt("virt_dual", "");
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let out = d.join("dual");
+    let args = ["dual", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    let so = blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap()]].concat(), 0);
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let legacy: Vec<_> =
+        rows.iter().filter(|x| x["stage"].as_str().is_some_and(|s| s.starts_with("legacy."))).collect();
+    assert!(legacy.len() >= 10, "{rows:?}");
+    for x in legacy {
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{x}");
+    }
+    // the 400 real particles and the 6 virtual ones, at each of the 40 steps
+    assert_eq!(row(&rows, "legacy.sum_density", "rho")["compared"].as_u64(), Some(406 * 40));
+}
