@@ -273,23 +273,22 @@ impl Legacy {
     fn init(&self, dim: usize) -> Result<()> {
         let info = self.lib.info();
         for r in info.routines.iter().filter(|r| r.modules.iter().any(|m| m == "init")) {
-            let mut bufs = self.start_bufs(r, dim);
+            let mut bufs = self.set_up_bufs(r, &Particles { dim, ..Default::default() }, 0);
             self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
             *self.shared().calls.entry(r.name.clone()).or_default() += 1;
         }
         Ok(())
     }
 
-    /// The buffers of routine `r`'s arguments before the first step: no particles, arrays of the
-    /// build's `maxn` (zeros), the case's fixed step if it has one.
-    fn start_bufs(&self, r: &super::builder::RoutineInfo, dim: usize) -> Vec<Buf> {
+    /// The buffers of routine `r`'s arguments before the run's first step, gathered from `p` (no
+    /// particles: zeros) at step `itimestep`: arrays of `maxn`, no work arrays, t = 0, the fixed step.
+    fn set_up_bufs(&self, r: &super::builder::RoutineInfo, p: &Particles, itimestep: i32) -> Vec<Buf> {
         let maxn = self.lib.info().maxn;
-        let empty = Particles { dim, ..Default::default() };
         let work = Work::default();
         let mut sh = self.shared();
         let mut ctx = Ctx {
-            dim,
-            itimestep: 0,
+            dim: p.dim,
+            itimestep,
             dt: self.dt.unwrap_or(0.0),
             time: 0.0,
             slots: Slots::default(),
@@ -300,7 +299,7 @@ impl Legacy {
         };
         r.bindings
             .iter()
-            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &empty, &work))
+            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, &work))
             .collect()
     }
 
@@ -344,7 +343,7 @@ impl Legacy {
         let Some(r) = self.setup_routine() else { return self.virt_part(case, base) };
         let info = self.lib.info();
         let (dim, maxn) = (case.dim, info.maxn);
-        let mut bufs = self.start_bufs(r, dim);
+        let mut bufs = self.set_up_bufs(r, &Particles { dim, ..Default::default() }, 0);
         self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
         let get = |n: &str| r.bindings.iter().position(|b| b.name == n).map(|k| &bufs[k]);
         let n = match get("ntotal") {

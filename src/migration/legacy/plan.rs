@@ -101,6 +101,43 @@ impl Legacy {
         (text, summary)
     }
 
+    /// The note of a routine that runs outside the step (a set-up, `virt_part`, an initialiser),
+    /// or not at all (an output routine; every routine of a set-up-only run); `None` for the rest.
+    fn outside_the_step(&self, r: &RoutineInfo) -> Option<Note> {
+        let note = |status: &'static str, why: String, json: serde_json::Value| Note {
+            name: r.name.clone(),
+            status,
+            why,
+            json,
+        };
+        if r.modules.iter().any(|m| m == "setup") {
+            return Some(note(
+                "setup",
+                "makes the initial particles (called once, before the first step)".into(),
+                json!({}),
+            ));
+        }
+        if let Some(k) = &r.virtual_kind {
+            let (n, k) = self.shared().virt_made.clone().unwrap_or((0, k.clone()));
+            let why = format!("made {n} boundary particles, {k} (called once after the set-up, with itimestep = 1)");
+            return Some(note("setup", why, json!({ "virtual": k, "made": n })));
+        }
+        if r.modules.iter().any(|m| m == "init") {
+            return Some(note(
+                "init",
+                "fills its COMMON blocks (called once, before the set-up and the first step)".into(),
+                json!({}),
+            ));
+        }
+        if r.modules.iter().any(|m| m == "output") {
+            return Some(note("not run", "an output routine: blastsph writes particles.h5".into(), json!({})));
+        }
+        if self.setup_only {
+            return Some(note("not run", "set-up only (the ledger's Rust runs)".into(), json!({})));
+        }
+        None
+    }
+
     /// Puts mapped routine `r` (the `ri`-th of `bound`) into the plan in place of the stages it
     /// stands for, if it stands for any; what became of it.
     fn place_routine(
@@ -117,26 +154,8 @@ impl Legacy {
             why,
             json,
         };
-        if r.modules.iter().any(|m| m == "setup") {
-            return note("setup", "makes the initial particles (called once, before the first step)".into(), json!({}));
-        }
-        if let Some(k) = &r.virtual_kind {
-            let (n, k) = self.shared().virt_made.clone().unwrap_or((0, k.clone()));
-            let why = format!("made {n} boundary particles, {k} (called once after the set-up, with itimestep = 1)");
-            return note("setup", why, json!({ "virtual": k, "made": n }));
-        }
-        if r.modules.iter().any(|m| m == "init") {
-            return note(
-                "init",
-                "fills its COMMON blocks (called once, before the set-up and the first step)".into(),
-                json!({}),
-            );
-        }
-        if r.modules.iter().any(|m| m == "output") {
-            return note("not run", "an output routine: blastsph writes particles.h5".into(), json!({}));
-        }
-        if self.setup_only {
-            return note("not run", "set-up only (the ledger's Rust runs)".into(), json!({}));
+        if let Some(n) = self.outside_the_step(r) {
+            return n;
         }
         let mods: Vec<Module> = r.modules.iter().filter_map(|m| Module::parse(m)).collect();
         if mods.contains(&Module::Integrator) || mods.len() > 3 {

@@ -3,13 +3,12 @@
 //! the `ntotal` real ones become boundary particles of the manifest's kind (`virtual = "held"`
 //! or `"integrated"`), each of the material whose code is `-itype`.
 
-use super::super::bind::{self, Buf, Ctx};
-use super::{Legacy, is_vec};
+use super::super::bind::Buf;
+use super::Legacy;
 use crate::case::Case;
 use crate::error::{Result, input};
-use crate::modules::Slots;
 use crate::setup::Initial;
-use crate::state::{Particles, Work};
+use crate::state::Particles;
 
 impl Legacy {
     /// The mapped `virt_part` routine, if any.
@@ -40,25 +39,7 @@ impl Legacy {
             mat: made.mat.clone(),
             ..Default::default()
         };
-        let mut bufs = {
-            let mut sh = self.shared();
-            let mut ctx = Ctx {
-                dim,
-                itimestep: 1,
-                dt: self.dt.unwrap_or(0.0),
-                time: 0.0,
-                slots: Slots::default(),
-                itype: &self.itype,
-                nbuf: maxn,
-                pbuf: 0,
-                scratch: &mut sh.scratch,
-            };
-            let work = Work::default();
-            r.bindings
-                .iter()
-                .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, &p, &work))
-                .collect::<Vec<Buf>>()
-        };
+        let mut bufs = self.set_up_bufs(r, &p, 1);
         self.call_quiet(&r.name, &r.bindings, &mut bufs)?;
         let get = |name: &str| r.bindings.iter().position(|b| b.name == name).map(|k| &bufs[k]);
         let int = |name: &str| match get(name) {
