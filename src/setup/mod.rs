@@ -273,6 +273,13 @@ fn lattice_points(case: &Case, r: usize) -> Result<Vec<[f64; 3]>> {
     Ok(pts)
 }
 
+/// The boundary-particle kind of each particle from its region (`[[region]]
+/// boundary_particles`: 0 ordinary, 1 integrated, 2 held), `region` the particles' region indices.
+pub fn boundary_kinds(case: &Case, region: &[u32]) -> Vec<i32> {
+    let kind = |r: &u32| case.regions.get(*r as usize).and_then(|rg| rg.boundary_particles).map_or(0, |k| k as i32);
+    region.iter().map(kind).collect()
+}
+
 /// Generates the particles of every region; refuses overlapping or empty regions. The size is
 /// checked first ([`crate::case::size::check`], the default limit from the machine's memory) and
 /// the geometry after (walls, `[domain]`, the detonation point and the gauges, against the

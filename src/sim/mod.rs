@@ -177,8 +177,7 @@ impl Sim {
         if !bnd.is_empty() {
             p.bnd = bnd;
         } else if case.regions.iter().any(|r| r.boundary_particles.is_some()) {
-            let kind = |r: &u32| case.regions[*r as usize].boundary_particles.map_or(0, |k| k as i32);
-            p.bnd = init.region.iter().map(kind).collect();
+            p.bnd = crate::setup::boundary_kinds(&case, &init.region);
         }
         for e in &plan.entries {
             e.stage.register(&mut p);

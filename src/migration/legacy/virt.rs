@@ -60,10 +60,8 @@ impl Legacy {
         let (x, v, rho, e, h, mass) =
             (real("x", dim)?, real("vx", dim)?, real("rho", 1)?, real("u", 1)?, real("hsml", 1)?, real("mass", 1)?);
         // the real particles' kinds, from the regions, before the boundary particles'
-        let region_kind =
-            |g: &u32| case.regions.get(*g as usize).and_then(|rg| rg.boundary_particles).map_or(0, |k| k as i32);
         if made.bnd.is_empty() {
-            made.bnd = made.region.iter().map(region_kind).collect();
+            made.bnd = crate::setup::boundary_kinds(case, &made.region);
         }
         let code = if kind == "integrated" { 1 } else { 2 };
         for (i, &t) in itype[n..n + nv].iter().enumerate() {
