@@ -529,6 +529,7 @@ impl Loop {
                 "work_penalty": sim.book.work_penalty,
                 "work_gravity": sim.book.work_gravity,
                 "work_floor": sim.book.work_floor,
+                "work_boundary": sim.book.work_boundary,
                 "balance_residual": residual,
                 // over the energy the run has had to work with: the initial energy and the
                 // external forces' work, each in magnitude (a body at rest at e = 0 under

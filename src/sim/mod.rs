@@ -43,19 +43,28 @@ pub struct Book {
     pub work_gravity: f64,
     /// Energy added by the floor e ≥ 0 (`sph.e_floor`; theory.md §14).
     pub work_floor: f64,
+    /// Energy the held boundary particles hand to the others (theory.md, "Boundary
+    /// particles"): −Σ m (v·a + ė) Δt over the held particles, with a and ė the rates their
+    /// pair sums give them, which the leapfrog computes and does not apply.
+    pub work_boundary: f64,
 }
 
 impl Book {
     /// The external forces' work and the floor's energy together (J): what the total energy
     /// changes by, E − E0.
     pub fn work(&self) -> f64 {
-        self.work_wall + self.work_penalty + self.work_gravity + self.work_floor
+        self.work_wall + self.work_penalty + self.work_gravity + self.work_floor + self.work_boundary
     }
 
     /// The energy a run has had to work with (J): |E0| plus each work in magnitude (a body at
     /// rest at e = 0 under gravity starts from 0 J); the scale of the energy balance's residual.
     pub fn scale(&self, e0: f64) -> f64 {
-        e0.abs() + self.work_wall.abs() + self.work_penalty.abs() + self.work_gravity.abs() + self.work_floor.abs()
+        e0.abs()
+            + self.work_wall.abs()
+            + self.work_penalty.abs()
+            + self.work_gravity.abs()
+            + self.work_floor.abs()
+            + self.work_boundary.abs()
     }
 }
 

@@ -189,51 +189,64 @@ impl Sim {
         (k * every).min(end)
     }
 
-    /// Work of the wall (type I and absorbing), penalty and gravity forces over the step (v at t). One parallel pass;
-    /// the sums are taken per fixed chunk of particles, then over the chunks in order, so they do
-    /// not depend on the thread count.
+    /// Work of the wall (type I and absorbing), penalty and gravity forces over the step (v at
+    /// t), and the energy the held boundary particles hand to the others. One parallel pass;
+    /// the sums are taken per fixed chunk of particles, then over the chunks in order, so they
+    /// do not depend on the thread count.
+    ///
+    /// A held particle's forces are not applied, so it does no external work; no boundary
+    /// particle takes gravity. The pair sums conserve Σ m (v·a + ė) over all particles, so the
+    /// others gain what the held ones are given and do not keep: −Σ_held m (v·a_pair + ė) Δt,
+    /// with a_pair the summed acceleration less the wall and penalty terms (J).
     fn account(&mut self, dt: f64) {
         use rayon::prelude::*;
         let dim = self.cfg.dim;
         let n = self.p.nreal;
         let lda = dim * self.p.ntotal;
         let (acc, v, m, g) = (&self.w.acc, &self.p.v, &self.p.mass, &self.cfg.grav);
-        // Σ_i m_i (f_i·v_i) over the particles of chunk c, for the force array `f` (the
-        // particles in order, each dot product from +0 over the components)
-        let power = |f: &[f64], c: usize| -> f64 {
-            let (a0, a1) = (c * CHUNK, ((c + 1) * CHUNK).min(n));
-            let mut t = 0.0;
-            for (k, (fi, vi)) in
-                f[dim * a0..dim * a1].chunks_exact(dim).zip(v[dim * a0..dim * a1].chunks_exact(dim)).enumerate()
-            {
-                let mut s = 0.0;
-                for d in 0..dim {
-                    s += fi[d] * vi[d];
-                }
-                t += m[a0 + k] * s;
-            }
-            t
-        };
+        let bnd = &self.p.bnd;
+        let kind = |i: usize| bnd.get(i).copied().unwrap_or(0);
+        let held = crate::case::BoundaryKind::Held as i32;
         let slot = |name: &str| self.plan.acc_slot(name).map(|s| &acc[s * lda..s * lda + dim * n]);
         let (fw, fp, fa) = (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"));
+        let ext = [fw, fa, fp];
+        // v_i · f_i from +0 over the components
+        let dot = |f: &[f64], i: usize| -> f64 {
+            let mut s = 0.0;
+            for d in 0..dim {
+                s += f[d + dim * i] * v[d + dim * i];
+            }
+            s
+        };
         // without gravity every term of its sum is +0 (the check stops a run with a non-finite v)
         let gravity = g[..dim].iter().any(|&x| x != 0.0);
-        let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
+        let (dv, de) = (&self.w.dv, &self.w.de);
+        let parts: Vec<[f64; 4]> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
-                let mut t = [0.0; 3];
-                if let Some(f) = fw {
-                    t[0] = power(f, c);
-                }
-                // the absorbing walls' dampers and static reaction: wall work too
-                if let Some(f) = fa {
-                    t[0] += power(f, c);
-                }
-                if let Some(f) = fp {
-                    t[1] = power(f, c);
-                }
-                if gravity {
-                    for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let mut t = [0.0; 4];
+                for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    let k = kind(i);
+                    if k == held {
+                        // the pair part of its rates, v·(a − wall − penalty) + ė
+                        let mut a = dot(dv, i);
+                        for f in ext.iter().flatten() {
+                            a -= dot(f, i);
+                        }
+                        t[3] -= m[i] * (a + de[i]);
+                        continue;
+                    }
+                    // the absorbing walls' dampers and static reaction: wall work too
+                    if let Some(f) = fw {
+                        t[0] += m[i] * dot(f, i);
+                    }
+                    if let Some(f) = fa {
+                        t[0] += m[i] * dot(f, i);
+                    }
+                    if let Some(f) = fp {
+                        t[1] += m[i] * dot(f, i);
+                    }
+                    if gravity && k == 0 {
                         let mut s = 0.0;
                         for d in 0..dim {
                             s += g[d] * v[d + dim * i];
@@ -244,9 +257,10 @@ impl Sim {
                 t
             })
             .collect();
-        let tot = parts.iter().fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]]);
+        let tot = parts.iter().fold([0.0; 4], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2], a[3] + p[3]]);
         self.book.work_wall += dt * tot[0];
         self.book.work_penalty += dt * tot[1];
         self.book.work_gravity += dt * tot[2];
+        self.book.work_boundary += dt * tot[3];
     }
 }

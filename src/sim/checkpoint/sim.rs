@@ -29,8 +29,8 @@ impl Sim {
         b.put_f64("sim.t", &[*t]);
         b.put("sim.nstep", Item::U64(vec![*nstep]));
         b.put_f64("sim.dt_prev", &[*dt_prev]);
-        let Book { work_wall, work_penalty, work_gravity, work_floor } = book;
-        b.put_f64("sim.book", &[*work_wall, *work_penalty, *work_gravity, *work_floor]);
+        let Book { work_wall, work_penalty, work_gravity, work_floor, work_boundary } = book;
+        b.put_f64("sim.book", &[*work_wall, *work_penalty, *work_gravity, *work_floor, *work_boundary]);
         let Stability {
             max_wall_penetration_m,
             left_domain,
@@ -135,14 +135,18 @@ impl Sim {
         *nstep = b.count("sim.nstep")?;
         *dt_prev = b.scalar("sim.dt_prev")?;
         let bk = b.f64("sim.book")?;
-        let [work_wall, work_penalty, work_gravity, work_floor] = bk.as_slice() else {
-            return Err(bad("`sim.book` must hold 4 values"));
+        // a checkpoint written before the boundary particles' book holds 4 values
+        let (wall, penalty, gravity, floor, boundary) = match bk.as_slice() {
+            [a, b, c, d] => (*a, *b, *c, *d, 0.0),
+            [a, b, c, d, e] => (*a, *b, *c, *d, *e),
+            _ => return Err(bad("`sim.book` must hold 5 values")),
         };
         *book = Book {
-            work_wall: *work_wall,
-            work_penalty: *work_penalty,
-            work_gravity: *work_gravity,
-            work_floor: *work_floor,
+            work_wall: wall,
+            work_penalty: penalty,
+            work_gravity: gravity,
+            work_floor: floor,
+            work_boundary: boundary,
         };
         let sf = b.f64("sim.stab.f")?;
         let sn = b.u64("sim.stab.n")?;
