@@ -104,3 +104,81 @@ fn dual_compares_every_mapped_routine_at_zero_ulp_with_the_virtual_particles() {
     // the 400 real particles and the 6 virtual ones, at each of the 40 steps
     assert_eq!(row(&rows, "legacy.sum_density", "rho")["compared"].as_u64(), Some(406 * 40));
 }
+
+/// A virt_part whose particles do not depend on the real ones: 16 beyond the left end at the
+/// left spacing and 4 beyond the right end at the right one (a kernel's reach each), at rest, in
+/// the state of their side at the start.
+const VIRT_FIXED: &str = "      subroutine virt_part(itimestep, ntotal, nvirt, hsml, mass, x,
+     &                     vx, rho, u, p, itype)
+      implicit none
+      include 'param.inc'
+      integer itimestep, ntotal, nvirt, itype(maxn)
+      double precision hsml(maxn), mass(maxn), x(dim,maxn),
+     &        vx(dim,maxn), rho(maxn), u(maxn), p(maxn)
+      integer i, j
+      double precision dxr
+
+      dxr = 0.6/80.
+      nvirt = 0
+      do 10 i = 1, 20
+        nvirt = nvirt + 1
+        j = ntotal + nvirt
+        if (i .le. 16) then
+          x(1,j) = -0.6 - dxr/4.*i
+          rho(j) = 1.
+          u(j) = 2.5
+          p(j) = 1.
+        else
+          x(1,j) = 0.6 + dxr*(i - 16)
+          rho(j) = 0.25
+          u(j) = 1.795
+          p(j) = 0.1795
+        endif
+        vx(1,j) = 0.
+        mass(j) = 0.75/400.
+        hsml(j) = 0.015
+        itype(j) = -1
+   10 continue
+
+      end
+";
+
+/// The fixture's own program calling virt_part at every step, as the book does, against
+/// `run --legacy` with the manifest's held virtual particles made once: the real particles end
+/// bit for bit in the program's final state. The virtual particles' state does not depend on
+/// the real ones, so making them once and holding them is the same as making them every step.
+#[test]
+fn held_virtual_particles_made_once_end_as_the_program_that_makes_them_every_step() {
+    let d = with_virt("virt_program", "");
+    std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
+    let ss = d.join("single_step.f");
+    let text = std::fs::read_to_string(&ss).unwrap();
+    let call =
+        "      call virt_part(itimestep, ntotal, nvirt, hsml, mass, x,\n     &               vx, rho, u, p, itype)\n";
+    let new = text.replacen("      nvirt = 0\n", call, 1);
+    assert_ne!(new, text, "single_step.f sets nvirt = 0");
+    std::fs::write(&ss, new).unwrap();
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let rows = program_rows_of(&b, "virt_program_run", 40);
+    assert_eq!(rows.len(), 400, "the program writes its real particles");
+
+    let out = scratch("virt_program_legacy");
+    let args = ["run", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
+    let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
+    let f = frames.last().unwrap();
+    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    assert_eq!(f.bnd.iter().filter(|&&k| k == 2).count(), 20, "20 held particles");
+    let mut seen = 0;
+    for i in (0..f.x.len()).filter(|&i| f.bnd[i] == 0) {
+        let r = &rows[f.id[i] as usize];
+        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
+        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
+        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", f.id[i] + 1);
+        seen += 1;
+    }
+    assert_eq!(seen, 400);
+    // the program's left end, pushed by nothing without them, stays near its place
+    assert!((rows[0][2] + 0.6).abs() < 0.01, "left end at {}", rows[0][2]);
+}

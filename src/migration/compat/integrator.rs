@@ -34,6 +34,17 @@ pub struct IntegratorCompat {
     why: &'static str,
 }
 
+/// Boundary particles ([`crate::case::BoundaryKind`]): a held one keeps ρ, e, v, τ and x; an
+/// integrated one advances all but x; neither takes gravity (as the normal leapfrog).
+fn held(p: &Particles, i: usize) -> bool {
+    p.bnd.get(i) == Some(&(crate::case::BoundaryKind::Held as i32))
+}
+
+/// See [`held`]: a boundary particle of either kind.
+fn fixed(p: &Particles, i: usize) -> bool {
+    p.bnd.get(i).is_some_and(|&k| k != 0)
+}
+
 /// The 1D source term of nsym = 0: `-nsym*p(i)*vx(1,i)/x(1,i)/rho(i)` (and without p for ρ).
 fn src(on: bool, dim: usize, p: f64, v: f64, x: f64, rho: f64) -> Option<f64> {
     (on && dim == 1).then(|| -((((0.0 * p) * v) / x) / rho))
@@ -46,6 +57,15 @@ impl IntegratorCompat {
         let (floor, rs) = (f.has(Item::EnergyFloor), f.has(Item::RateSum));
         for i in 0..n {
             w.e_min[i] = p.e[i];
+            if self.normal.cont {
+                w.rho_min[i] = p.rho[i];
+            }
+            for d in 0..dim {
+                w.v_min[d + dim * i] = p.v[d + dim * i];
+            }
+            if held(p, i) {
+                continue;
+            }
             let t = src(rs, dim, p.p[i], p.v[dim * i], p.x[dim * i], p.rho[i]);
             let mut u = p.e[i] + half * t.map_or(w.de[i], |t| w.de[i] + t);
             if floor && u < 0.0 {
@@ -53,20 +73,20 @@ impl IntegratorCompat {
             }
             p.e[i] = u;
             if self.normal.cont {
-                w.rho_min[i] = p.rho[i];
                 let t = src(rs, dim, p.rho[i], p.v[dim * i], p.x[dim * i], 1.0);
                 p.rho[i] += half * t.map_or(w.drho[i], |t| w.drho[i] + t);
             }
             for d in 0..dim {
                 let l = d + dim * i;
-                w.v_min[l] = p.v[l];
                 p.v[l] += half * w.dv[l];
             }
         }
         if !p.tau.is_empty() {
             for l in 0..NSTR * n {
                 w.tau_min[l] = p.tau[l];
-                p.tau[l] += half * w.dtau[l];
+                if !held(p, l / NSTR) {
+                    p.tau[l] += half * w.dtau[l];
+                }
             }
         }
     }
@@ -78,8 +98,9 @@ impl IntegratorCompat {
         for i in 0..n {
             for d in 0..dim {
                 let l = d + dim * i;
-                // exdvxdt: gravity set first, then the other external terms added
-                let mut ext = g[d];
+                // exdvxdt: gravity set first (none on a boundary particle), then the other
+                // external terms added
+                let mut ext = if fixed(p, i) { 0.0 } else { g[d] };
                 for t in (1..nacc).filter(|&t| Some(t) != vs) {
                     ext += w.acc[l + lda * t];
                 }
@@ -102,6 +123,9 @@ impl IntegratorCompat {
         let (floor, rs, xv) = (f.has(Item::EnergyFloor), f.has(Item::RateSum), f.has(Item::XsphVelocity));
         let av = &w.av;
         for i in 0..n {
+            if held(p, i) {
+                continue;
+            }
             let t = src(rs, dim, p.p[i], p.v[dim * i], p.x[dim * i], p.rho[i]);
             let du = t.map_or(w.de[i], |t| w.de[i] + t);
             let mut u = if k.first { p.e[i] + sc * du } else { w.e_min[i] + sc * du };
@@ -121,11 +145,16 @@ impl IntegratorCompat {
                     v += if av.is_empty() { 0.0 } else { av[l] };
                 }
                 p.v[l] = v;
-                p.x[l] += if xv || av.is_empty() { dt * v } else { dt * (v + av[l]) };
+                if !fixed(p, i) {
+                    p.x[l] += if xv || av.is_empty() { dt * v } else { dt * (v + av[l]) };
+                }
             }
         }
         if !p.tau.is_empty() {
             for l in 0..NSTR * n {
+                if held(p, l / NSTR) {
+                    continue;
+                }
                 p.tau[l] = if k.first { p.tau[l] + sc * w.dtau[l] } else { w.tau_min[l] + sc * w.dtau[l] };
             }
         }
@@ -141,9 +170,17 @@ impl Stage for IntegratorCompat {
     }
     fn reads(&self) -> &[Field] {
         match self.part {
-            Part::Predict | Part::Advance => {
-                &[Field::Drho, Field::De, Field::Dv, Field::Dtau, Field::Av, Field::RhoMin, Field::P, Field::X]
-            }
+            Part::Predict | Part::Advance => &[
+                Field::Drho,
+                Field::De,
+                Field::Dv,
+                Field::Dtau,
+                Field::Av,
+                Field::RhoMin,
+                Field::P,
+                Field::X,
+                Field::Bnd,
+            ],
             Part::Sum => self.normal.reads(),
         }
     }
