@@ -46,14 +46,17 @@ fn dual_at_zero_ulp(lg: &Path, out: &str) {
 /// Sizes in a Fortran module (as free-form rewrites of the book keep them): the fixture's
 /// param.inc becomes `module bookparam`, which every routine `use`s; there is no include file.
 /// With `param_module = "bookparam"` the sources are compiled first and the probe `use`s the
-/// module; without it the build is refused, naming the key.
+/// module; without it the build is refused, naming the key. The module's file is compiled last
+/// (the routines are retried after it), and a rebuild after an edit of the module gives the
+/// routines its new values (the quintic kernel, which the dual run finds apart from its twin):
+/// the module files of the earlier build are not read.
 #[test]
 fn sizes_in_a_module_are_read_by_the_probe() {
     let d = variant("sizes_module", |m| m.replacen("[[routine]]", "param_module = \"bookparam\"\n\n[[routine]]", 1));
     let inc = std::fs::read_to_string(d.join("param.inc")).unwrap();
     std::fs::remove_file(d.join("param.inc")).unwrap();
     let module = format!("      module bookparam\n      implicit none\n{inc}      end module bookparam\n");
-    std::fs::write(d.join("bookparam.f"), module).unwrap();
+    std::fs::write(d.join("zz_param.f"), &module).unwrap();
     edit_sources(&d, |t| t.replace(INCLUDE, "      use bookparam\n      implicit none\n"));
     for e in std::fs::read_dir(&d).unwrap() {
         let t = std::fs::read_to_string(e.unwrap().path()).unwrap_or_default();
@@ -61,8 +64,19 @@ fn sizes_in_a_module_are_read_by_the_probe() {
     }
     let info = build(&d.join("legacy.toml"), &d.join("build")).expect("the module variant builds");
     assert_eq!((info.dim, info.maxn, info.max_interaction), (1, 1000, 20000));
-    assert!(info.param_include.ends_with("bookparam.f"), "{}", info.param_include);
+    assert!(info.param_include.ends_with("zz_param.f"), "{}", info.param_include);
     dual_at_zero_ulp(&d.join("build"), "sizes_module_dual");
+    let quintic = module.replace("parameter (skf = 1)", "parameter (skf = 3)");
+    assert_ne!(quintic, module);
+    std::fs::write(d.join("zz_param.f"), &quintic).unwrap();
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the edited module builds");
+    let out = scratch("sizes_module_gauss");
+    let o = dual_book(&d.join("build"), Some(2), &out);
+    assert_eq!(o.status.code(), Some(4), "{}", String::from_utf8_lossy(&o.stdout));
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let r = row(&rows, "legacy.kernel", "w");
+    assert!(r["out_of_tolerance"].as_u64().unwrap() > 0, "the quintic kernel: {r}");
+    std::fs::write(d.join("zz_param.f"), &module).unwrap();
 
     // without the key the probe looks for param.inc; a module that is not in the sources
     let m = std::fs::read_to_string(d.join("legacy.toml")).unwrap();

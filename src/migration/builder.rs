@@ -439,6 +439,9 @@ fn prepare_out(m: &Manifest, out: &Path) -> Result<PathBuf> {
     std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let out = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let obj = out.join("obj");
+    // an earlier build's module files would let a source compile against old values before
+    // the file that defines its module is compiled again
+    let _ = std::fs::remove_dir_all(obj.join("mod"));
     std::fs::create_dir_all(obj.join("mod")).map_err(|e| SphError::Io(format!("{}: {e}", obj.display())))?;
     let _ = std::fs::remove_file(out.join(BUILD_JSON));
     let _ = std::fs::remove_file(out.join(LIBRARY));
