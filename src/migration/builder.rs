@@ -2,8 +2,8 @@
 //! generated shims into one shared library, and records what it built in `DIR/build.json`.
 //!
 //! Steps: read the manifest; evaluate `dim`, `maxn`, `max_interaction` by compiling and running a
-//! probe program that includes the user's `param.inc` (gfortran evaluates it, whatever its
-//! expressions); compile every source to an object (`-std=legacy` for fixed form, `-fPIC -O2
+//! probe program that includes the user's `param.inc` or uses the module of the sizes (gfortran
+//! evaluates it, whatever its expressions); compile every source to an object (`-std=legacy` for fixed form, `-fPIC -O2
 //! -ffp-contract=off`, then the manifest's `fflags`), reading the C prototypes of its external
 //! procedures from the same compile (`-fc-prototypes-external`) to check that each mapped routine
 //! exists and takes the manifest's number and types of arguments; generate and compile the shims;
@@ -24,6 +24,7 @@ use std::process::Command;
 
 mod check;
 mod host;
+mod probe;
 mod text;
 
 pub use host::{HOOK_SYMBOL, HOST_LIBRARY};
@@ -302,12 +303,9 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         BASE_FLAGS.iter().chain(FIXED_FLAGS).map(|s| s.to_string()).chain(m.fflags.clone()).collect();
     let free: Vec<String> = BASE_FLAGS.iter().map(|s| s.to_string()).chain(m.fflags.clone()).collect();
 
-    // the include file and the probe
-    let inc = param_include(&m)?;
-    let sizes = probe(&m, &inc, &obj, (&fixed, &free), &mut log).map_err(|e| match e {
-        SphError::Input(s) => fail(s),
-        o => o,
-    })?;
+    // the sizes (the sources compiled first when they are in a module or need one)
+    let found = probe::sizes(&m, &obj, &probe::Flags { fixed: &fixed, free: &free, incs: &incs }, &mut log, &fail)?;
+    let (sizes, inc) = (found.sizes, found.file);
     if sizes.dim != m.dim {
         return Err(input(format!(
             "{}: dim = {} but {} says {} = {}",
@@ -320,7 +318,10 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     }
 
     // compile the sources (module dependencies: retry what needs a module another file makes)
-    let (objects, protos) = compile_sources(&m, &obj, (&fixed, &free), &incs, &mut log, &fail)?;
+    let (objects, protos) = match found.compiled {
+        Some(c) => c,
+        None => compile_sources(&m, &obj, (&fixed, &free), &incs, &mut log, &fail)?,
+    };
 
     // main programs: an object that defines `main`
     let mut is_program = vec![false; m.sources.len()];
@@ -438,28 +439,14 @@ fn prepare_out(m: &Manifest, out: &Path) -> Result<PathBuf> {
     std::fs::create_dir_all(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let out = std::path::absolute(out).map_err(|e| SphError::Io(format!("{}: {e}", out.display())))?;
     let obj = out.join("obj");
+    // an earlier build's module files would let a source compile against old values before
+    // the file that defines its module is compiled again
+    let _ = std::fs::remove_dir_all(obj.join("mod"));
     std::fs::create_dir_all(obj.join("mod")).map_err(|e| SphError::Io(format!("{}: {e}", obj.display())))?;
     let _ = std::fs::remove_file(out.join(BUILD_JSON));
     let _ = std::fs::remove_file(out.join(LIBRARY));
     let _ = std::fs::remove_file(out.join("program"));
     Ok(out)
-}
-
-/// The manifest's `param_include`: the first of the include folders, then the manifest's folder,
-/// that holds it.
-fn param_include(m: &Manifest) -> Result<PathBuf> {
-    m.include_dirs
-        .iter()
-        .map(|d| d.join(&m.param_include))
-        .chain(std::iter::once(m.dir.join(&m.param_include)))
-        .find(|p| p.is_file())
-        .ok_or_else(|| {
-            input(format!(
-                "{}: param_include \"{}\" is in none of include_dirs (nor beside the manifest)",
-                m.path.display(),
-                m.param_include
-            ))
-        })
 }
 
 /// Compiles every source into `obj`, retrying what needs a module another file makes: the
@@ -633,84 +620,4 @@ fn compile_generated(
             .arg(&src),
     )?;
     Ok(if ok { Ok(o) } else { Err(first_error(&se)) })
-}
-
-/// Compiles and runs a program that includes the user's parameter file and prints the three sizes.
-fn probe(m: &Manifest, inc: &Path, obj: &Path, flags: (&[String], &[String]), log: &mut Log) -> Result<Sizes> {
-    let n = &m.param_names;
-    let body = |lead: &str, end: &str| {
-        format!(
-            "{lead}program blastsph_probe\n\
-             {lead}include '{inc}'\n\
-             {lead}integer bs_d, bs_m, bs_i\n\
-             {lead}parameter (bs_d = {d})\n\
-             {lead}parameter (bs_m = {mx})\n\
-             {lead}parameter (bs_i = {mi})\n\
-             {lead}write(*,'(3i20)') bs_d, bs_m, bs_i\n\
-             {lead}{end}\n",
-            inc = m.param_include,
-            d = n.dim,
-            mx = n.maxn,
-            mi = n.max_interaction
-        )
-    };
-    let exe = obj.join("blastsph_probe");
-    let dir = inc.parent().unwrap_or(Path::new("."));
-    // the include file in fixed form (the book's), else in free form
-    let mut first_err: Option<String> = None;
-    for (file, text, fl) in
-        [("blastsph_probe.f", body("      ", "end"), flags.0), ("blastsph_probe.f90", body("", "end program"), flags.1)]
-    {
-        let src = obj.join(file);
-        std::fs::write(&src, text).map_err(|e| SphError::Io(format!("{}: {e}", src.display())))?;
-        let mut cmd = Command::new("gfortran");
-        cmd.args(fl).arg(format!("-I{}", dir.display()));
-        for d in &m.include_dirs {
-            cmd.arg(format!("-I{}", d.display()));
-        }
-        cmd.arg("-o").arg(&exe).arg(&src);
-        let (ok, _, se) = log.run(&mut cmd)?;
-        if ok {
-            first_err = None;
-            break;
-        }
-        // keep the message that names a parameter (the form that got that far), else the first
-        let e = first_error(&se);
-        let names = [&n.dim, &n.maxn, &n.max_interaction];
-        match &first_err {
-            Some(prev) if names.iter().any(|x| prev.contains(x.as_str())) => {}
-            Some(_) if !names.iter().any(|x| e.contains(x.as_str())) => {}
-            _ => first_err = Some(e),
-        }
-    }
-    if let Some(e) = first_err {
-        return Err(input(format!(
-            "{}: cannot evaluate {}, {}, {} with a probe program: {e} (if your include file names its sizes otherwise, give their names in the manifest's [param_names]: dim, maxn, max_interaction; docs/reference/legacy.md)",
-            inc.display(),
-            n.dim,
-            n.maxn,
-            n.max_interaction
-        )));
-    }
-    let (ok, so, _) = log.run(&mut Command::new(&exe))?;
-    let v: Vec<i64> = so.split_whitespace().filter_map(|w| w.parse().ok()).collect();
-    if !ok || v.len() != 3 {
-        return Err(input(format!("{}: the probe program printed \"{}\"", inc.display(), so.trim())));
-    }
-    let _ =
-        writeln!(log.text, "probe: {} = {}, {} = {}, {} = {}\n", n.dim, v[0], n.maxn, v[1], n.max_interaction, v[2]);
-    log.flush();
-    if !(1..=3).contains(&v[0]) || v[1] < 1 || v[2] < 1 {
-        return Err(input(format!(
-            "{}: {} = {}, {} = {}, {} = {}: not a usable size",
-            inc.display(),
-            n.dim,
-            v[0],
-            n.maxn,
-            v[1],
-            n.max_interaction,
-            v[2]
-        )));
-    }
-    Ok(Sizes { dim: v[0] as usize, maxn: v[1] as usize, max_interaction: v[2] as usize })
 }

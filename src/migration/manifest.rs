@@ -9,7 +9,8 @@
 //! include_dirs = ["src"]         # where param.inc and the other includes are
 //! fflags = ["-finit-local-zero"] # extra gfortran flags
 //! # param_include = "param.inc"  # the include file that defines the three parameters below
-//! # [param_names]                # their names there, if not dim, maxn, max_interaction
+//! # param_module = "parameter"   # or: the module of the sources that defines them
+//! # [param_names]                # their names there (or integer expressions of them)
 //! # maxn = "nmax"
 //!
 //! [[routine]]
@@ -54,6 +55,9 @@ struct RawManifest {
     fflags: Vec<String>,
     #[serde(default)]
     param_include: Option<String>,
+    /// A module of the sources that defines the sizes (the probe `use`s it).
+    #[serde(default)]
+    param_module: Option<String>,
     #[serde(default)]
     param_names: Option<RawParamNames>,
     #[serde(default, rename = "routine")]
@@ -108,7 +112,8 @@ struct RawRoutine {
     virtual_kind: Option<String>,
 }
 
-/// The names of the three compile-time parameters in the user's include file.
+/// The names of the three compile-time parameters in the user's include file, or integer
+/// expressions of its parameters (`100*nmax`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ParamNames {
     pub dim: String,
@@ -233,7 +238,10 @@ pub struct Manifest {
     pub sources: Vec<PathBuf>,
     pub include_dirs: Vec<PathBuf>,
     pub fflags: Vec<String>,
+    /// The include file of the sizes; empty when `param_module` alone gives them.
     pub param_include: String,
+    /// The module of the sources that defines the sizes, lower case.
+    pub param_module: Option<String>,
     pub param_names: ParamNames,
     pub routines: Vec<Routine>,
     /// The code's `itype` of each blastsph material, by material name or EOS kind
@@ -326,6 +334,24 @@ fn is_ident(s: &str) -> bool {
     matches!(ch.next(), Some(c) if c.is_ascii_alphabetic()) && ch.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
+/// Whether `s` is a size the probe can write as `parameter (bs_i = s)`: a name, or an integer
+/// expression of names and numbers with `+ - * / ( )`, parentheses balanced, at most 100 characters.
+fn is_size_expression(s: &str) -> bool {
+    let mut depth = 0i32;
+    for c in s.chars() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            c if c.is_ascii_alphanumeric() || "_+-*/ ".contains(c) => {}
+            _ => return false,
+        }
+        if depth < 0 {
+            return false;
+        }
+    }
+    depth == 0 && !s.trim().is_empty() && s.len() <= 100
+}
+
 /// Reads and checks a manifest; the sources must exist (globs expanded here).
 pub fn load(path: &Path) -> Result<Manifest> {
     let shown = path.display().to_string();
@@ -373,7 +399,14 @@ pub fn load(path: &Path) -> Result<Manifest> {
         }
     }
 
-    let param_include = raw.param_include.clone().unwrap_or_else(|| "param.inc".into());
+    let param_module = match raw.param_module.as_deref().map(|s| s.trim().to_ascii_lowercase()) {
+        Some(n) if !is_ident(&n) => {
+            return Err(err("param_module", format!("\"{n}\" is not a Fortran module name")));
+        }
+        other => other,
+    };
+    let default_include = if param_module.is_some() { "" } else { "param.inc" };
+    let param_include = raw.param_include.clone().unwrap_or_else(|| default_include.into());
     let pn = raw.param_names.as_ref();
     let param_names = ParamNames {
         dim: pn.and_then(|p| p.dim.clone()).unwrap_or_else(|| "dim".into()),
@@ -383,8 +416,11 @@ pub fn load(path: &Path) -> Result<Manifest> {
     for (k, v) in
         [("dim", &param_names.dim), ("maxn", &param_names.maxn), ("max_interaction", &param_names.max_interaction)]
     {
-        if !is_ident(v) {
-            return Err(err(&format!("param_names.{k}"), format!("\"{v}\" is not a Fortran name")));
+        if !is_size_expression(v) {
+            return Err(err(
+                &format!("param_names.{k}"),
+                format!("\"{v}\" is not a Fortran name or an integer expression of names and numbers (\"100*nmax\")"),
+            ));
         }
     }
 
@@ -439,6 +475,7 @@ pub fn load(path: &Path) -> Result<Manifest> {
         include_dirs,
         fflags: raw.fflags.clone(),
         param_include,
+        param_module,
         param_names,
         routines,
         itype: raw.itype.clone(),

@@ -44,7 +44,7 @@ pub fn symbol(routine: &str) -> String {
     format!("blastsph_shim_{routine}")
 }
 
-/// Compile-time sizes read from the user's include file.
+/// Compile-time sizes read from the user's include file or module.
 #[derive(Debug, Clone, Copy)]
 pub struct Sizes {
     pub dim: usize,
