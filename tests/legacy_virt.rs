@@ -105,6 +105,14 @@ fn dual_compares_every_mapped_routine_at_zero_ulp_with_the_virtual_particles() {
     assert_eq!(row(&rows, "legacy.sum_density", "rho")["compared"].as_u64(), Some(406 * 40));
 }
 
+/// The manifest's entry of the fixture's output routine (the real particles' final state).
+const OUTPUT: &str = "
+[[routine]]
+name = \"output\"
+module = \"output\"
+args = [\"x\", \"vx\", \"mass\", \"rho\", \"p\", \"u\", \"c\", \"itype\", \"hsml\", \"ntotal\"]
+";
+
 /// A virt_part whose particles do not depend on the real ones: 16 beyond the left end at the
 /// left spacing and 4 beyond the right end at the right one (a kernel's reach each), at rest, in
 /// the state of their side at the start.
@@ -149,7 +157,7 @@ const VIRT_FIXED: &str = "      subroutine virt_part(itimestep, ntotal, nvirt, h
 /// the real ones, so making them once and holding them is the same as making them every step.
 #[test]
 fn held_virtual_particles_made_once_end_as_the_program_that_makes_them_every_step() {
-    let d = with_virt("virt_program", "");
+    let d = with_virt("virt_program", OUTPUT);
     std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
     let ss = d.join("single_step.f");
     let text = std::fs::read_to_string(&ss).unwrap();
@@ -181,4 +189,104 @@ fn held_virtual_particles_made_once_end_as_the_program_that_makes_them_every_ste
     assert_eq!(seen, 400);
     // the program's left end, pushed by nothing without them, stays near its place
     assert!((rows[0][2] + 0.6).abs() < 0.01, "left end at {}", rows[0][2]);
+
+    // `legacy compare` hands the output routine the book's ntotal (the 400 real particles, the
+    // 20 boundary ones after them): its file is the program's, at every digit written
+    let prog = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("migration/virt_program_run");
+    let cmp = scratch("virt_program_compare");
+    let (r, b, p, c) = (out.to_str().unwrap(), b.to_str().unwrap(), prog.to_str().unwrap(), cmp.to_str().unwrap());
+    let so = blastsph_ok(&["legacy", "compare", r, "--legacy", b, "--program-out", p, "--out", c], 0);
+    assert!(so.contains("equal at the"), "{so}");
+}
+
+/// Edits of the fixture's `time_integration.f` and `single_step.f` into a code that makes its
+/// virtual particles once, at the first step, and integrates their u, ρ and v over
+/// `ntotal + nvirt` (x over `ntotal`), while its rate sum covers the real particles only, as the
+/// book's `single_step` does (a dam-break code of that kind exists).
+fn integrating_program(d: &Path) {
+    let edit = |file: &str, pairs: &[(&str, &str)]| {
+        let p = d.join(file);
+        let mut text = std::fs::read_to_string(&p).unwrap();
+        for (a, b) in pairs {
+            assert!(text.contains(a), "{file}: {a}");
+            text = text.replacen(a, b, 1);
+        }
+        std::fs::write(&p, text).unwrap();
+    };
+    let loop_all = |label: &str| format!("          do {label} i = 1, ntotal + nvirt\n");
+    edit(
+        "time_integration.f",
+        &[
+            (
+                "      integer i, d, itimestep, nstart, current_ts\n",
+                "      integer i, d, itimestep, nstart, current_ts, nvirt\n",
+            ),
+            (
+                "      do 10 i = 1, ntotal\n",
+                "      nvirt = 0\n      do 10 i = 1, maxn\n        du(i) = 0.\n        do 8 d = 1, dim\n          dvx(d,i) = 0.\n    8   continue\n",
+            ),
+            ("          do 30 i = 1, ntotal\n", &loop_all("30")),
+            (
+                "              vx(d,i) = vx(d,i) + (dt/2.)*dvx(d,i)\n",
+                "              if (i .le. ntotal) vx(d,i) = vx(d,i) + (dt/2.)*dvx(d,i)\n",
+            ),
+            ("     &                   itype, av)\n", "     &                   itype, av, nvirt)\n"),
+            ("          do 50 i = 1, ntotal\n", &loop_all("50")),
+            ("          do 70 i = 1, ntotal\n", &loop_all("70")),
+            (
+                "              x(d,i) = x(d,i) + dt*vx(d,i)\n   40",
+                "              if (i .le. ntotal) x(d,i) = x(d,i) + dt*vx(d,i)\n   40",
+            ),
+            (
+                "              x(d,i) = x(d,i) + dt*vx(d,i)\n   60",
+                "              if (i .le. ntotal) x(d,i) = x(d,i) + dt*vx(d,i)\n   60",
+            ),
+        ],
+    );
+    edit(
+        "single_step.f",
+        &[
+            (
+                "     &                       drho, itype, av)\n",
+                "     &                       drho, itype, av, nvirt)\n",
+            ),
+            (
+                "      nvirt = 0\n",
+                "      if (itimestep .eq. 1) call virt_part(itimestep, ntotal,\n     &    nvirt, hsml, mass, x, vx, rho, u, p, itype)\n",
+            ),
+        ],
+    );
+}
+
+/// The code of [`integrating_program`] against `run --legacy` with `virtual = "integrated"`
+/// under the book's profile: the real particles end bit for bit in the program's final state
+/// (the profile's rate sum leaves a boundary particle dv = 0 and int_force's du).
+#[test]
+fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
+    let d = with_virt("virt_integrating", "virtual = \"integrated\"\n");
+    std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
+    integrating_program(&d);
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let rows = program_rows_of(&b, "virt_integrating_run", 40);
+    assert_eq!(rows.len(), 400, "the program writes its real particles");
+
+    let out = scratch("virt_integrating_legacy");
+    let args = ["run", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
+    let f = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5").pop().unwrap();
+    assert_eq!(f.bnd.iter().filter(|&&k| k == 1).count(), 20, "20 integrated particles");
+    let mut seen = 0;
+    for i in (0..f.x.len()).filter(|&i| f.bnd[i] == 0) {
+        let r = &rows[f.id[i] as usize];
+        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
+        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
+        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", f.id[i] + 1);
+        seen += 1;
+    }
+    assert_eq!(seen, 400);
+    // the virtual particles' u moved (int_force's du), their x and v did not
+    let virt: Vec<usize> = (0..f.x.len()).filter(|&i| f.bnd[i] == 1).collect();
+    assert!(virt.iter().any(|&i| f.e[i] != 2.5 && f.e[i] != 1.795), "no virtual u changed");
+    assert!(virt.iter().all(|&i| f.vx[i] == 0.0), "a virtual particle moved its v");
 }

@@ -42,6 +42,7 @@ fn snapshot(run: &Path, step: Option<usize>, dim: usize) -> Result<Snapshot> {
         mass: pick(&fr.mass),
         mat: order.iter().map(|&i| fr.mat.get(i).copied().unwrap_or(0)).collect(),
         id: order.iter().map(|&i| fr.id[i]).collect(),
+        bnd: if fr.bnd.is_empty() { Vec::new() } else { order.iter().map(|&i| fr.bnd[i]).collect() },
         ..Default::default()
     };
     Ok(Snapshot { step: k, time: fr.time, p })

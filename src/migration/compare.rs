@@ -214,10 +214,25 @@ fn buffers(r: &RoutineInfo, p: &Particles, itype: &[i32], (dt, time): (f64, f64)
         pbuf: 0,
         scratch: &mut scratch,
     };
+    let split = virtual_split(p);
     r.bindings
         .iter()
-        .map(|b| bind::gather(&b.name, b.shape == Shape::ParticleVec, b.shape.per_pair(), &mut ctx, p, &work))
+        .map(|b| match (b.name.as_str(), split) {
+            ("ntotal", Some((n, _))) => Buf::I(vec![n as i32]),
+            ("nvirt", Some((_, nv))) => Buf::I(vec![nv as i32]),
+            _ => bind::gather(&b.name, b.shape == Shape::ParticleVec, b.shape.per_pair(), &mut ctx, p, &work),
+        })
         .collect()
+}
+
+/// The book's count of real and virtual particles, `(ntotal, nvirt)`, where the run's boundary
+/// particles all come after its ordinary ones (in the order of the ids, as a `virt_part` appends
+/// them): an output routine then writes each kind where the program does. None otherwise: every
+/// particle is then counted in `ntotal`.
+fn virtual_split(p: &Particles) -> Option<(usize, usize)> {
+    let nb = p.bnd.iter().filter(|&&b| b != 0).count();
+    let n0 = p.nreal - nb;
+    (nb > 0 && p.ntotal == p.nreal && p.bnd[..n0].iter().all(|&b| b == 0)).then_some((n0, nb))
 }
 
 /// The type code of each material of the run's case (as `run --legacy` gives them).

@@ -4,7 +4,8 @@
 //!   `v = (v + Δt/2 dv) + av` (first step), `v = (v_min + Δt dv) + av` (later), then `x += Δt v`;
 //!   blastsph keeps v and moves x by Δt (v + av);
 //! - `rate_sum`: `dv = (force + external) + viscosity`, `du = (force + viscosity) + 0` (the book's
-//!   zeroed external and artificial-heat arrays added), and the source terms of `nsym = 0` in 1D,
+//!   zeroed external and artificial-heat arrays added) for the real particles only (a boundary
+//!   particle keeps dv = 0 and the force's du), and the source terms of `nsym = 0` in 1D,
 //!   `du + (−(((0 p) v)/x)/ρ)` (±0, or NaN for a particle at x = 0, as in the book).
 //!
 //! The leapfrog is otherwise blastsph's, which is the book's for a fixed step (Δt/2 = ½ Δt,
@@ -96,11 +97,18 @@ impl IntegratorCompat {
         let Slots { nacc, nde, .. } = self.normal.slots;
         let (lda, g, vs) = (dim * nt, &self.normal.grav, self.visc_slot);
         for i in 0..n {
+            if fixed(p, i) {
+                // the book sums the rates of the real particles only: a virtual particle's dvx
+                // is never written (a static local array, 0 as gfortran lays it out), and its
+                // du is int_force's alone
+                w.dv[dim * i..dim * (i + 1)].fill(0.0);
+                w.de[i] = if nde > 0 { w.dde[i] } else { 0.0 };
+                continue;
+            }
             for d in 0..dim {
                 let l = d + dim * i;
-                // exdvxdt: gravity set first (none on a boundary particle), then the other
-                // external terms added
-                let mut ext = if fixed(p, i) { 0.0 } else { g[d] };
+                // exdvxdt: gravity set first, then the other external terms added
+                let mut ext = g[d];
                 for t in (1..nacc).filter(|&t| Some(t) != vs) {
                     ext += w.acc[l + lda * t];
                 }
