@@ -1,7 +1,7 @@
 //! The kernel as Liu & Liu's book code computes it (`--compat`; docs/compat-liu-book.md §3):
 //! items `kernel` (the book's expressions, their association, the `q ≤ 1`, `q ≤ 2` (`q ≤ 3`)
 //! branches), `quintic_gradient` (the book's gradient below q = 1), `literals` (2./3. and π in
-//! single precision) and `global_h` (link_list's one h: the first particle's). No Fortran twin in
+//! single precision), `real_power` (the cubic's q³ as libm's pow of q and 3) and `global_h` (link_list's one h: the first particle's). No Fortran twin in
 //! blastsph's core: the dual run compares it with the user's legacy `kernel` (`dual --legacy`).
 
 use super::{Flags, Item, single};
@@ -41,7 +41,9 @@ pub fn book(dim: usize, kind: KernelKind, r: f64, dx: &[f64], h: f64, f: Flags, 
             };
             if (0.0..=1.0).contains(&q) {
                 let c = if lit { (2.0f32 / 3.0f32) as f64 } else { 2.0 / 3.0 };
-                w = factor * ((c - q * q) + (q * q * q) / 2.0);
+                // `q**3` is multiplied out by gfortran; `q**3._rk` calls libm's pow (item real_power)
+                let q3 = if f.has(Item::RealPower) { q.powf(3.0) } else { q * q * q };
+                w = factor * ((c - q * q) + q3 / 2.0);
                 for d in 0..dim {
                     dwdx[d] = ((factor * (-2.0 + 1.5 * q)) / (h * h)) * dx[d];
                 }

@@ -91,6 +91,7 @@ pub enum Item {
     XsphVelocity,
     EnergyFloor,
     RateSum,
+    RealPower,
 }
 
 /// What each item is: its name, the modules whose twins it changes, and what it does (the book
@@ -189,13 +190,19 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         "integrator",
         "the book's time integration order: dv = (force + external) + viscosity, du = (force + viscosity) + 0, the nsym = 0 source terms (§10, §11)",
     ),
+    (
+        Item::RealPower,
+        "real_power",
+        "kernel",
+        "the cubic kernel's q^3 as the real power q**3.0 (libm's pow), as a code that writes q**3._rk computes it, with the item kernel; not in the liu-book profile (the book writes q**3, which gfortran multiplies out)",
+    ),
 ];
 
 /// The profiles and the items each switches on.
 pub const PROFILES: &[(&str, &str)] = &[
     (
         "liu-book",
-        "every item but global_h, pa_sph1, nor_density: Liu & Liu's book code as shipped (direct_find, pa_sph = 2, nor_density off)",
+        "every item but global_h, pa_sph1, nor_density, h_upgrade, real_power: Liu & Liu's book code as shipped (direct_find, pa_sph = 2, nor_density off)",
     ),
     ("none", "no item (blastsph's own twins)"),
 ];
@@ -246,7 +253,9 @@ impl Flags {
         match name {
             "liu-book" => Some(
                 Item::all()
-                    .filter(|&i| !matches!(i, Item::GlobalH | Item::PaSph1 | Item::NorDensity | Item::HUpgrade))
+                    .filter(|&i| {
+                        !matches!(i, Item::GlobalH | Item::PaSph1 | Item::NorDensity | Item::HUpgrade | Item::RealPower)
+                    })
                     .fold(Flags(0), |f, i| f.with(i, true)),
             ),
             "none" => Some(Flags(0)),
