@@ -215,7 +215,8 @@ impl Sim {
             t
         };
         let slot = |name: &str| self.plan.acc_slot(name).map(|s| &acc[s * lda..s * lda + dim * n]);
-        let (fw, fp, fa) = (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"));
+        let (fw, fp, fa, fr) =
+            (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"), slot("boundary.repulsion"));
         // without gravity every term of its sum is +0 (the check stops a run with a non-finite v)
         let gravity = g[..dim].iter().any(|&x| x != 0.0);
         let parts: Vec<[f64; 3]> = (0..n.div_ceil(CHUNK))
@@ -227,6 +228,10 @@ impl Sim {
                 }
                 // the absorbing walls' dampers and static reaction: wall work too
                 if let Some(f) = fa {
+                    t[0] += power(f, c);
+                }
+                // the repulsion of boundary particles: wall work too
+                if let Some(f) = fr {
                     t[0] += power(f, c);
                 }
                 if let Some(f) = fp {
