@@ -282,8 +282,8 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         stages.push((Phase::Rates, Box::new(WallStage { segs: wall_segs, coef, slots: Slots::default() })));
     }
     let mirrors = case.walls.iter().any(|w| w.kind.mirrors());
-    let rep = case.walls.iter().any(|w| w.kind.repels());
-    let mut why = match (mirrors, rep) {
+    let rep_walls = case.walls.iter().any(|w| w.kind.repels());
+    let mut why = match (mirrors, rep_walls) {
         (true, true) => "walls: type I force and type II mirrors",
         (true, false) => "walls: type II mirrors",
         (false, true) => "walls: type I force",
@@ -291,11 +291,12 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     }
     .to_string();
     if let Some(s) = repulsion::stage(ctx) {
-        why += if case.physics.gravity_in_forces && case.gravity_on() {
-            "; repulsion of boundary particles (with the gravity)"
+        let rep = if case.physics.gravity_in_forces && case.gravity_on() {
+            "repulsion of boundary particles (with the gravity)"
         } else {
-            "; repulsion of boundary particles"
+            "repulsion of boundary particles"
         };
+        why = if mirrors || rep_walls { format!("{why}; {rep}") } else { rep.to_string() };
         stages.push(s);
     }
     Contribution::run(why, stages)
