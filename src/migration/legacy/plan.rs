@@ -168,21 +168,7 @@ impl Legacy {
                 json!({}),
             );
         }
-        let mut argf: Vec<Field> = bound[ri].iter().filter_map(|n| bind::field_of(n)).collect();
-        // the book's itype is negative on a boundary particle: it gives the boundary kinds too
-        if bound[ri].iter().any(|n| n == "itype") {
-            argf.push(Field::Bnd);
-        }
-        let (mut covered, mut helpers) = cover(ctx, &mods, &argf);
-        // a force routine that stands for no force stage (the book's ext_force) stands for the
-        // repulsion of boundary particles where the case has it
-        if covered.is_empty() && mods == [Module::Force] && ctx.case.boundary.repulsion.is_some() {
-            (covered, helpers) = cover(ctx, &[Module::Boundary], &argf);
-            covered.retain(|(_, s)| s.name() == "boundary.repulsion");
-            if !covered.is_empty() {
-                mods.push(Module::Boundary);
-            }
-        }
+        let (argf, covered, helpers) = cover_routine(ctx, &mut mods, &bound[ri]);
         let mut writes: Vec<Field> = Vec::new();
         let alone = covered.is_empty();
         if alone {
@@ -330,6 +316,27 @@ impl Legacy {
             ),
         }
     }
+}
+
+/// The fields of a routine's arguments `names`, the stages it stands for and their helpers
+/// ([`cover`]). A routine mapped to `force` alone that stands for no force stage (the book's
+/// `ext_force`) stands for the repulsion of boundary particles where the case has it: `mods`
+/// then gains the boundary.
+fn cover_routine(ctx: &PlanCtx, mods: &mut Vec<Module>, names: &[String]) -> (Vec<Field>, Staged, Staged) {
+    let mut argf: Vec<Field> = names.iter().filter_map(|n| bind::field_of(n)).collect();
+    // the book's itype is negative on a boundary particle: it gives the boundary kinds too
+    if names.iter().any(|n| n == "itype") {
+        argf.push(Field::Bnd);
+    }
+    let (mut covered, mut helpers) = cover(ctx, mods, &argf);
+    if covered.is_empty() && *mods == [Module::Force] && ctx.case.boundary.repulsion.is_some() {
+        (covered, helpers) = cover(ctx, &[Module::Boundary], &argf);
+        covered.retain(|(_, s)| s.name() == "boundary.repulsion");
+        if !covered.is_empty() {
+            mods.push(Module::Boundary);
+        }
+    }
+    (argf, covered, helpers)
 }
 
 /// The stages of modules `mods` that a routine with the arguments `argf` stands for, and the
