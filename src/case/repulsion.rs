@@ -12,7 +12,7 @@ use serde::Deserialize;
 pub struct RepulsionCfg {
     /// Range r0 (m).
     pub r0_m: f64,
-    /// D (m²/s²): the square of the largest speed expected (the book: 9.8 m²/s² for its dam break).
+    /// D (m²/s²): the square of the largest speed expected (a dam-break code of the book's line: 9.8 m²/s²).
     pub d_m2s2: f64,
     /// Exponent p1 (the book's 12).
     #[serde(default = "default_p1")]
