@@ -158,3 +158,43 @@ fn gravity_in_forces_without_a_legacy_build_is_refused() {
         assert!(err.contains("gravity_in_forces") && err.lines().count() == 1, "{cmd}: {err}");
     }
 }
+
+/// With `[boundary] repulsion` and a held boundary particle, the book's `ext_force` mapped to
+/// `force` stands for `boundary.repulsion`, which adds the gravity itself under
+/// `physics.gravity_in_forces`: its row is at 0 ULP, a particle pushed among those compared. The
+/// boundary particle lies 1.1e-5 m beyond a lone gas particle past the tube, within the fixture's
+/// r0, 1.25e-5 m.
+#[test]
+fn against_the_repulsion_twin_the_gravity_ext_force_is_at_zero_ulp() {
+    let d = gravity_variant("gravity_repulsion", "force", "includes_gravity = true\n");
+    let b = d.join("build");
+    let lattice = |name: &str, x: f64, held: bool| {
+        format!(
+            "\n[[region]]\nname = \"{name}\"\nmaterial = \"gas\"\nshape = \"lattice\"\norigin_m = [{x}]\ncount = [1]\nspacing_m = 1e-5\nrho_kgm3 = 0.25\ne_jkg = 1.795\nmass_kg = 0.001875\nh_m = 1e-3\n{}",
+            if held { "boundary_particles = \"held\"\n" } else { "" }
+        )
+    };
+    let more = format!(
+        "\n[boundary]\nrepulsion = {{ r0_m = 1.25e-5, d_m2s2 = 1e-2 }}\n{}{}",
+        lattice("lone", 0.65, false),
+        lattice("end", 0.650011, true)
+    );
+    let case = gravity_case_with(&d, &more);
+    let so = blastsph_ok(&["check", case.to_str().unwrap(), "--legacy", b.to_str().unwrap()], 0);
+    assert!(so.contains("boundary.repulsion") && so.contains("legacy.ext_force"), "{so}");
+    let out = scratch("gravity_repulsion_dual");
+    let mut args: Vec<String> = dual_book_args(&b, Some(2), &out);
+    args[1] = case.to_str().unwrap().to_string();
+    args.retain(|a| a != "--compat" && a != "liu-book");
+    let o = blastsph(&args);
+    assert!(matches!(o.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("dual_report.json")).expect("dual_report.json");
+    let rep: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let rows = rep["rows"].as_array().unwrap();
+    let ext: Vec<_> = rows.iter().filter(|r| r["stage"] == "legacy.ext_force").collect();
+    assert!(!ext.is_empty(), "no ext_force row: {text}");
+    for r in ext {
+        assert_eq!(r["max_ulp"].as_u64(), Some(0), "{r}");
+        assert!(r["compared"].as_u64().unwrap_or(0) > 0, "{r}");
+    }
+}

@@ -117,6 +117,11 @@ void sph_boundary_mirror_fill(int dim, int ntotal, int n, int ng, const int *gsr
                               double *e, double *h, double *mass, int *mat, int ntau,
                               double *tau);
 void sph_boundary_mirror_copy(int ntotal, int n, int ng, const int *gsrc, double *f);
+/* bnd(n): 0 an ordinary particle, else a boundary particle; grav(ngrav), ngrav = dim or 0. */
+void sph_boundary_repulsion(int dim, int nt, int n, int npair, const int *pair_i,
+                            const int *pair_j, const double *x, const int *bnd, double r0,
+                            double dd, double p1, double p2, int ngrav, const double *grav,
+                            double *dvdt);
 
 /* absorb (sph_absorb.f90): Lysmer-Kuhlemeyer dashpots of the absorbing walls; seg as for
  * boundary, sigma0(SPH_NSTR, n) the stress at t = 0 (tension positive). */

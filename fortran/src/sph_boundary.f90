@@ -26,6 +26,14 @@
 !  velocity (free slip: normal component reversed; no slip: all
 !  reversed) and deviatoric stress (M tau M, M = I - 2 n n^T) are
 !  reflected.  They are rebuilt every step, after the real particles.
+!
+!  Repulsion of boundary particles (Liu & Liu 2003's ext_force): the
+!  acceleration of each of the nt particles starts at grav (ngrav = dim
+!  values, or 0 for none); then for each pair k in order with one
+!  ordinary real particle o (bnd = 0) and one boundary particle b
+!  (bnd /= 0; particles n+1..nt are neither), dx = x_o - x_b,
+!  rr = |dx|; while rr < r0, with q = r0/rr,
+!     dvdt(:, o) += dd*dx*f,  f = (q**p1 - q**p2)/rr**2  (m/s^2).
 !-----------------------------------------------------------------------
 module sph_boundary
   use iso_c_binding, only: c_int, c_double
@@ -33,7 +41,7 @@ module sph_boundary
   implicit none
   private
   public :: sph_boundary_wall_force, sph_boundary_mirror_make, sph_boundary_mirror_fill, &
-            sph_boundary_mirror_copy
+            sph_boundary_mirror_copy, sph_boundary_repulsion
 
   integer, parameter :: iv(3, 3) = reshape([1, 4, 5, 4, 2, 6, 5, 6, 3], [3, 3])
 
@@ -203,6 +211,53 @@ contains
       end do
     end do
   end subroutine sph_boundary_wall_force
+
+  subroutine sph_boundary_repulsion(dim, nt, n, npair, pair_i, pair_j, x, bnd, r0, dd, p1, p2, &
+      ngrav, grav, dvdt) bind(C, name="sph_boundary_repulsion")
+    integer(c_int), value :: dim, nt, n, npair, ngrav
+    real(c_double), value :: r0, dd, p1, p2
+    integer(c_int), intent(in) :: pair_i(npair), pair_j(npair), bnd(n)
+    real(c_double), intent(in) :: x(dim, nt), grav(ngrav)
+    real(c_double), intent(out) :: dvdt(dim, nt)
+    integer :: i, j, k, d, o, b
+    real(c_double) :: dx(3), rr, q, f
+
+    dvdt = 0.0d0
+    if (ngrav == dim) then
+      do i = 1, nt
+        do d = 1, dim
+          dvdt(d, i) = grav(d)
+        end do
+      end do
+    end if
+    do k = 1, npair
+      i = pair_i(k) + 1
+      j = pair_j(k) + 1
+      if (i > n .or. j > n) cycle
+      if (bnd(i) == 0 .and. bnd(j) /= 0) then
+        o = i
+        b = j
+      else if (bnd(j) == 0 .and. bnd(i) /= 0) then
+        o = j
+        b = i
+      else
+        cycle
+      end if
+      rr = 0.0d0
+      do d = 1, dim
+        dx(d) = x(d, o) - x(d, b)
+        rr = rr + dx(d)*dx(d)
+      end do
+      rr = sqrt(rr)
+      if (rr < r0) then
+        q = r0/rr
+        f = (q**p1 - q**p2)/(rr*rr)
+        do d = 1, dim
+          dvdt(d, o) = dvdt(d, o) + dd*dx(d)*f
+        end do
+      end if
+    end do
+  end subroutine sph_boundary_repulsion
 
   ! is point y within the mirror band of segment sg (0 <= distance < band, along the segment)?
   pure logical function in_band(dim, sg, y, band)

@@ -22,6 +22,7 @@ mod dims;
 mod forms;
 mod material;
 pub mod refine;
+mod repulsion;
 mod sets;
 pub mod size;
 pub mod slips;
@@ -31,6 +32,7 @@ pub mod validate;
 pub use conductivity::*;
 pub use forms::*;
 pub use material::*;
+pub use repulsion::RepulsionCfg;
 pub use sets::{apply_sets, apply_sets_by};
 pub use types::*;
 

@@ -442,6 +442,8 @@ pub struct BoundaryCfg {
     /// Thickness (m) of the layer of particles an `absorbing` wall acts on; default: the largest
     /// region spacing.
     pub absorb_layer_m: Option<f64>,
+    /// The repulsion of boundary particles ([`super::RepulsionCfg`]); none by default.
+    pub repulsion: Option<super::RepulsionCfg>,
 }
 
 fn default_dwall() -> f64 {
@@ -461,6 +463,7 @@ impl Default for BoundaryCfg {
             n2: 4,
             noslip: false,
             absorb_layer_m: None,
+            repulsion: None,
         }
     }
 }

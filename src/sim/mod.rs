@@ -188,6 +188,13 @@ impl Sim {
         } else if case.regions.iter().any(|r| r.boundary_particles.is_some()) {
             p.bnd = crate::setup::boundary_kinds(&case, &init.region);
         }
+        // boundary particles come from the case's regions or from a legacy set-up (virt_part);
+        // under a legacy build the stage may stand for an ext_force with gravity alone
+        if case.boundary.repulsion.is_some() && plan.legacy.is_null() && !p.bnd.iter().any(|&k| k != 0) {
+            return Err(input(
+                "boundary.repulsion: the case has no boundary particles to push off (give a region boundary_particles = \"held\" or \"integrated\", or map a legacy virt_part)",
+            ));
+        }
         for e in &plan.entries {
             e.stage.register(&mut p);
         }

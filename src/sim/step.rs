@@ -208,8 +208,12 @@ impl Sim {
         let kind = |i: usize| bnd.get(i).copied().unwrap_or(0);
         let held = crate::case::BoundaryKind::Held as i32;
         let slot = |name: &str| self.plan.acc_slot(name).map(|s| &acc[s * lda..s * lda + dim * n]);
-        let (fw, fp, fa) = (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"));
-        let ext = [fw, fa, fp];
+        let (fw, fp, fa, fr) =
+            (slot("boundary.wall_force"), slot("penalty.force"), slot("absorb.dashpot"), slot("boundary.repulsion"));
+        let ext = [fw, fa, fp, fr];
+        // under `physics.gravity_in_forces` the repulsion stage adds the gravity itself, to
+        // every particle (an integrated boundary particle too): its work is gravity's
+        let in_forces = self.case.physics.gravity_in_forces;
         // v_i · f_i from +0 over the components
         let dot = |f: &[f64], i: usize| -> f64 {
             let mut s = 0.0;
@@ -228,7 +232,7 @@ impl Sim {
                 for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                     let k = kind(i);
                     if k == held {
-                        // the pair part of its rates, v·(a − wall − penalty) + ė
+                        // the pair part of its rates, v·(a − wall − penalty − repulsion) + ė
                         let mut a = dot(dv, i);
                         for f in ext.iter().flatten() {
                             a -= dot(f, i);
@@ -236,22 +240,26 @@ impl Sim {
                         t[3] -= m[i] * (a + de[i]);
                         continue;
                     }
-                    // the absorbing walls' dampers and static reaction: wall work too
+                    let mut gv = 0.0;
+                    for d in 0..dim {
+                        gv += g[d] * v[d + dim * i];
+                    }
+                    // the absorbing walls' dampers and static reaction, and the boundary
+                    // particles' repulsion (less the gravity it carries): wall work too
                     if let Some(f) = fw {
                         t[0] += m[i] * dot(f, i);
                     }
                     if let Some(f) = fa {
                         t[0] += m[i] * dot(f, i);
                     }
+                    if let Some(f) = fr {
+                        t[0] += m[i] * if in_forces { dot(f, i) - gv } else { dot(f, i) };
+                    }
                     if let Some(f) = fp {
                         t[1] += m[i] * dot(f, i);
                     }
-                    if gravity && k == 0 {
-                        let mut s = 0.0;
-                        for d in 0..dim {
-                            s += g[d] * v[d + dim * i];
-                        }
-                        t[2] += m[i] * s;
+                    if gravity && (k == 0 || in_forces) {
+                        t[2] += m[i] * gv;
                     }
                 }
                 t

@@ -419,6 +419,9 @@ impl Case {
         v.num(&at, "d_m2s2", b.d_m2s2, Range::within(0.0, C_MAX * C_MAX))?;
         v.any(&at, "noslip");
         v.opt(&at, "absorb_layer_m", b.absorb_layer_m, Range::above(0.0, X_MAX))?;
+        if let Some(r) = &b.repulsion {
+            r.check(v)?;
+        }
         exponents(v, &at, b.n1, b.n2)
     }
 

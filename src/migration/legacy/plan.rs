@@ -157,7 +157,7 @@ impl Legacy {
         if let Some(n) = self.outside_the_step(r) {
             return n;
         }
-        let mods: Vec<Module> = r.modules.iter().filter_map(|m| Module::parse(m)).collect();
+        let mut mods: Vec<Module> = r.modules.iter().filter_map(|m| Module::parse(m)).collect();
         if mods.contains(&Module::Integrator) || mods.len() > 3 {
             return note(
                 "not run",
@@ -168,8 +168,7 @@ impl Legacy {
                 json!({}),
             );
         }
-        let argf: Vec<Field> = bound[ri].iter().filter_map(|n| bind::field_of(n)).collect();
-        let (covered, helpers) = cover(ctx, &mods, &argf);
+        let (argf, covered, helpers) = cover_routine(ctx, &mut mods, &bound[ri]);
         let mut writes: Vec<Field> = Vec::new();
         let alone = covered.is_empty();
         if alone {
@@ -300,7 +299,9 @@ impl Legacy {
             .collect();
         let mut hint =
             if off.is_empty() { String::new() } else { format!("; compat items off here: {}", off.join(", ")) };
-        if !alone && self.lib.info().gravity_in.as_deref() == Some(r.name.as_str()) {
+        // the repulsion adds the gravity itself under physics.gravity_in_forces
+        let with_gravity = twins.iter().any(|t| t == "boundary.repulsion");
+        if !alone && !with_gravity && self.lib.info().gravity_in.as_deref() == Some(r.name.as_str()) {
             hint += &format!("; {}", crate::dual::GRAVITY_NOTE);
         }
         Tolerance {
@@ -315,6 +316,27 @@ impl Legacy {
             ),
         }
     }
+}
+
+/// The fields of a routine's arguments `names`, the stages it stands for and their helpers
+/// ([`cover`]). A routine mapped to `force` alone that stands for no force stage (the book's
+/// `ext_force`) stands for the repulsion of boundary particles where the case has it: `mods`
+/// then gains the boundary.
+fn cover_routine(ctx: &PlanCtx, mods: &mut Vec<Module>, names: &[String]) -> (Vec<Field>, Staged, Staged) {
+    let mut argf: Vec<Field> = names.iter().filter_map(|n| bind::field_of(n)).collect();
+    // the book's itype is negative on a boundary particle: it gives the boundary kinds too
+    if names.iter().any(|n| n == "itype") {
+        argf.push(Field::Bnd);
+    }
+    let (mut covered, mut helpers) = cover(ctx, mods, &argf);
+    if covered.is_empty() && *mods == [Module::Force] && ctx.case.boundary.repulsion.is_some() {
+        (covered, helpers) = cover(ctx, &[Module::Boundary], &argf);
+        covered.retain(|(_, s)| s.name() == "boundary.repulsion");
+        if !covered.is_empty() {
+            mods.push(Module::Boundary);
+        }
+    }
+    (argf, covered, helpers)
 }
 
 /// The stages of modules `mods` that a routine with the arguments `argf` stands for, and the

@@ -1,9 +1,9 @@
 //! The Fortran twin of the boundaries (`sph_boundary_wall_force`, `_mirror_make`, `_mirror_fill`,
-//! `_mirror_copy`).
+//! `_mirror_copy`, `_repulsion`).
 #![allow(unsafe_code)]
 
-use super::{MirrorCopy, MirrorFill, MirrorMake, WallForce};
-use crate::modules::ffi_util::{chk, chk_opt, chk_idx, mptr_or, n32, ptr_or};
+use super::{MirrorCopy, MirrorFill, MirrorMake, Repulsion, WallForce};
+use crate::modules::ffi_util::{chk, chk_idx, chk_opt, chk_pairs, mptr_or, n32, ptr_or};
 use crate::modules::param::{NSTR, seg_len};
 
 #[allow(non_upper_case_globals, non_camel_case_types, non_snake_case, dead_code)]
@@ -143,4 +143,37 @@ pub(super) fn mirror_copy(a: &mut MirrorCopy) {
     chk_idx("gsrc", a.gsrc, a.n);
     // SAFETY: f holds ntotal = n + ng values and every source is a real particle (checked above).
     unsafe { sys::sph_boundary_mirror_copy(n32(nt), n32(a.n), n32(a.gsrc.len()), a.gsrc.as_ptr(), a.f.as_mut_ptr()) }
+}
+
+pub(super) fn repulsion(a: &mut Repulsion) {
+    let (dim, pl) = (a.dim, a.pairs);
+    let nt = a.dvdt.len() / dim;
+    let n = a.bnd.len();
+    chk("x", a.x.len(), dim * nt);
+    assert!(n <= nt, "legacy call: `bnd` has {n} values for {nt} particles");
+    assert!(a.grav.is_empty() || a.grav.len() == dim, "legacy call: `grav` needs 0 or dim values");
+    chk_pairs(&pl.i, &pl.j, nt);
+    let (dummy, di) = (0.0, 0i32);
+    let c = a.coef;
+    // SAFETY: x and dvdt hold dim × nt values, bnd n ≤ nt, grav 0 or dim (a one-value dummy
+    // when empty), the pair lists npair indices in 0..nt (checked above).
+    unsafe {
+        sys::sph_boundary_repulsion(
+            n32(dim),
+            n32(nt),
+            n32(n),
+            n32(pl.len()),
+            ptr_or(&pl.i, &di),
+            ptr_or(&pl.j, &di),
+            a.x.as_ptr(),
+            ptr_or(a.bnd, &di),
+            c.r0,
+            c.d,
+            c.p1,
+            c.p2,
+            n32(a.grav.len()),
+            ptr_or(a.grav, &dummy),
+            a.dvdt.as_mut_ptr(),
+        )
+    }
 }

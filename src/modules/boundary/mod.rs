@@ -13,8 +13,11 @@
 mod ffi;
 #[cfg(test)]
 mod parity;
+mod repulsion;
 mod rust;
 pub mod walls;
+
+pub use repulsion::{Repulsion, RepulsionCoef, RepulsionStage};
 
 pub(crate) use rust::frame;
 pub use rust::WallFrame;
@@ -249,7 +252,8 @@ impl Stage for WallStage {
     }
 }
 
-/// Runs when the case has walls: mirrors for type II, the force for type I.
+/// Runs when the case has walls (mirrors for type II, the force for type I) or `[boundary]
+/// repulsion`.
 pub fn plan(ctx: &PlanCtx) -> Contribution {
     let case = ctx.case;
     let mirror_segs = walls::segments(case, ctx.x0, WallKind::mirrors);
@@ -278,12 +282,22 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
         stages.push((Phase::Rates, Box::new(WallStage { segs: wall_segs, coef, slots: Slots::default() })));
     }
     let mirrors = case.walls.iter().any(|w| w.kind.mirrors());
-    let rep = case.walls.iter().any(|w| w.kind.repels());
-    let why = match (mirrors, rep) {
+    let rep_walls = case.walls.iter().any(|w| w.kind.repels());
+    let mut why = match (mirrors, rep_walls) {
         (true, true) => "walls: type I force and type II mirrors",
         (true, false) => "walls: type II mirrors",
         (false, true) => "walls: type I force",
         _ => "no walls",
-    };
+    }
+    .to_string();
+    if let Some(s) = repulsion::stage(ctx) {
+        let rep = if case.physics.gravity_in_forces && case.gravity_on() {
+            "repulsion of boundary particles (with the gravity)"
+        } else {
+            "repulsion of boundary particles"
+        };
+        why = if mirrors || rep_walls { format!("{why}; {rep}") } else { rep.to_string() };
+        stages.push(s);
+    }
     Contribution::run(why, stages)
 }

@@ -253,3 +253,54 @@ fn boundary_mirror_band_covers_the_largest_h() {
     }
     assert!(needed > 20, "the hot particle reaches {needed} images");
 }
+
+/// The repulsion of boundary particles: a cloud whose first layers and every seventh particle are
+/// boundary particles (held or integrated), half the pairs swapped so that the boundary member is
+/// first in some and second in others, the mirrors neither; the book's constants and
+/// non-integer exponents, with and without gravity. 1D to 3D.
+#[test]
+fn boundary_repulsion_pairs_either_order() {
+    use super::{Repulsion, RepulsionCoef};
+    let book_d = f64::from(9.8f32.sqrt()).powi(2);
+    let coefs = [
+        RepulsionCoef { r0: f64::from(0.01f32), d: book_d, p1: 12.0, p2: 4.0 },
+        RepulsionCoef { r0: 0.0115, d: 1e2, p1: 6.5, p2: 2.5 },
+    ];
+    for (dim, seed) in clouds(131) {
+        let cl = cloud(dim, side(dim), seed);
+        let mut pl = pairs(&cl, 2.0);
+        for k in (0..pl.len()).step_by(2) {
+            (pl.i[k], pl.j[k]) = (pl.j[k], pl.i[k]);
+        }
+        let bnd: Vec<i32> = (0..cl.nreal)
+            .map(|i| if cl.x[dim * i] < 1.5 * cl.dx { 2 } else if i % 7 == 3 { 1 } else { 0 })
+            .collect();
+        // pairs in reach with the ordinary member first, and with it second
+        let reach = |first_ordinary: bool| {
+            (0..pl.len()).any(|k| {
+                let (i, j) = (pl.i[k] as usize, pl.j[k] as usize);
+                let r2: f64 = (0..dim).map(|d| (cl.x[d + dim * i] - cl.x[d + dim * j]).powi(2)).sum();
+                let (o, b) = if first_ordinary { (i, j) } else { (j, i) };
+                o < cl.nreal && b < cl.nreal && bnd[o] == 0 && bnd[b] != 0 && r2.sqrt() < coefs[0].r0
+            })
+        };
+        assert!(reach(true) && reach(false), "{dim}D seed {seed}: no pair in reach in one of the orders");
+        let grav = vec![-3.0; dim];
+        for coef in coefs {
+            for g in [&[][..], &grav[..]] {
+                let tag = format!("boundary::repulsion {dim}D seed {seed} p1 {} gravity {}", coef.p1, !g.is_empty());
+                let [acc] = parity(&tag, 0, ["dvdt"], [sentinel(dim * cl.nt)], |b, [dvdt]| {
+                    let (x, bnd) = (&cl.x[..], &bnd[..]);
+                    run(Repulsion { dim, pairs: &pl, x, bnd, coef, grav: g, dvdt }, b)
+                });
+                // pushed: an ordinary particle's term differs from the gravity
+                let base = if g.is_empty() { 0.0 } else { -3.0 };
+                assert!(acc.iter().any(|&a| a != base), "{tag}: no particle pushed");
+                // no term on a boundary particle or a mirror: the gravity alone
+                for i in (0..cl.nt).filter(|&i| i >= cl.nreal || bnd[i] != 0) {
+                    assert!(acc[dim * i..dim * i + dim].iter().all(|&a| a == base), "{tag}: particle {i} pushed");
+                }
+            }
+        }
+    }
+}
