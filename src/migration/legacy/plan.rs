@@ -118,7 +118,11 @@ impl Legacy {
             ));
         }
         if let Some(k) = &r.virtual_kind {
-            let (n, k) = self.shared().virt_made.clone().unwrap_or((0, k.clone()));
+            // (not yet called, as in host mode, where the program calls it: no count to give)
+            let Some((n, k)) = self.shared().virt_made.clone() else {
+                let why = format!("makes the boundary particles, {k} (with --legacy, called once after the set-up)");
+                return Some(note("setup", why, json!({ "virtual": k })));
+            };
             let why = format!("made {n} boundary particles, {k} (called once after the set-up, with itimestep = 1)");
             return Some(note("setup", why, json!({ "virtual": k, "made": n })));
         }
