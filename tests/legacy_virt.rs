@@ -113,6 +113,20 @@ module = \"output\"
 args = [\"x\", \"vx\", \"mass\", \"rho\", \"p\", \"u\", \"c\", \"itype\", \"hsml\", \"ntotal\"]
 ";
 
+/// The ordinary particles of frame `f` are the program's final state `rows` (columns: number,
+/// type, x, vx, mass, rho, p, u, hsml), bit for bit, all 400 of them.
+fn assert_real_particles_as(f: &blastsph::output::Frame, rows: &[Vec<f64>]) {
+    let mut seen = 0;
+    for i in (0..f.x.len()).filter(|&i| f.bnd[i] == 0) {
+        let r = &rows[f.id[i] as usize];
+        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
+        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
+        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", f.id[i] + 1);
+        seen += 1;
+    }
+    assert_eq!(seen, 400);
+}
+
 /// A virt_part whose particles do not depend on the real ones: 16 beyond the left end at the
 /// left spacing and 4 beyond the right end at the right one (a kernel's reach each), at rest, in
 /// the state of their side at the start.
@@ -178,15 +192,7 @@ fn held_virtual_particles_made_once_end_as_the_program_that_makes_them_every_ste
     let f = frames.last().unwrap();
     assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
     assert_eq!(f.bnd.iter().filter(|&&k| k == 2).count(), 20, "20 held particles");
-    let mut seen = 0;
-    for i in (0..f.x.len()).filter(|&i| f.bnd[i] == 0) {
-        let r = &rows[f.id[i] as usize];
-        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
-        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
-        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", f.id[i] + 1);
-        seen += 1;
-    }
-    assert_eq!(seen, 400);
+    assert_real_particles_as(f, &rows);
     // the program's left end, pushed by nothing without them, stays near its place
     assert!((rows[0][2] + 0.6).abs() < 0.01, "left end at {}", rows[0][2]);
 
@@ -276,15 +282,7 @@ fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
     blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
     let f = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5").pop().unwrap();
     assert_eq!(f.bnd.iter().filter(|&&k| k == 1).count(), 20, "20 integrated particles");
-    let mut seen = 0;
-    for i in (0..f.x.len()).filter(|&i| f.bnd[i] == 0) {
-        let r = &rows[f.id[i] as usize];
-        let got = [f.x[i], f.vx[i], f.mass[i], f.rho[i], f.p[i], f.e[i], f.h[i]];
-        let want = [r[2], r[3], r[4], r[5], r[6], r[7], r[8]];
-        assert_eq!(got, want, "particle {} (x, vx, mass, rho, p, u, hsml)", f.id[i] + 1);
-        seen += 1;
-    }
-    assert_eq!(seen, 400);
+    assert_real_particles_as(&f, &rows);
     // the virtual particles' u moved (int_force's du), their x and v did not
     let virt: Vec<usize> = (0..f.x.len()).filter(|&i| f.bnd[i] == 1).collect();
     assert!(virt.iter().any(|&i| f.e[i] != 2.5 && f.e[i] != 1.795), "no virtual u changed");

@@ -337,3 +337,28 @@ pub(crate) fn fmin(a: f64, b: f64) -> f64 {
 pub(crate) fn fmax(a: f64, b: f64) -> f64 {
     if b > a { b } else { a }
 }
+
+/// The pairs `0..np` that `keep` selects, found in parallel per fixed chunk of [`CHUNK`] pairs
+/// into the scratch's per-task lists: the lists of the chunks in order, each in pair order (so
+/// a loop over them visits the selected pairs in pair order, whatever the thread count).
+pub(crate) fn select_pairs(
+    buf: &mut crate::state::pair_list::Bufs,
+    np: usize,
+    keep: impl Fn(usize) -> bool + Sync,
+) -> &[Vec<u32>] {
+    use rayon::prelude::*;
+    let ntask = np.div_ceil(CHUNK);
+    if buf.idx_tasks.len() < ntask {
+        buf.idx_tasks.resize_with(ntask, Vec::new);
+    }
+    let find = |(t, b): (usize, &mut Vec<u32>)| {
+        b.clear();
+        b.extend((CHUNK * t..(CHUNK * t + CHUNK).min(np)).filter(|&k| keep(k)).map(|k| k as u32));
+    };
+    if serial() {
+        buf.idx_tasks[..ntask].iter_mut().enumerate().for_each(find);
+    } else {
+        buf.idx_tasks[..ntask].par_iter_mut().enumerate().for_each(find);
+    }
+    &buf.idx_tasks[..ntask]
+}

@@ -7,9 +7,8 @@
 
 use super::super::nnps::PairList;
 use super::super::{Backend, Phase, PlanCtx, Slots, Stage, Terms, Twin};
-use crate::modules::{CHUNK, Module, serial};
+use crate::modules::Module;
 use crate::state::{Clock, Field, Particles, Work};
-use rayon::prelude::*;
 
 /// The constants of the repulsion: range r0 (m), D (m²/s²), exponents p1 > p2 (real powers).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,20 +72,7 @@ fn repulsion(a: &mut Repulsion) {
         (rr < r0).then_some((o, dx, rr))
     };
     let mut guard = pl.scratch.lock();
-    let buf = &mut *guard;
-    let ntask = np.div_ceil(CHUNK);
-    if buf.idx_tasks.len() < ntask {
-        buf.idx_tasks.resize_with(ntask, Vec::new);
-    }
-    let find = |(t, b): (usize, &mut Vec<u32>)| {
-        b.clear();
-        b.extend((CHUNK * t..(CHUNK * t + CHUNK).min(np)).filter(|&k| pair(k).is_some()).map(|k| k as u32));
-    };
-    if serial() {
-        buf.idx_tasks[..ntask].iter_mut().enumerate().for_each(find);
-    } else {
-        buf.idx_tasks[..ntask].par_iter_mut().enumerate().for_each(find);
-    }
+    let tasks = crate::modules::par::select_pairs(&mut guard, np, |k| pair(k).is_some());
     if grav.len() == dim {
         for row in dvdt.chunks_exact_mut(dim) {
             row.copy_from_slice(grav);
@@ -94,7 +80,7 @@ fn repulsion(a: &mut Repulsion) {
     } else {
         dvdt.fill(0.0);
     }
-    for b in &buf.idx_tasks[..ntask] {
+    for b in tasks {
         for &k in b {
             if let Some((o, dx, rr)) = pair(k as usize) {
                 let q = r0 / rr;

@@ -3,8 +3,7 @@
 //! forces are then scattered pair by pair in that order, exactly as the Fortran loop does. 0 ULP.
 
 use super::{Coef, Force};
-use crate::modules::{CHUNK, ipow, serial};
-use rayon::prelude::*;
+use crate::modules::ipow;
 
 pub(super) fn force(a: &mut Force) {
     let Force { dim, pairs: pl, x, h, mass, mat, mt, coef, dvdt } = a;
@@ -28,23 +27,10 @@ pub(super) fn force(a: &mut Force) {
         if pe > 1.0 { Some((dx, r2, pe)) } else { None }
     };
     let mut guard = pl.scratch.lock();
-    let buf = &mut *guard;
-    let ntask = np.div_ceil(CHUNK);
-    if buf.idx_tasks.len() < ntask {
-        buf.idx_tasks.resize_with(ntask, Vec::new);
-    }
-    let find = |(t, b): (usize, &mut Vec<u32>)| {
-        b.clear();
-        b.extend((CHUNK * t..(CHUNK * t + CHUNK).min(np)).filter(|&k| pair(k).is_some()).map(|k| k as u32));
-    };
-    if serial() {
-        buf.idx_tasks[..ntask].iter_mut().enumerate().for_each(find);
-    } else {
-        buf.idx_tasks[..ntask].par_iter_mut().enumerate().for_each(find);
-    }
+    let tasks = crate::modules::par::select_pairs(&mut guard, np, |k| pair(k).is_some());
     let out = &mut dvdt[..dim * nt];
     out.fill(0.0);
-    for b in &buf.idx_tasks[..ntask] {
+    for b in tasks {
         for &k in b {
             let k = k as usize;
             let (i, j) = (pi[k] as usize, pj[k] as usize);
