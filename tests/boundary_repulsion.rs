@@ -11,8 +11,13 @@ use std::process::Command;
 /// One water particle at (0, 0.03) m moving down at `speed` m/s, no gravity, over a floor of
 /// held particles three rows deep (top row at y = −0.005 m); `repulsion` is the table's value.
 fn drop_case(speed: f64, repulsion: Option<&str>) -> String {
-    let mut s = format!(
-        r#"
+    drop_case_ordered(speed, repulsion, false)
+}
+
+/// [`drop_case`], with the floor's region first when `floor_first` (its particles then get the
+/// lower indices).
+fn drop_case_ordered(speed: f64, repulsion: Option<&str>, floor_first: bool) -> String {
+    let header = r#"
 name = "drop"
 dim = 2
 
@@ -34,9 +39,11 @@ beta = 0.0
 
 [[material]]
 name = "water"
-eos = {{ kind = "tait", rho0_kgm3 = 1000.0, b_pa = 128571.43, gamma = 7.0, c_ms = 30.0 }}
+eos = { kind = "tait", rho0_kgm3 = 1000.0, b_pa = 128571.43, gamma = 7.0, c_ms = 30.0 }
 
-[[region]]
+"#;
+    let drop = format!(
+        r#"[[region]]
 name = "drop"
 material = "water"
 shape = "box"
@@ -45,7 +52,10 @@ hi_m = [0.005, 0.035]
 spacing_m = 0.01
 velocity_ms = [0.0, {v}]
 
-[[region]]
+"#,
+        v = -speed
+    );
+    let floor = r#"[[region]]
 name = "floor"
 material = "water"
 shape = "box"
@@ -53,9 +63,8 @@ lo_m = [-0.05, -0.03]
 hi_m = [0.05, 0.0]
 spacing_m = 0.01
 boundary_particles = "held"
-"#,
-        v = -speed
-    );
+"#;
+    let mut s = if floor_first { format!("{header}{floor}\n{drop}") } else { format!("{header}{drop}\n{floor}") };
     if let Some(r) = repulsion {
         s += &format!("\n[boundary]\nrepulsion = {r}\n");
     }
@@ -89,12 +98,7 @@ fn a_particle_thrown_at_a_held_floor_turns_back_before_its_top_row() {
     let without = lowest(&drop_case(80.0, None), 0.05);
     let with = lowest(&drop_case(80.0, Some(rep)), 0.05);
     // the floor's region first: its particles get the lower indices
-    let first = drop_case(80.0, Some(rep));
-    let (a, b) =
-        (first.find("[[region]]\nname = \"drop\"").unwrap(), first.find("[[region]]\nname = \"floor\"").unwrap());
-    let first = format!("{}{}\n{}", &first[..a], &first[b..first.find("\n[boundary]").unwrap()], &first[a..b])
-        + &first[first.find("\n[boundary]").unwrap()..];
-    let floor_first = lowest(&first, 0.05);
+    let floor_first = lowest(&drop_case_ordered(80.0, Some(rep), true), 0.05);
     eprintln!(
         "80 m/s: lowest y without {:.5} m; with {:.5} m (v_y {:.3} m/s); floor first {:.5} m",
         without.0, with.0, with.1, floor_first.0

@@ -113,6 +113,25 @@ module = \"output\"
 args = [\"x\", \"vx\", \"mass\", \"rho\", \"p\", \"u\", \"c\", \"itype\", \"hsml\", \"ntotal\"]
 ";
 
+/// The variant in `d` built into `d/build`, its program run for 40 steps (final state in the
+/// scratch folder `NAME_run`), and `run --legacy --compat liu-book` of the shock tube to 0.2 s
+/// (into `NAME_legacy`): the build, the run folder, the program's final state and the run's last
+/// frame. The run's
+/// ordinary particles must be the program's final state bit for bit ([`assert_real_particles_as`]).
+fn program_and_legacy_run(d: &Path, name: &str) -> (PathBuf, PathBuf, Vec<Vec<f64>>, blastsph::output::Frame) {
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let rows = program_rows_of(&b, &format!("{name}_run"), 40);
+    assert_eq!(rows.len(), 400, "the program writes its real particles");
+    let out = scratch(&format!("{name}_legacy"));
+    let args = ["run", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+    blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
+    let f = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5").pop().unwrap();
+    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    assert_real_particles_as(&f, &rows);
+    (b, out, rows, f)
+}
+
 /// The ordinary particles of frame `f` are the program's final state `rows` (columns: number,
 /// type, x, vx, mass, rho, p, u, hsml), bit for bit, all 400 of them.
 fn assert_real_particles_as(f: &blastsph::output::Frame, rows: &[Vec<f64>]) {
@@ -180,19 +199,8 @@ fn held_virtual_particles_made_once_end_as_the_program_that_makes_them_every_ste
     let new = text.replacen("      nvirt = 0\n", call, 1);
     assert_ne!(new, text, "single_step.f sets nvirt = 0");
     std::fs::write(&ss, new).unwrap();
-    let b = d.join("build");
-    build(&d.join("legacy.toml"), &b).expect("the variant builds");
-    let rows = program_rows_of(&b, "virt_program_run", 40);
-    assert_eq!(rows.len(), 400, "the program writes its real particles");
-
-    let out = scratch("virt_program_legacy");
-    let args = ["run", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
-    blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
-    let frames = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5");
-    let f = frames.last().unwrap();
-    assert!((f.time - 0.2).abs() < 1e-6, "t = {}", f.time);
+    let (b, out, rows, f) = program_and_legacy_run(&d, "virt_program");
     assert_eq!(f.bnd.iter().filter(|&&k| k == 2).count(), 20, "20 held particles");
-    assert_real_particles_as(f, &rows);
     // the program's left end, pushed by nothing without them, stays near its place
     assert!((rows[0][2] + 0.6).abs() < 0.01, "left end at {}", rows[0][2]);
 
@@ -272,17 +280,8 @@ fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
     let d = with_virt("virt_integrating", "virtual = \"integrated\"\n");
     std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
     integrating_program(&d);
-    let b = d.join("build");
-    build(&d.join("legacy.toml"), &b).expect("the variant builds");
-    let rows = program_rows_of(&b, "virt_integrating_run", 40);
-    assert_eq!(rows.len(), 400, "the program writes its real particles");
-
-    let out = scratch("virt_integrating_legacy");
-    let args = ["run", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
-    blastsph_ok(&[&args[..], &["--set", "time.end_s=0.2", "--out", out.to_str().unwrap(), "--quiet"]].concat(), 0);
-    let f = blastsph::output::read_frames(&out.join("particles.h5")).expect("particles.h5").pop().unwrap();
+    let (_, _, _, f) = program_and_legacy_run(&d, "virt_integrating");
     assert_eq!(f.bnd.iter().filter(|&&k| k == 1).count(), 20, "20 integrated particles");
-    assert_real_particles_as(&f, &rows);
     // the virtual particles' u moved (int_force's du), their x and v did not
     let virt: Vec<usize> = (0..f.x.len()).filter(|&i| f.bnd[i] == 1).collect();
     assert!(virt.iter().any(|&i| f.e[i] != 2.5 && f.e[i] != 1.795), "no virtual u changed");
