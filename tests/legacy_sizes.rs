@@ -87,8 +87,9 @@ fn sizes_in_a_module_are_read_by_the_probe() {
 }
 
 /// An include file that declares a constant of a kind from a module (`real(rk)`, `rk` from
-/// `module bookkind`, which every routine `use`s before its include): the include alone does
-/// not compile, so the probe compiles the sources and is tried again with that `use` line.
+/// `module bookkind`, which every routine `use`s before its include, in a statement continued
+/// over two lines): the include alone does not compile, so the probe compiles the sources and is
+/// tried again with that `use` statement, its lines joined.
 #[test]
 fn an_include_that_needs_a_modules_kind_is_probed_with_that_module() {
     let d = variant("sizes_kind", |m| m.to_string());
@@ -97,13 +98,13 @@ fn an_include_that_needs_a_modules_kind_is_probed_with_that_module() {
     let p = d.join("param.inc");
     let inc = std::fs::read_to_string(&p).unwrap();
     std::fs::write(&p, format!("{inc}\n      real(rk) tiny_r\n      parameter (tiny_r = 1.e-30_rk)\n")).unwrap();
-    edit_sources(&d, |t| t.replace(INCLUDE, &format!("      use bookkind\n{INCLUDE}")));
+    edit_sources(&d, |t| t.replace(INCLUDE, &format!("      use bookkind,\n     &    only: rk\n{INCLUDE}")));
     let info = build(&d.join("legacy.toml"), &d.join("build")).expect("the kind variant builds");
     assert_eq!((info.dim, info.maxn, info.max_interaction), (1, 1000, 20000));
     let log = std::fs::read_to_string(d.join("build/build.log")).unwrap();
     let alone = log.split("probe: the include alone does not compile").next().unwrap();
     assert!(alone.contains("rk") && alone.contains("has not been declared"), "the include alone fails on rk: {log}");
-    assert!(log.contains("then with [\"use bookkind\"]"), "{log}");
+    assert!(log.contains("then with [\"use bookkind, only: rk\"]"), "{log}");
     dual_at_zero_ulp(&d.join("build"), "sizes_kind_dual");
 }
 

@@ -117,18 +117,41 @@ fn defines_module(st: &str, name: &str) -> bool {
     w.next() == Some("module") && w.next() == Some(name) && w.next().is_none()
 }
 
-/// A source's lines as statements: lower case, comments dropped, blank lines skipped (free-form
-/// continuations are not joined: a `use` over two lines is not read).
+/// A source's statements: lower case, comments dropped, blank lines skipped, continuation lines
+/// joined (free form: a trailing `&`, with an optional leading `&` on the next line; fixed form:
+/// a character other than blank or zero in column 6), and `;`-separated statements apart.
 fn statements(text: &str, fixed: bool) -> Vec<String> {
-    text.lines()
-        .filter(|l| !(fixed && matches!(l.chars().next(), Some('c' | 'C' | '*' | '!'))))
-        .map(|l| {
-            let l = l.to_ascii_lowercase();
-            let body = if fixed && l.len() > 6 && l.is_char_boundary(6) { l[6..].to_string() } else { l };
-            body.split('!').next().unwrap_or("").trim().to_string()
-        })
-        .filter(|s| !s.is_empty())
-        .collect()
+    let mut out: Vec<String> = Vec::new();
+    let mut open = false; // the last free-form statement ends with `&`
+    for raw in text.lines() {
+        if fixed && matches!(raw.chars().next(), Some('c' | 'C' | '*' | '!')) {
+            continue;
+        }
+        let l = raw.to_ascii_lowercase();
+        let cont_fixed = fixed && l.len() > 6 && l.is_char_boundary(6) && !matches!(l.as_bytes()[5], b' ' | b'0');
+        let body = if fixed && l.len() > 6 && l.is_char_boundary(6) {
+            &l[6..]
+        } else if fixed {
+            ""
+        } else {
+            &l
+        };
+        let body = body.split('!').next().unwrap_or("").trim();
+        if body.is_empty() {
+            continue;
+        }
+        let joins = cont_fixed || open;
+        let body = if open { body.strip_prefix('&').unwrap_or(body).trim_start() } else { body };
+        open = !fixed && body.ends_with('&');
+        let body = body.strip_suffix('&').unwrap_or(body).trim_end();
+        let mut parts = body.split(';').map(str::trim);
+        if let Some(last) = out.last_mut().filter(|_| joins) {
+            last.push(' ');
+            last.push_str(parts.next().unwrap_or(""));
+        }
+        out.extend(parts.filter(|s| !s.is_empty()).map(str::to_string));
+    }
+    out
 }
 
 /// The `use` statements that the program units of the sources write before their `include` of
@@ -141,7 +164,7 @@ fn uses_before_include(m: &Manifest) -> Vec<String> {
         let mut pending: Vec<String> = Vec::new();
         for st in statements(&text, fixed_form(src)) {
             let first = st.split(|c: char| !c.is_ascii_alphanumeric() && c != '_').next().unwrap_or("");
-            if first == "use" && !st.ends_with('&') {
+            if first == "use" {
                 pending.push(st);
             } else if first == "include" && st.contains(&file) {
                 for u in pending.drain(..) {
@@ -253,4 +276,18 @@ fn run(
         )));
     }
     Ok(Sizes { dim: v[0] as usize, maxn: v[1] as usize, max_interaction: v[2] as usize })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::statements;
+
+    #[test]
+    fn continued_statements_are_joined() {
+        let fixed = "c a comment\n      use sph_kind,\n     &    only: rk\n      include 'param.inc'\n";
+        assert_eq!(statements(fixed, true), ["use sph_kind, only: rk", "include 'param.inc'"]);
+        let free = "use sph_kind, &  ! the kinds\n  & only: rk\nuse a; use b\n";
+        assert_eq!(statements(free, false), ["use sph_kind, only: rk", "use a", "use b"]);
+        assert_eq!(statements("      x = 1\n     0  y = 2\n", true), ["x = 1", "y = 2"]);
+    }
 }

@@ -74,6 +74,8 @@ pub mod xsph;
 #[serde(rename_all = "snake_case")]
 pub enum Item {
     Literals,
+    InputLiterals,
+    DtLiteral,
     KernelLiterals,
     SoundSpeed,
     Kernel,
@@ -101,7 +103,19 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         Item::Literals,
         "literals",
         "force,conductivity,eos,viscosity,xsph,integrator,setup",
-        "single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, gravity_ms2, phi_over_h, alpha, beta, g1, g2, xsph_eps, dt_s and each region's rho, e, mass, h, velocity rounded to single precision as the book's literals are (§0, §13)",
+        "the routines' single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, gravity_ms2, phi_over_h, alpha, beta, g1, g2 and xsph_eps rounded to single precision as the book's literals are (§0, §13)",
+    ),
+    (
+        Item::InputLiterals,
+        "input_literals",
+        "setup",
+        "the input routine's single-precision literals: each region's rho, e, mass, h and velocity rounded to single precision (§0)",
+    ),
+    (
+        Item::DtLiteral,
+        "dt_literal",
+        "integrator",
+        "the time step's single-precision literal: the case's dt_s rounded to single precision (§0)",
     ),
     (
         Item::KernelLiterals,
@@ -344,8 +358,9 @@ pub fn single(x: f64) -> f64 {
     x as f32 as f64
 }
 
-/// Applies the items that change the case's own numbers (`literals`): the values a legacy code
-/// writes as default-real literals are rounded to single precision. Nothing without the item.
+/// Applies the items that change the case's own numbers (`literals`, `input_literals`,
+/// `dt_literal`): the values a legacy code writes as default-real literals are rounded to single
+/// precision. Nothing without the items.
 /// Refuses an unknown item and a case whose other keys contradict an item.
 pub fn apply_case(case: &mut Case) -> Result<()> {
     let f = flags(&case.compat)?;
@@ -355,11 +370,23 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
             f.label()
         )));
     }
+    if f.has(Item::DtLiteral)
+        && let Some(dt) = case.time.dt_s.as_mut()
+    {
+        *dt = single(*dt);
+    }
+    if f.has(Item::InputLiterals) {
+        for r in &mut case.regions {
+            for x in [&mut r.rho_kgm3, &mut r.e_jkg, &mut r.mass_kg, &mut r.h_m].into_iter().flatten() {
+                *x = single(*x);
+            }
+            if let Some(vel) = r.velocity_ms.as_mut() {
+                vel.iter_mut().for_each(|x| *x = single(*x));
+            }
+        }
+    }
     if !f.has(Item::Literals) {
         return Ok(());
-    }
-    if let Some(dt) = case.time.dt_s.as_mut() {
-        *dt = single(*dt);
     }
     for m in &mut case.materials {
         if let EosCfg::IdealGas { gamma, .. } = &mut m.eos {
@@ -379,14 +406,6 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
     let c = &mut case.conductivity;
     if c.kind == crate::case::ConductivityKind::Noh {
         (c.g1, c.g2) = (Some(single(c.g1())), Some(single(c.g2())));
-    }
-    for r in &mut case.regions {
-        for x in [&mut r.rho_kgm3, &mut r.e_jkg, &mut r.mass_kg, &mut r.h_m].into_iter().flatten() {
-            *x = single(*x);
-        }
-        if let Some(vel) = r.velocity_ms.as_mut() {
-            vel.iter_mut().for_each(|x| *x = single(*x));
-        }
     }
     Ok(())
 }
@@ -434,5 +453,34 @@ mod tests {
         assert!(flags(&bad).unwrap_err().to_string().contains("compat.kernal"));
         assert_eq!(single(1.4), 1.399_999_976_158_142);
         assert!(book.touches("viscosity") && !Flags::default().touches("eos"));
+    }
+
+    /// Each literal item rounds its own numbers and nothing else: a code with a double-precision
+    /// gamma and a single-precision dt takes `-literals` and keeps `dt_literal`.
+    #[test]
+    fn the_literal_items_round_their_own_numbers() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/cases/shock_tube.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let with = |spec: &str| {
+            let mut c = crate::case::parse(&text, "shock_tube", &sets_of(spec).unwrap(), Some("shock_tube")).unwrap();
+            apply_case(&mut c).unwrap();
+            let gamma = c.materials.iter().find_map(|m| match m.eos {
+                EosCfg::IdealGas { gamma, .. } => Some(gamma),
+                _ => None,
+            });
+            // the low-pressure side's 1.795 J/kg is not a single-precision number
+            let e = c.regions.iter().filter_map(|r| r.e_jkg).next_back();
+            (c.time.dt_s.unwrap(), gamma.unwrap(), c.viscosity.phi_over_h, e.unwrap())
+        };
+        let none = with("none");
+        let book = with("liu-book");
+        assert_ne!(none.0, single(none.0), "the shock tube's dt is not a single-precision number");
+        assert_ne!(none.3, single(none.3));
+        assert_eq!(book, (single(none.0), single(none.1), single(none.2), single(none.3)));
+        let no_lit = with("liu-book,-literals");
+        assert_eq!(no_lit, (single(none.0), none.1, none.2, single(none.3)));
+        assert_eq!(with("liu-book,-dt_literal").0, none.0);
+        assert_eq!(with("liu-book,-input_literals").3, none.3);
+        assert_eq!(with("none,dt_literal"), (single(none.0), none.1, none.2, none.3));
     }
 }
