@@ -96,16 +96,18 @@ fn run_legacy_with_the_tree_search_ends_in_the_state_of_its_program() {
     assert!(legacy["max_abs_rho"].as_f64().unwrap() < 1e-12, "{so}");
 }
 
-/// Host mode on the variant's program: the tree search's call compared as a set at each of its
-/// 40 calls, every field of every routine at 0 ULP, and the program's own end.
-#[test]
-fn host_mode_compares_the_tree_searchs_pairs_as_a_set() {
-    let d = tree_fixture();
-    let b = d.join("build");
-    let out = scratch("tree_search_host");
+/// `blastsph legacy host shock_tube --legacy BUILD --compat liu-book --out OUT` (with
+/// `--rust-outputs` when `rust`), input `40` then `0`: (status, stdout, stderr, the final state
+/// the program wrote).
+fn host(build: &Path, out: &Path, rust: bool) -> (Option<i32>, String, String, Vec<Vec<f64>>) {
+    let mut args = vec!["legacy", "host", "shock_tube", "--legacy", build.to_str().unwrap(), "--compat", "liu-book"];
+    if rust {
+        args.push("--rust-outputs");
+    }
     let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
-        .args(["legacy", "host", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book", "--out"])
-        .arg(&out)
+        .args(&args)
+        .arg("--out")
+        .arg(out)
         .current_dir(root())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -117,8 +119,28 @@ fn host_mode_compares_the_tree_searchs_pairs_as_a_set() {
         child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
     }
     let o = child.wait_with_output().unwrap();
-    let (so, se) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-    assert_eq!(o.status.code(), Some(0), "{so}{se}");
+    let text = std::fs::read_to_string(out.join("work/final_state.dat")).unwrap_or_default();
+    let rows =
+        text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        rows,
+    )
+}
+
+/// Host mode on the variant's program: the tree search's call compared as a set at each of its
+/// 40 calls, every field of every routine at 0 ULP, and the program's own end. On the twins'
+/// outputs the program gets blastsph's pairs, in direct_find's order: it ends in the state of the
+/// fixture's program (direct_find), not of its own.
+#[test]
+fn host_mode_compares_the_tree_searchs_pairs_as_a_set() {
+    let d = tree_fixture();
+    let b = d.join("build");
+    let out = scratch("tree_search_host");
+    let (code, so, se, end) = host(&b, &out, false);
+    assert_eq!(code, Some(0), "{so}{se}");
     assert!(so.contains("6 routines at 0 ULP at every compared call"), "{so}");
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("host_report.json")).expect("host_report.json"))
@@ -131,8 +153,11 @@ fn host_mode_compares_the_tree_searchs_pairs_as_a_set() {
     let pi = t["rows"].as_array().unwrap().iter().find(|x| x["field"] == "pair_i").expect("a pair_i row");
     assert!(pi["pair_order"]["moved"].as_u64().unwrap() > 0, "{pi}");
     // the program ran as written
-    let text = std::fs::read_to_string(out.join("work/final_state.dat")).expect("final_state.dat");
-    let rows: Vec<Vec<f64>> =
-        text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect();
-    assert_eq!(rows, program_rows_of(&b, "tree_search_host_program", 40));
+    let own = program_rows_of(&b, "tree_search_host_program", 40);
+    assert_eq!(end, own);
+    let out = scratch("tree_search_host_rust");
+    let (code, so, se, end) = host(&b, &out, true);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert_ne!(end, own);
+    assert_eq!(end, program_final_state());
 }
