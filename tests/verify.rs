@@ -693,3 +693,32 @@ fn noh_rz_post_shock_state_and_shock_position() {
     eprintln!("noh RZ at 2 cm, beta = 10: rho2 ratio {rho10:.4}");
     assert!(rho - rho10 > 0.1, "beta = 2 ({rho}) against the default beta = 10 ({rho10})");
 }
+
+/// A strip lit along its whole end (`detonation.plane_normal`): every explosive particle lights
+/// at its distance from the plane over s D, whatever its height; lit from the point, those off
+/// the centre line light later. A zero normal is refused.
+#[test]
+fn a_plane_lights_the_strip_by_distance_from_the_plane() {
+    let tlight = |extra: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let s = sets(&[&["time.end_s=2e-7", "time.output_interval_s=1e-7"], extra].concat());
+        let opts = RunOptions { out: Some(dir.path().join("run")), sets: s, quiet: true, ..Default::default() };
+        let r = run(&case("tnt_strip_2d"), &opts).unwrap();
+        // the positions at t = 0, which the lighting times are of
+        let x0 = blastsph::setup::particles(&r.sim.case).unwrap().x;
+        (0..r.sim.p.nreal).map(|i| (x0[2 * i], x0[2 * i + 1], r.sim.p.tlight[i])).collect::<Vec<_>>()
+    };
+    let speed = 0.95 * 6930.0;
+    let plane = tlight(&["detonation.plane_normal=[2.0, 0.0]"]);
+    assert_eq!(plane.len(), 2100);
+    for &(x, _, t) in &plane {
+        assert!((t - x / speed).abs() <= 1e-12 * x / speed, "x {x}: t {t}");
+    }
+    let point = tlight(&[]);
+    let later = point.iter().zip(&plane).filter(|(a, b)| a.2 > b.2 * (1.0 + 1e-9)).count();
+    assert!(point.iter().zip(&plane).all(|(a, b)| a.2 >= b.2 && a.0 == b.0 && a.1 == b.1));
+    assert!(later > 1500, "{later} of 2100 light later from the point");
+    let bad = blastsph::case::load(&case("tnt_strip_2d"), &sets(&["detonation.plane_normal=[0.0, 0.0]"]));
+    let e = bad.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(e.contains("plane_normal") && e.contains("zero vector"), "{e}");
+}

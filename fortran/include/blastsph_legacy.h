@@ -155,8 +155,8 @@ void sph_xsph_average(int dim, int ntotal, int npair, const int *pair_i, const i
 
 /* detonation (sph_detonation.f90) */
 void sph_detonation_light(int dim, int n, const double *x, const int *mat, int nmat,
-                          const int *mtype, const double *mpar, const double *xdet, double sf,
-                          double *tlight);
+                          const int *mtype, const double *mpar, const double *xdet,
+                          const double *nrm, int plane, double sf, double *tlight);
 void sph_detonation_burn(int n, double t, const int *mat, int nmat, const double *mpar,
                          const double *tlight, const double *h, const double *rho, double width,
                          double *burn);

@@ -3,7 +3,9 @@
 !  Instantaneous (constant-volume) burn needs no routine: the JWL
 !  products start at rho0, e0.  Programmed burn: the front leaves the
 !  lighting point xdet at the detonation speed D; particle i lights at
-!  t_i = |x_i - xdet| / D and its burn fraction is
+!  t_i = |x_i - xdet| / D (or, lit along a plane through xdet with unit
+!  normal nrm (plane = 1), t_i = |(x_i - xdet).nrm| / D) and its burn
+!  fraction is
 !     lam_i = 1 if t >= t_i else 0                      (width = 0)
 !     lam_i = min(1, max(0, (t - t_i) D / (width h_i)))  (width > 0)
 !  The lighting speed is sf D (sf = 1: the thesis's reading; below 1 the
@@ -24,25 +26,33 @@ module sph_detonation
 
 contains
 
-  subroutine sph_detonation_light(dim, n, x, mat, nmat, mtype, mpar, xdet, sf, tlight) &
-      bind(C, name="sph_detonation_light")
-    integer(c_int), value :: dim, n, nmat
+  subroutine sph_detonation_light(dim, n, x, mat, nmat, mtype, mpar, xdet, nrm, plane, sf, &
+      tlight) bind(C, name="sph_detonation_light")
+    integer(c_int), value :: dim, n, nmat, plane
     real(c_double), value :: sf
     integer(c_int), intent(in) :: mat(n), mtype(nmat)
-    real(c_double), intent(in) :: x(dim, n), mpar(npar, nmat), xdet(dim)
+    real(c_double), intent(in) :: x(dim, n), mpar(npar, nmat), xdet(dim), nrm(dim)
     real(c_double), intent(out) :: tlight(n)
     integer :: i, m, d
-    real(c_double) :: r2
+    real(c_double) :: r2, s
 
     do i = 1, n
       m = mat(i) + 1
       tlight(i) = 0.0d0
       if (mtype(m) == eos_jwl) then
-        r2 = 0.0d0
-        do d = 1, dim
-          r2 = r2 + (x(d, i) - xdet(d))*(x(d, i) - xdet(d))
-        end do
-        tlight(i) = sqrt(r2)/(sf*mpar(mp_e1 + 5, m))
+        if (plane /= 0) then
+          s = 0.0d0
+          do d = 1, dim
+            s = s + (x(d, i) - xdet(d))*nrm(d)
+          end do
+          tlight(i) = abs(s)/(sf*mpar(mp_e1 + 5, m))
+        else
+          r2 = 0.0d0
+          do d = 1, dim
+            r2 = r2 + (x(d, i) - xdet(d))*(x(d, i) - xdet(d))
+          end do
+          tlight(i) = sqrt(r2)/(sf*mpar(mp_e1 + 5, m))
+        end if
       end if
     end do
   end subroutine sph_detonation_light

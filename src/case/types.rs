@@ -664,6 +664,8 @@ pub struct DetonationCfg {
     /// The lighting front runs at this fraction of D: t_i = |x_i − x_det|/(s D) (theory.md §9).
     #[serde(default = "default_lighting")]
     pub lighting_speed_factor: f64,
+    /// Lit along the plane through `point_m` with this normal: t_i = |(x_i − x_det)·n̂|/(s D).
+    pub plane_normal: Option<Vec<f64>>,
 }
 
 fn default_width_h() -> f64 {

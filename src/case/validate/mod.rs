@@ -479,6 +479,19 @@ impl Case {
         } else if det.mode == BurnMode::Programmed {
             return Err(input("detonation.point_m: required for mode = \"programmed\""));
         }
+        if let Some(n) = &det.plane_normal {
+            v.vec(&at, "plane_normal", n, self.dim, Range::abs(X_MAX))?;
+            if n.iter().map(|c| c * c).sum::<f64>() < f64::MIN_POSITIVE {
+                return Err(input(
+                    "detonation.plane_normal: a zero vector has no direction (give the lighting plane's normal)",
+                ));
+            }
+            if det.mode != BurnMode::Programmed {
+                return Err(input(
+                    "detonation.plane_normal: only for mode = \"programmed\" (an instant burn lights nothing)",
+                ));
+            }
+        }
         if !self.materials.iter().any(|m| matches!(m.eos, EosCfg::Jwl { .. })) {
             return Err(input("detonation: no material has eos kind = \"jwl\""));
         }

@@ -13,6 +13,9 @@ pub(super) fn light(a: &mut Light) {
     let (dim, n) = (a.dim, a.mat.len());
     chk("x", a.x.len(), dim * n);
     chk("xdet", a.xdet.len(), dim);
+    let zero = vec![0.0; dim];
+    let nrm = a.nrm.unwrap_or(&zero);
+    chk("nrm", nrm.len(), dim);
     chk("tlight", a.tlight.len(), n);
     chk_mat(a.mt, a.mat);
     // SAFETY: the arrays hold the values the explicit shapes declare and every material index is
@@ -27,6 +30,8 @@ pub(super) fn light(a: &mut Light) {
             a.mt.mtype.as_ptr(),
             a.mt.mpar.as_ptr(),
             a.xdet.as_ptr(),
+            nrm.as_ptr(),
+            i32::from(a.nrm.is_some()),
             a.sf,
             a.tlight.as_mut_ptr(),
         )

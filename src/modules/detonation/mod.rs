@@ -1,5 +1,6 @@
 //! Detonation (docs/theory.md §9). Programmed burn: particle i lights at
-//! t_i = |x_i − x_det|/(s D) (s), s the lighting-speed factor (1: the thesis's reading); its burn
+//! t_i = |x_i − x_det|/(s D) (s), or t_i = |(x_i − x_det)·n̂|/(s D) when lit along a plane of unit
+//! normal n̂, s the lighting-speed factor (1: the thesis's reading); its burn
 //! fraction is λ_p = 1 once t ≥ t_i (width 0) or min(1, max(0, (t − t_i) D/(w h_i))). With the beta
 //! burn (row η_CJ = ρ_CJ/ρ0 > 1), an explosive compressed towards its CJ density burns too and never
 //! un-burns: λ_i ← max(λ_i, λ_p, min(1, (1 − ρ0/ρ_i)/(1 − 1/η_CJ))). The instantaneous burn needs no
@@ -27,6 +28,8 @@ pub struct Light<'a> {
     pub mt: &'a MatTable,
     /// The lighting point (m).
     pub xdet: &'a [f64],
+    /// The unit normal of a lighting plane through `xdet`; `None`: lit from the point.
+    pub nrm: Option<&'a [f64]>,
     /// The lighting speed over D (1: the thesis's reading).
     pub sf: f64,
     pub tlight: &'a mut [f64],
@@ -69,6 +72,7 @@ impl Twin for Burn<'_> {
 pub struct LightStage {
     mt: MatTable,
     xdet: Vec<f64>,
+    nrm: Option<Vec<f64>>,
     sf: f64,
 }
 
@@ -91,7 +95,8 @@ impl Stage for LightStage {
     fn run(&self, b: Backend, p: &mut Particles, _w: &mut Work, _k: &Clock) {
         let (dim, n) = (p.dim, p.nreal);
         let (x, mat) = (&p.x[..dim * n], &p.mat[..n]);
-        Light { dim, x, mat, mt: &self.mt, xdet: &self.xdet, sf: self.sf, tlight: &mut p.tlight }.run(b);
+        let (xdet, nrm, sf) = (&self.xdet, self.nrm.as_deref(), self.sf);
+        Light { dim, x, mat, mt: &self.mt, xdet, nrm, sf, tlight: &mut p.tlight }.run(b);
     }
 }
 
@@ -144,12 +149,17 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     let xdet = det.and_then(|d| d.point_m.clone()).unwrap_or_default();
     let width = det.map(|d| d.width_h).unwrap_or(0.0);
     let sf = det.map(|d| d.lighting_speed_factor).unwrap_or(1.0);
+    // the plane's normal made a unit vector here, once, outside the twins
+    let nrm = det.and_then(|d| d.plane_normal.as_ref()).map(|n| {
+        let len = n.iter().map(|v| v * v).sum::<f64>().sqrt();
+        n.iter().map(|v| v / len).collect::<Vec<f64>>()
+    });
     let burn = |init| Box::new(BurnStage { mt: ctx.mt.clone(), width, init }) as Box<dyn Stage>;
     let beta = ctx.mt.mpar.chunks(super::param::NPAR).any(|c| c[ETA_CJ] > 1.0);
     Contribution::run(
         if beta { "programmed burn with the beta burn" } else { "programmed burn" },
         vec![
-            (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet, sf })),
+            (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet, nrm, sf })),
             (Phase::Init, burn(true)),
             (Phase::Burn, burn(false)),
         ],

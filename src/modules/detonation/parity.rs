@@ -1,6 +1,6 @@
 //! Parity of the detonation: lighting times of two explosives (and water, which never lights),
 //! burn fractions with and without a ramp at times from before lighting to long after, a lighting
-//! front slower than D, and the beta burn (burning by compression, never un-burning).
+//! front slower than D, a lighting plane, and the beta burn (burning by compression, never un-burning).
 
 use super::{Burn, Light};
 use super::ETA_CJ;
@@ -26,16 +26,28 @@ fn detonation_light_and_burn() {
         let xdet: Vec<f64> = (0..dim).map(|d| 0.031 + 0.004 * d as f64).collect();
         let tag = format!("detonation::light {dim}D seed {seed}");
         let [lf] = parity(&tag, 0, ["tlight"], [sentinel(n)], |b, [tlight]| {
-            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, sf: 1.0, tlight }, b)
+            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, nrm: None, sf: 1.0, tlight }, b)
         });
         nonzero(&tag, &lf);
         // a lighting front at 0.95 D
         let tag = format!("detonation::light 0.95 {dim}D seed {seed}");
         let [sf] = parity(&tag, 0, ["tlight"], [sentinel(n)], |b, [tlight]| {
-            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, sf: 0.95, tlight }, b)
+            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, nrm: None, sf: 0.95, tlight }, b)
         });
         for i in 0..n {
             assert!(sf[i] >= lf[i], "a slower front lights no particle earlier");
+        }
+        // lit along a plane through the point (a unit normal not along an axis): no particle
+        // lights later than from the point, and those on either side light
+        let len = (0..dim).map(|d| (1.0 + d as f64).powi(2)).sum::<f64>().sqrt();
+        let nrm: Vec<f64> = (0..dim).map(|d| (1.0 + d as f64) / len).collect();
+        let tag = format!("detonation::light plane {dim}D seed {seed}");
+        let [pl] = parity(&tag, 0, ["tlight"], [sentinel(n)], |b, [tlight]| {
+            run(Light { dim, x, mat: &mat, mt: &mt, xdet: &xdet, nrm: Some(&nrm), sf: 0.95, tlight }, b)
+        });
+        nonzero(&tag, &pl);
+        for i in 0..n {
+            assert!(pl[i] <= sf[i] * (1.0 + 1e-12), "a plane lights no particle later than its point");
         }
         let tmax = lf.iter().cloned().fold(0.0, f64::max);
         let h = &cl.h[..n];

@@ -10,18 +10,26 @@ use super::ETA_CJ;
 const DET: usize = 6;
 
 pub(super) fn light(a: &mut Light) {
-    let Light { dim, x, mat, mt, xdet, sf, tlight } = a;
-    let (dim, sf) = (*dim, *sf);
+    let Light { dim, x, mat, mt, xdet, nrm, sf, tlight } = a;
+    let (dim, sf, nrm) = (*dim, *sf, *nrm);
     par_rows(&mut tlight[..mat.len()], 1, |i, t| {
         let m = mat[i] as usize;
         let t = &mut t[0];
         *t = 0.0;
         if mt.mtype[m] == SPH_EOS_JWL as i32 {
-            let mut r2 = 0.0;
-            for d in 0..dim {
-                r2 += (x[d + dim * i] - xdet[d]) * (x[d + dim * i] - xdet[d]);
+            if let Some(nrm) = nrm {
+                let mut s = 0.0;
+                for d in 0..dim {
+                    s += (x[d + dim * i] - xdet[d]) * nrm[d];
+                }
+                *t = s.abs() / (sf * mt.mpar[DET + NPAR * m]);
+            } else {
+                let mut r2 = 0.0;
+                for d in 0..dim {
+                    r2 += (x[d + dim * i] - xdet[d]) * (x[d + dim * i] - xdet[d]);
+                }
+                *t = r2.sqrt() / (sf * mt.mpar[DET + NPAR * m]);
             }
-            *t = r2.sqrt() / (sf * mt.mpar[DET + NPAR * m]);
         }
     });
 }
