@@ -287,3 +287,63 @@ fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
     assert!(virt.iter().any(|&i| f.e[i] != 2.5 && f.e[i] != 1.795), "no virtual u changed");
     assert!(virt.iter().all(|&i| f.vx[i] == 0.0), "a virtual particle moved its v");
 }
+
+/// `blastsph legacy host CASE --legacy BUILD --compat liu-book --out OUT`, the program's input
+/// `40` then `0` on stdin: (status, stdout, stderr) and the report.
+fn host_run(case: &Path, b: &Path, out: &Path) -> (Option<i32>, String, serde_json::Value) {
+    let (c, b, o) = (case.to_str().unwrap(), b.to_str().unwrap(), out.to_str().unwrap());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["legacy", "host", c, "--legacy", b, "--compat", "liu-book", "--out", o])
+        .current_dir(root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("blastsph starts");
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+    }
+    let o = child.wait_with_output().unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let r = std::fs::read_to_string(out.join("host_report.json"))
+        .map_or(serde_json::Value::Null, |t| serde_json::from_str(&t).unwrap());
+    (o.status.code(), text, r)
+}
+
+/// The row of `field` of routine `name` in a host report.
+fn host_row<'a>(r: &'a serde_json::Value, name: &str, field: &str) -> &'a serde_json::Value {
+    let rows = r["routines"][name]["rows"].as_array().unwrap_or_else(|| panic!("{name}: {r}"));
+    rows.iter().find(|x| x["field"] == field).unwrap_or_else(|| panic!("{name} {field}: {r}"))
+}
+
+/// The fixture's program calling virt_part at every step, with the book's averaged velocity, in
+/// host mode. av_vel is given the real particles' ntotal, and its pairs reach the 20 virtual
+/// particles. It is compared over the 400 particles it is given, at 0 ULP at each of its 40
+/// calls. The rows past them hold its pair sums without ε: they are not compared.
+#[test]
+fn host_mode_compares_av_vel_over_the_particles_it_is_given() {
+    let d = with_virt("virt_host_xsph", "");
+    std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
+    for (file, a, b) in [
+        (
+            "single_step.f",
+            "      nvirt = 0\n",
+            "      call virt_part(itimestep, ntotal, nvirt, hsml, mass,\n     &               x, vx, rho, u, p, itype)\n",
+        ),
+        ("param.inc", "parameter (average_velocity  = .false.)", "parameter (average_velocity  = .true.)"),
+    ] {
+        let p = d.join(file);
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains(a), "{file}: {a}");
+        std::fs::write(&p, text.replacen(a, b, 1)).unwrap();
+    }
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let (code, text, r) = host_run(&xsph_case(&d), &b, &scratch("virt_host_xsph_run"));
+    assert_eq!(code, Some(0), "{text}");
+    let av = host_row(&r, "av_vel", "av");
+    assert_eq!(r["routines"]["av_vel"]["compared_calls"], 40, "{r}");
+    assert_eq!(av["compared"].as_u64(), Some(400 * 40), "{av}");
+    assert_eq!((av["max_ulp"].as_u64(), av["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{av}");
+}
