@@ -93,6 +93,9 @@ pub struct Comparator {
     pub stats: BTreeMap<(String, Field), Stat>,
     pub dim: usize,
     pub steps: u64,
+    /// Host mode: the particles the routine was given (its `ntotal`), where its pairs reach
+    /// particles past them. Their rows are its inputs: only the given particles' are compared.
+    pub given: Option<usize>,
 }
 
 impl Comparator {
@@ -289,8 +292,15 @@ impl Comparator {
             } else {
                 pairs.len()
             };
-            st.compared += rows as u64;
-            for (l, (a, b)) in pairs.into_iter().take(rows).enumerate() {
+            let (per, width) = f.layout(self.dim);
+            let (width, nt, given) = (width.max(1), p.ntotal.max(1), self.given.unwrap_or(usize::MAX));
+            let keep = |l: usize| match per {
+                Per::Particle => l / width < given,
+                Per::Term => l % (width * nt) / width < given,
+                Per::Pair | Per::One => true,
+            };
+            st.compared += (0..rows).filter(|&l| keep(l)).count() as u64;
+            for (l, (a, b)) in pairs.into_iter().take(rows).enumerate().filter(|(l, _)| keep(*l)) {
                 if a.to_bits() == b.to_bits() || (a == b) {
                     continue;
                 }

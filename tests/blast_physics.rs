@@ -352,13 +352,15 @@ fn programmed_burn_lights_at_distance_over_d() {
     let x = [0.5, 0.97, 0.53, 0.97, 0.5, 0.5];
     let mat = [0, 0, 1];
     let mut tl = [0.0; 3];
-    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], sf: 1.0, tlight: &mut tl }.run(F);
+    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], nrm: None, sf: 1.0, tlight: &mut tl }
+        .run(F);
     assert_eq!(tl[0], 0.0);
     assert!((tl[1] - 0.03 / 6930.0).abs() < 1e-18);
     assert_eq!(tl[2], 0.0, "only explosives are lit");
     // a lighting front at 0.95 D lights particle 1 later by 1/0.95
     let mut tl95 = [0.0; 3];
-    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], sf: 0.95, tlight: &mut tl95 }.run(F);
+    detonation::Light { dim: 2, x: &x, mat: &mat, mt: &mt, xdet: &[0.5, 0.97], nrm: None, sf: 0.95, tlight: &mut tl95 }
+        .run(F);
     assert!((tl95[1] - 0.03 / (0.95 * 6930.0)).abs() < 1e-18);
     let h = [0.01; 3];
     let mut lam = [0.0; 3];

@@ -179,15 +179,15 @@ fn bad_input_is_one_line_and_exit_status_2() {
     refused(&s.run, &s.build, &scratch("compare_empty_program"), "compare_missing", &["no final_state.dat"]);
 }
 
-#[test]
-fn the_books_three_files_at_eight_digits_are_equal_at_the_digits_written() {
-    // the fixture with tests/legacy_extra/output_book.f in place of its output.f: f_xv.dat,
-    // f_state.dat and f_other.dat in ../data, written with e14.8
-    let d = variant("compare_book_fixture", |m| format!("{m}{OUTPUT}"));
+/// The fixture with `tests/legacy_extra/FILE` in place of its output.f, built into `NAME/build`;
+/// its program run for 40 steps in `NAME/prog/work` (with `NAME/prog/data` beside it); `run
+/// --legacy --compat liu-book` of the shock tube to 0.2 s in `NAME/run`: (build, prog, run).
+fn output_variant(name: &str, file: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let d = variant(name, |m| format!("{m}{OUTPUT}"));
     std::fs::remove_file(d.join("output.f")).unwrap();
-    std::fs::copy(root().join("tests/legacy_extra/output_book.f"), d.join("output_book.f")).unwrap();
+    std::fs::copy(root().join("tests/legacy_extra").join(file), d.join(file)).unwrap();
     let build = d.join("build");
-    blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the book-style variant builds");
+    blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the output variant builds");
     let prog = d.join("prog");
     std::fs::create_dir_all(prog.join("work")).unwrap();
     std::fs::create_dir_all(prog.join("data")).unwrap();
@@ -206,6 +206,13 @@ fn the_books_three_files_at_eight_digits_are_equal_at_the_digits_written() {
     let b = build.to_str().unwrap();
     let args = ["run", "shock_tube", "--legacy", b, "--compat", "liu-book", "--set", "time.end_s=0.2"];
     blastsph_ok(&[&args[..], &["--out", run.to_str().unwrap(), "--quiet"]].concat(), 0);
+    (build, prog, run)
+}
+
+#[test]
+fn the_books_three_files_at_eight_digits_are_equal_at_the_digits_written() {
+    // output_book.f: f_xv.dat, f_state.dat and f_other.dat in ../data, written with e14.8
+    let (build, prog, run) = output_variant("compare_book_fixture", "output_book.f");
     let out = scratch("compare_book");
     let (code, so, se) = compare(&run, &build, &prog.join("data"), &out);
     assert_eq!(code, Some(0), "{so}{se}");
@@ -259,4 +266,22 @@ fn a_failed_compare_leaves_nothing_that_refuses_the_next() {
     }
     let (code, so, se) = compare(&s.run, &s.build, &s.prog, &out);
     assert_eq!(code, Some(0), "{so}{se}");
+}
+
+#[test]
+fn files_written_beside_the_program_and_in_data_are_found_from_its_working_folder() {
+    // output_two_dirs.f: xv.dat in ../data, state.dat beside the program
+    let (build, prog, run) = output_variant("compare_two_dirs_fixture", "output_two_dirs.f");
+    assert!(prog.join("data/xv.dat").is_file() && prog.join("work/state.dat").is_file());
+    let out = scratch("compare_two_dirs");
+    let (code, so, se) = compare(&run, &build, &prog.join("work"), &out);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert!(so.contains("equal at the 8 digits written"), "{so}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
+    let files: Vec<&str> = r["files"].as_array().unwrap().iter().map(|f| f["file"].as_str().unwrap()).collect();
+    assert_eq!(files, ["../data/xv.dat", "state.dat"]);
+    // the folder of ../data alone lacks state.dat: one line, exit status 2
+    let (code, so, se) = compare(&run, &build, &prog.join("data"), &scratch("compare_two_dirs_data"));
+    assert_eq!(code, Some(2), "{so}{se}");
+    assert!(se.contains("no state.dat") && se.lines().count() == 1, "{se}");
 }

@@ -48,23 +48,22 @@ fn without(m: &str, name: &str) -> String {
     out
 }
 
-#[test]
-fn a_tait_eos_of_rho_alone_stands_for_the_eos_and_is_compared_at_zero_ulp() {
-    // the fixture with p_art_water in its Tait form, mapped; no set-up routine (the case's
-    // particles) and no p_gas (the case has no ideal gas)
-    let d = variant("tait", |m| format!("{}{ENTRY}", without(&without(m, "input"), "p_gas")));
-    let eos = d.join("eos.f");
-    let text = std::fs::read_to_string(&eos).unwrap();
+/// The fixture with `source` in place of its p_art_water, mapped, built into NAME/build; no
+/// set-up routine (the case's particles) and no p_gas (the case has no ideal gas). The shock
+/// tube's gas as water of the EOS `eos` (a case's `eos = ...` line), given the book's code 2,
+/// written into NAME/NAME.toml: the folder and the case.
+fn water_variant(name: &str, source: &str, eos: &str) -> (PathBuf, PathBuf) {
+    let d = variant(name, |m| format!("{}{ENTRY}", without(&without(m, "input"), "p_gas")));
+    let eos_f = d.join("eos.f");
+    let text = std::fs::read_to_string(&eos_f).unwrap();
     let at = text.find("      subroutine p_art_water").expect("the fixture's p_art_water");
-    std::fs::write(&eos, format!("{}{TAIT}", &text[..at])).unwrap();
-    build(&d.join("legacy.toml"), &d.join("build")).expect("the Tait variant builds");
-    // the shock tube's gas as Tait water of the same constants, given the book's code 2
+    std::fs::write(&eos_f, format!("{}{source}", &text[..at])).unwrap();
+    build(&d.join("legacy.toml"), &d.join("build")).expect("the water variant builds");
     let tube = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
     let gas = "eos = { kind = \"ideal_gas\", gamma = 1.4 }";
-    let tait = "eos = { kind = \"tait\", rho0_kgm3 = 1000.0, b_pa = 1.0, gamma = 7.0, c_ms = 1.0 }";
     let analysis = tube.find("[analysis]").expect("the tube's analysis");
-    let case = d.join("tait.toml");
-    let mut text = tube[..analysis].replace(gas, tait);
+    let case = d.join(format!("{name}.toml"));
+    let mut text = tube[..analysis].replace(gas, eos);
     // water at 1000 kg/m³ on the left, 1005 on the right (a pressure step of 0.036 Pa)
     for (from, to) in [
         ("rho_kgm3 = 1.0\ne_jkg = 2.5\nmass_kg = 0.001875", "rho_kgm3 = 1000.0\ne_jkg = 2.5\nmass_kg = 1.875"),
@@ -74,6 +73,33 @@ fn a_tait_eos_of_rho_alone_stands_for_the_eos_and_is_compared_at_zero_ulp() {
         text = text.replace(from, to);
     }
     std::fs::write(&case, text).unwrap();
+    (d, case)
+}
+
+/// The dual run of `case` on BUILD, 40 steps: p_art_water and int_force (which calls it for
+/// itype 2) at 0 ULP.
+fn dual_at_zero_ulp(b: &Path, case: &Path, out: &Path) {
+    let mut args = dual_book_args(b, None, out);
+    args[1] = case.to_str().unwrap().to_string();
+    let so = blastsph_ok(&args, 0);
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for (stage, field) in [
+        ("legacy.p_art_water", "p"),
+        ("legacy.p_art_water", "c"),
+        ("legacy.int_force", "p"),
+        ("legacy.int_force", "acc"),
+    ] {
+        let x = row(&rows, stage, field);
+        assert!(x["compared"].as_u64().unwrap() > 0, "{x}");
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{stage} {field}: {x}");
+    }
+}
+
+#[test]
+fn a_tait_eos_of_rho_alone_stands_for_the_eos_and_is_compared_at_zero_ulp() {
+    let tait = "eos = { kind = \"tait\", rho0_kgm3 = 1000.0, b_pa = 1.0, gamma = 7.0, c_ms = 1.0 }";
+    let (d, case) = water_variant("tait", TAIT, tait);
     let (b, cs) = (d.join("build"), case.to_str().unwrap().to_string());
     let so = blastsph_ok(&["check", &cs, "--legacy", b.to_str().unwrap(), "--compat", "liu-book"], 0);
     let line = so.lines().find(|l| l.trim_start().starts_with("p_art_water ")).unwrap_or_else(|| panic!("{so}"));
@@ -89,20 +115,29 @@ fn a_tait_eos_of_rho_alone_stands_for_the_eos_and_is_compared_at_zero_ulp() {
     assert!(line.contains("not run") && line.contains("eos.eval reads e"), "{line}");
     assert!(!line.contains("integrator"), "{line}");
     // dual: p_art_water and int_force (which calls it for itype 2) at 0 ULP over 40 steps
-    let out = scratch("tait_dual");
-    let mut args = dual_book_args(&b, None, &out);
-    args[1] = cs;
-    let so = blastsph_ok(&args, 0);
-    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
-    let (_, rows) = report_rows(&out.join("dual_report.json"));
-    for (stage, field) in [
-        ("legacy.p_art_water", "p"),
-        ("legacy.p_art_water", "c"),
-        ("legacy.int_force", "p"),
-        ("legacy.int_force", "acc"),
-    ] {
-        let x = row(&rows, stage, field);
-        assert!(x["compared"].as_u64().unwrap() > 0, "{x}");
-        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{stage} {field}: {x}");
-    }
+    dual_at_zero_ulp(&b, &case, &scratch("tait_dual"));
+}
+
+/// The book's active form of p_art_water (Morris's), c = 0.01 a single-precision literal.
+const MORRIS: &str = "      subroutine p_art_water(rho, p, c)
+c-----------------------------------------------------------------------
+c     Artificial equation of state of water (Morris's form):
+c     p = c**2 rho, with a constant sound speed c.
+c-----------------------------------------------------------------------
+      implicit none
+      double precision rho, p, c
+
+      c = 0.01
+      p = c**2*rho
+
+      end
+";
+
+/// The case writes c = 0.01 as the code does; the book's profile (its item `literals`) rounds it
+/// to single precision.
+#[test]
+fn the_books_morris_form_is_compared_at_zero_ulp_with_the_morris_kind() {
+    let morris = "eos = { kind = \"morris\", rho0_kgm3 = 1000.0, c_ms = 0.01 }";
+    let (d, case) = water_variant("morris", MORRIS, morris);
+    dual_at_zero_ulp(&d.join("build"), &case, &scratch("morris_dual"));
 }

@@ -287,3 +287,139 @@ fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
     assert!(virt.iter().any(|&i| f.e[i] != 2.5 && f.e[i] != 1.795), "no virtual u changed");
     assert!(virt.iter().all(|&i| f.vx[i] == 0.0), "a virtual particle moved its v");
 }
+
+/// `blastsph legacy host CASE --legacy BUILD --compat liu-book --out OUT`, the program's input
+/// `40` then `0` on stdin: (status, stdout, stderr) and the report.
+fn host_run(case: &Path, b: &Path, out: &Path) -> (Option<i32>, String, serde_json::Value) {
+    let (c, b, o) = (case.to_str().unwrap(), b.to_str().unwrap(), out.to_str().unwrap());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(["legacy", "host", c, "--legacy", b, "--compat", "liu-book", "--out", o])
+        .current_dir(root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("blastsph starts");
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+    }
+    let o = child.wait_with_output().unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let r = std::fs::read_to_string(out.join("host_report.json"))
+        .map_or(serde_json::Value::Null, |t| serde_json::from_str(&t).unwrap());
+    (o.status.code(), text, r)
+}
+
+/// The row of `field` of routine `name` in a host report.
+fn host_row<'a>(r: &'a serde_json::Value, name: &str, field: &str) -> &'a serde_json::Value {
+    let rows = r["routines"][name]["rows"].as_array().unwrap_or_else(|| panic!("{name}: {r}"));
+    rows.iter().find(|x| x["field"] == field).unwrap_or_else(|| panic!("{name} {field}: {r}"))
+}
+
+/// The fixture's program calling virt_part at every step, with the book's averaged velocity, in
+/// host mode. av_vel is given the real particles' ntotal, and its pairs reach the 20 virtual
+/// particles. It is compared over the 400 particles it is given, at 0 ULP at each of its 40
+/// calls. The rows past them hold its pair sums without ε: they are not compared.
+#[test]
+fn host_mode_compares_av_vel_over_the_particles_it_is_given() {
+    let d = with_virt("virt_host_xsph", "");
+    std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
+    for (file, a, b) in [
+        (
+            "single_step.f",
+            "      nvirt = 0\n",
+            "      call virt_part(itimestep, ntotal, nvirt, hsml, mass,\n     &               x, vx, rho, u, p, itype)\n",
+        ),
+        ("param.inc", "parameter (average_velocity  = .false.)", "parameter (average_velocity  = .true.)"),
+    ] {
+        let p = d.join(file);
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains(a), "{file}: {a}");
+        std::fs::write(&p, text.replacen(a, b, 1)).unwrap();
+    }
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let (code, text, r) = host_run(&xsph_case(&d), &b, &scratch("virt_host_xsph_run"));
+    assert_eq!(code, Some(0), "{text}");
+    let av = host_row(&r, "av_vel", "av");
+    assert_eq!(r["routines"]["av_vel"]["compared_calls"], 40, "{r}");
+    assert_eq!(av["compared"].as_u64(), Some(400 * 40), "{av}");
+    assert_eq!((av["max_ulp"].as_u64(), av["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{av}");
+}
+
+/// The book's boundary repulsion in the fixture's dialect, with r0 = 2.5e-3 m: the first of
+/// VIRT_FIXED's particles beyond the left end, 1.875e-3 m from it, pushes it.
+const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_i, pair_j,
+     &                     itype, hsml, dvxdt)
+      implicit none
+      include 'param.inc'
+      integer ntotal, niac, pair_i(max_interaction),
+     &        pair_j(max_interaction), itype(maxn)
+      double precision mass(maxn), x(dim,maxn), hsml(maxn),
+     &        dvxdt(dim,maxn)
+      integer i, j, k, d
+      double precision dx(dim), rr, f, rr0, dd, p1, p2
+
+      do 10 i = 1, ntotal
+        do 5 d = 1, dim
+          dvxdt(d,i) = 0.
+    5   continue
+   10 continue
+      rr0 = 2.5d-3
+      dd = 1.d-2
+      p1 = 12
+      p2 = 4
+      do 40 k = 1, niac
+        i = pair_i(k)
+        j = pair_j(k)
+        if (itype(i) .gt. 0 .and. itype(j) .lt. 0) then
+          rr = 0.
+          do 30 d = 1, dim
+            dx(d) = x(d,i) - x(d,j)
+            rr = rr + dx(d)*dx(d)
+   30     continue
+          rr = sqrt(rr)
+          if (rr .lt. rr0) then
+            f = ((rr0/rr)**p1 - (rr0/rr)**p2)/rr**2
+            do 35 d = 1, dim
+              dvxdt(d,i) = dvxdt(d,i) + dd*dx(d)*f
+   35       continue
+          endif
+        endif
+   40 continue
+
+      end
+";
+
+/// The fixture's program calling virt_part and the repulsion `ext_force` at every step, in host
+/// mode with the case's `[boundary] repulsion` at the routine's r0 and D. The program's particles
+/// of negative itype are boundary particles for the twin, so its push is compared: 0 ULP at
+/// each of the 40 calls.
+#[test]
+fn host_mode_takes_a_negative_itype_for_a_boundary_particle() {
+    let d = with_virt("virt_host_push", &ENTRY.replace("virt_part", "ext_force").replace(
+        "[\"itimestep\", \"ntotal\", \"nvirt\", \"hsml\", \"mass\", \"x\", \"vx\", \"rho\", \"u\", \"p\", \"itype\"]",
+        "[\"ntotal\", \"mass\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"itype\", \"hsml\", \"dvxdt\"]",
+    ));
+    std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
+    std::fs::write(d.join("ext_force.f"), EXT_FORCE).unwrap();
+    let call = "      call ext_force(ntotal + nvirt, mass, x, niac, pair_i, pair_j,\n     &               itype, hsml, exdvxdt)\n";
+    let p = d.join("single_step.f");
+    let text = std::fs::read_to_string(&p).unwrap();
+    let (a, at) = ("      nvirt = 0\n", "      if (visc_artificial) call art_visc");
+    assert!(text.contains(a) && text.contains(at));
+    let virt =
+        "      call virt_part(itimestep, ntotal, nvirt, hsml, mass,\n     &               x, vx, rho, u, p, itype)\n";
+    std::fs::write(&p, text.replacen(a, virt, 1).replacen(at, &format!("{call}{at}"), 1)).unwrap();
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let case = d.join("shock_tube_push.toml");
+    let text = std::fs::read_to_string(root().join("cases/shock_tube.toml")).unwrap();
+    std::fs::write(&case, format!("{text}\n[boundary]\nrepulsion = {{ r0_m = 2.5e-3, d_m2s2 = 1e-2 }}\n")).unwrap();
+    let (code, text, r) = host_run(&case, &b, &scratch("virt_host_push_run"));
+    assert_eq!(code, Some(0), "{text}");
+    assert_eq!(r["routines"]["ext_force"]["compared_calls"], 40, "{r}");
+    let acc = host_row(&r, "ext_force", "acc");
+    assert_eq!((acc["max_ulp"].as_u64(), acc["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{acc}");
+}

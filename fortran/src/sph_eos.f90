@@ -19,6 +19,7 @@
 !     a0 = rho0 C^2, b0 = a0 (1 + 2(S-1)), c0 = a0 (2(S-1) + 3(S-1)^2)
 !   Tait (weakly compressible water; Liu & Liu 2003, their artificial water):
 !     p = B ((rho/rho0)^gamma - 1),  c = the constant c of the table
+!   Morris (Morris, Fox & Zhu 1997; the book's p_art_water): p = c^2 rho, c constant
 !   compaction (Laine & Sandvik 2001, porous sand), rmax the largest density
 !   the particle has reached (its history, at least the table's rmax0):
 !     rmax <- max(rmax, rho),  c = c_u(rmax),
@@ -142,6 +143,10 @@ contains
       cref = par(mp_e1 + 2)
       p = b*((rho/rho0)**gam - 1.0d0)
       c2 = cref*cref
+    case (eos_morris)
+      cref = par(mp_e1)
+      c2 = cref*cref
+      p = c2*rho
     case (eos_compaction)
       nk = nint(par(mp_cmp_n))
       if (rho > rmax) rmax = rho

@@ -120,6 +120,14 @@ pub enum EosCfg {
         #[serde(default = "tait_c")]
         c_ms: f64,
     },
+    /// Morris, Fox & Zhu (1997)'s artificial compressibility, the active form of the book's
+    /// `p_art_water`: p = c² ρ (Pa), independent of e, with a constant sound speed c (m/s).
+    /// `rho0_kgm3` is the default density of its regions.
+    Morris {
+        #[serde(default = "tait_rho0")]
+        rho0_kgm3: f64,
+        c_ms: f64,
+    },
     /// Porous compaction of the Laine–Sandvik kind (a sand): the plastic compaction curve
     /// p_c(ρ) (`rho_kgm3`, `p_pa`), the bulk sound speed c_u(ρ) of the elastic unloading and
     /// reloading line (`c_rho_kgm3`, `c_ms`), 2–10 points each, ρ ascending. The sand starts
@@ -194,7 +202,8 @@ impl EosCfg {
             EosCfg::Jwl { rho0_kgm3, .. }
             | EosCfg::Water { rho0_kgm3, .. }
             | EosCfg::Soil { rho0_kgm3, .. }
-            | EosCfg::Tait { rho0_kgm3, .. } => Some(*rho0_kgm3),
+            | EosCfg::Tait { rho0_kgm3, .. }
+            | EosCfg::Morris { rho0_kgm3, .. } => Some(*rho0_kgm3),
             EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
                 Some(compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3).1)
             }
@@ -223,6 +232,7 @@ impl EosCfg {
             EosCfg::Water { .. } => EosKind::Water,
             EosCfg::Soil { .. } => EosKind::Soil,
             EosCfg::Tait { .. } => EosKind::Tait,
+            EosCfg::Morris { .. } => EosKind::Morris,
             EosCfg::Compaction { .. } => EosKind::Compaction,
         }
     }
@@ -232,7 +242,7 @@ impl EosCfg {
         match self {
             EosCfg::IdealGas { .. } => Matter::Gas,
             EosCfg::Jwl { .. } => Matter::Explosive,
-            EosCfg::Water { .. } | EosCfg::Tait { .. } => Matter::Water,
+            EosCfg::Water { .. } | EosCfg::Tait { .. } | EosCfg::Morris { .. } => Matter::Water,
             EosCfg::Soil { .. } | EosCfg::Compaction { .. } => Matter::Soil,
         }
     }
@@ -240,7 +250,7 @@ impl EosCfg {
     /// The bulk sound speed at rest of water or a soil (m/s); None for a gas or an explosive.
     pub fn bulk_sound_speed(&self) -> Option<f64> {
         match self {
-            EosCfg::Soil { c_ms, .. } | EosCfg::Tait { c_ms, .. } => Some(*c_ms),
+            EosCfg::Soil { c_ms, .. } | EosCfg::Tait { c_ms, .. } | EosCfg::Morris { c_ms, .. } => Some(*c_ms),
             EosCfg::Water { c0_ms, .. } => Some(*c0_ms),
             EosCfg::Compaction { c_rho_kgm3, c_ms, rho_kgm3, p_pa, rho_max0_kgm3 } => {
                 let r = compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3).0;
@@ -293,6 +303,10 @@ impl EosCfg {
             EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } => {
                 col[RHO0] = *rho0_kgm3;
                 col[E1..E1 + 3].copy_from_slice(&[*b_pa, *gamma, *c_ms]);
+            }
+            EosCfg::Morris { rho0_kgm3, c_ms } => {
+                col[RHO0] = *rho0_kgm3;
+                col[E1] = *c_ms;
             }
             EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
                 let (r, rho0) = compaction_start(rho_kgm3, p_pa, c_rho_kgm3, c_ms, *rho_max0_kgm3);
@@ -364,6 +378,10 @@ impl EosCfg {
                 v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
                 v.num(e, "b_pa", *b_pa, Range::above(0.0, P_MAX))?;
                 v.num(e, "gamma", *gamma, Range::within(1.0, 100.0))?;
+                v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
+            }
+            EosCfg::Morris { rho0_kgm3, c_ms } => {
+                v.num(e, "rho0_kgm3", *rho0_kgm3, rho)?;
                 v.num(e, "c_ms", *c_ms, Range::above(0.0, C_MAX))?;
             }
             EosCfg::Compaction { rho_kgm3, p_pa, c_rho_kgm3, c_ms, rho_max0_kgm3 } => {
@@ -460,4 +478,13 @@ fn every_kind_of_the_table_is_a_case_kind() {
     let tait = toml::from_str::<EosCfg>("kind = \"tait\"").unwrap();
     let EosCfg::Tait { rho0_kgm3, b_pa, gamma, c_ms } = tait else { panic!("{tait:?}") };
     assert_eq!([rho0_kgm3, b_pa, gamma, c_ms], TAIT_WATER);
+}
+
+#[cfg(test)]
+#[test]
+fn the_morris_kind_takes_c_and_a_default_density() {
+    let m = toml::from_str::<EosCfg>("kind = \"morris\"\nc_ms = 0.01").unwrap();
+    assert_eq!((m.eos_kind(), m.rho0(), m.bulk_sound_speed()), (EosKind::Morris, Some(1000.0), Some(0.01)));
+    let e = toml::from_str::<EosCfg>("kind = \"morris\"").unwrap_err().to_string();
+    assert!(e.contains("c_ms"), "{e}");
 }

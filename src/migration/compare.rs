@@ -313,8 +313,13 @@ fn report(
     let mut digits: Option<usize> = None;
     for (rel, run_t) in base {
         let name = Path::new(rel).file_name().map_or(rel.clone(), |f| f.to_string_lossy().into_owned());
-        let direct = o.program_out.join(rel);
-        let path = if !rel.starts_with("..") && direct.is_file() { direct } else { o.program_out.join(&name) };
+        // its path from the program's working folder (unless it leaves that folder), its name
+        // in --program-out, then the path that leaves it: a program writing both beside itself
+        // and in ../data is compared with --program-out its working folder
+        let (direct, by_name) = (o.program_out.join(rel), o.program_out.join(&name));
+        let up = rel.starts_with("..");
+        let found = [(!up).then(|| direct.clone()), Some(by_name.clone()), up.then_some(direct)];
+        let path = found.into_iter().flatten().find(|p| p.is_file()).unwrap_or(by_name);
         if !path.is_file() {
             return Err(input(format!(
                 "--program-out {}: no {name} (your {} writes {rel})",

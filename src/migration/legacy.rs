@@ -111,7 +111,7 @@ pub(crate) fn book_code(kind: &str) -> Option<i32> {
     match kind {
         "ideal_gas" => Some(1),
         // the book's water: its Mie–Grüneisen kind and the Tait form of its p_art_water
-        "water" | "tait" => Some(2),
+        "water" | "tait" | "morris" => Some(2),
         _ => None,
     }
 }

@@ -103,7 +103,7 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
         Item::Literals,
         "literals",
         "force,conductivity,eos,viscosity,xsph,integrator,setup",
-        "the routines' single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, dynamic_viscosity_pa_s, gravity_ms2, phi_over_h, alpha, beta, g1, g2 and xsph_eps rounded to single precision as the book's literals are (§0, §13)",
+        "the routines' single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, a morris EOS's c_ms, dynamic_viscosity_pa_s, gravity_ms2, the boundary repulsion's r0_m and d_m2s2, phi_over_h, alpha, beta, g1, g2 and xsph_eps rounded to single precision as the book's literals are (§0, §13)",
     ),
     (
         Item::InputLiterals,
@@ -389,8 +389,11 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
         return Ok(());
     }
     for m in &mut case.materials {
-        if let EosCfg::IdealGas { gamma, .. } = &mut m.eos {
-            *gamma = single(*gamma);
+        match &mut m.eos {
+            EosCfg::IdealGas { gamma, .. } => *gamma = single(*gamma),
+            // p_art_water's c = 0.01 of the form p = c² ρ
+            EosCfg::Morris { c_ms, .. } => *c_ms = single(*c_ms),
+            _ => {}
         }
         if let Some(eta) = m.dynamic_viscosity_pa_s.as_mut() {
             *eta = single(*eta);
@@ -399,9 +402,13 @@ pub fn apply_case(case: &mut Case) -> Result<()> {
     let v = &mut case.viscosity;
     (v.alpha, v.beta, v.phi_over_h) = (single(v.alpha), single(v.beta), single(v.phi_over_h));
     case.sph.xsph_eps = single(case.sph.xsph_eps);
-    // the book's ext_force writes its gravity as the literal -9.8
+    // the book's ext_force writes its gravity as the literal -9.8, its repulsion's r0 and D as
+    // literals too
     if let Some(g) = case.physics.gravity_ms2.as_mut() {
         g.iter_mut().for_each(|x| *x = single(*x));
+    }
+    if let Some(r) = case.boundary.repulsion.as_mut() {
+        (r.r0_m, r.d_m2s2) = (single(r.r0_m), single(r.d_m2s2));
     }
     let c = &mut case.conductivity;
     if c.kind == crate::case::ConductivityKind::Noh {

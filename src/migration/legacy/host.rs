@@ -41,11 +41,13 @@ struct Mapped {
     compared: u64,
 }
 
-/// A call in progress: its inputs, with its particle and pair counts.
+/// A call in progress: its inputs, with its particle and pair counts and the particles it was
+/// given (its `ntotal`: fewer than `nt` where its pairs reach past them).
 struct Pending {
     inputs: Vec<Option<Buf>>,
     nt: usize,
     np: usize,
+    given: usize,
 }
 
 struct Run {
@@ -212,8 +214,10 @@ fn finish() -> i32 {
 }
 
 impl Run {
-    /// The counts a call's arrays hold: (particles, pairs), from its `ntotal` and `niac`.
-    fn counts(&self, r: &RoutineInfo, ptrs: &[ArgPtr]) -> (usize, usize) {
+    /// The counts a call's arrays hold: (particles given, particles, pairs), from its `ntotal`
+    /// and `niac`. The particles are at least those its pairs name: the book calls `av_vel` with
+    /// the real particles' `ntotal` and pairs that reach the virtual ones after them.
+    fn counts(&self, r: &RoutineInfo, ptrs: &[ArgPtr]) -> (usize, usize, usize) {
         let scalar = |n: &str, max: usize| -> usize {
             r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(_, p)| match hffi::read(*p, Kind::Int, 1) {
                 Some(Buf::I(v)) => (v[0].max(0) as usize).min(max),
@@ -221,9 +225,20 @@ impl Run {
             })
         };
         match r.call {
-            CallMode::Whole => (scalar("ntotal", self.maxn), scalar("niac", self.maxia)),
-            CallMode::EachParticle => (1, 0),
-            CallMode::EachPair => (2, 1),
+            CallMode::Whole => {
+                let (nt, np) = (scalar("ntotal", self.maxn), scalar("niac", self.maxia));
+                let named = |n: &str| -> usize {
+                    r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(_, p)| {
+                        match hffi::read(*p, Kind::Int, np) {
+                            Some(Buf::I(v)) => v.iter().map(|&k| k.max(0) as usize).max().unwrap_or(0),
+                            _ => 0,
+                        }
+                    })
+                };
+                (nt, nt.max(named("pair_i")).max(named("pair_j")).min(self.maxn), np)
+            }
+            CallMode::EachParticle => (1, 1, 0),
+            CallMode::EachPair => (2, 2, 1),
         }
     }
 
@@ -257,8 +272,8 @@ impl Run {
     fn before(&self, k: usize, ptrs: &[ArgPtr]) -> Option<Pending> {
         let m = &self.mapped[k];
         m.entry?;
-        let (nt, np) = self.counts(&m.info, ptrs);
-        Some(Pending { inputs: self.read(&m.info, ptrs, (nt, np)), nt, np })
+        let (given, nt, np) = self.counts(&m.info, ptrs);
+        Some(Pending { inputs: self.read(&m.info, ptrs, (nt, np)), nt, np, given })
     }
 
     fn after(&mut self, k: usize, ptrs: &[ArgPtr], pend: Pending) {
@@ -266,7 +281,7 @@ impl Run {
         let r = self.mapped[k].info.clone();
         let call = self.mapped[k].calls;
         let counts = self.counts(&r, ptrs);
-        let np_out = if r.call == CallMode::Whole { counts.1 } else { 1 };
+        let np_out = if r.call == CallMode::Whole { counts.2 } else { 1 };
         let outputs = self.read(&r, ptrs, (pend.nt, np_out));
         let stage = &self.sim.plan.entries[e].stage;
         let slots = self.lg.host_slots.lock().unwrap_or_else(|e| e.into_inner()).get(stage.name()).copied();
@@ -287,6 +302,8 @@ impl Run {
             }
         }));
         let kept = self.rust.then(|| (p.clone(), w.clone()));
+        // the rows past the particles it was given are its inputs: not compared
+        self.cmp.given = (pend.given < pend.nt).then_some(pend.given);
         self.cmp.run(stage.as_ref(), &mut p, &mut w, &clock, call);
         self.mapped[k].compared += 1;
         if let Some((mut p, mut w)) = kept {
@@ -336,6 +353,12 @@ impl Run {
         if let Some(Buf::I(codes)) = arg("itype") {
             for (i, c) in codes.iter().take(n).enumerate() {
                 p.mat[i] = self.lg.itype.iter().position(|k| *k == c.abs()).unwrap_or(0) as i32;
+            }
+            // a negative itype is a boundary particle, of the kind of the mapped virt_part
+            if codes.iter().take(n).any(|&c| c < 0) {
+                let kind = self.lg.lib.info().routines.iter().find_map(|r| r.virtual_kind.as_deref());
+                let code = if kind == Some("integrated") { 1 } else { 2 };
+                p.bnd = (0..n).map(|i| if codes.get(i).is_some_and(|&c| c < 0) { code } else { 0 }).collect();
             }
         }
         if let Some(Buf::I(m)) = arg("mat") {

@@ -66,10 +66,10 @@ impl Stage for EosStage {
     fn name(&self) -> &'static str {
         "eos.eval"
     }
-    /// e is read unless every material's EOS is one of ρ alone (Tait, or none).
+    /// e is read unless every material's EOS is one of ρ alone (Tait, Morris, or none).
     fn reads(&self) -> &[Field] {
         let of_rho_alone =
-            self.mt.mtype.iter().all(|&k| k == EosKind::Tait as i32 || k == EosKind::None as i32);
+            self.mt.mtype.iter().all(|&k| [EosKind::Tait, EosKind::Morris, EosKind::None].iter().any(|&t| k == t as i32));
         if self.compacts() {
             &[Field::Rho, Field::E, Field::Mat, Field::Burn, Field::RhoMax]
         } else if of_rho_alone {

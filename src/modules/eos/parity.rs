@@ -30,6 +30,9 @@ fn eos_table() -> MatTable {
         // Tait water (Liu & Liu's artificial water: B = 1.013e5 Pa, γ = 7, c = 1480 m/s), with
         // a cavitation floor
         (EosKind::Tait as u32, column(1000.0, &[1.013e5, 7.0, 1480.0], -5.0e4, None)),
+        // the book's artificial water of Morris's form, c = 0.01 m/s (single precision), with
+        // a floor
+        (EosKind::Morris as u32, column(1000.0, &[0.009999999776482582], 5.0e-2, None)),
         // the dry sand of Laine & Sandvik (2001), no tension
         (EosKind::Compaction as u32, sand_column()),
     ];
@@ -68,8 +71,10 @@ fn eos_state(g: &mut Rng, m: usize) -> (f64, f64) {
         7 => (1630.0 * g.range(0.9, 1.4), g.range(4.0e6, 6e6)),
         // Tait water: tension below the floor and compression
         8 => (1000.0 * g.range(0.85, 1.1), g.range(0.0, 5e4)),
+        // Morris water: either side of its floor (p = 0.05 Pa at 500 kg/m³)
+        9 => (1000.0 * g.range(0.3, 1.3), g.range(0.0, 5e4)),
         // compaction sand: below its start, along and past its tables
-        9 => (g.range(1600.0, 2900.0), g.range(0.0, 2e3)),
+        10 => (g.range(1600.0, 2900.0), g.range(0.0, 2e3)),
         _ => (2200.0 * g.range(0.9, 1.3), g.range(0.0, 2e3)),
     }
 }
@@ -113,6 +118,7 @@ fn eos_eval_every_material_with_and_without_burn() {
         assert!(count(5, &|i| pf[i] == 0.0) > 0, "soil floor never active");
         assert!(count(6, &|i| pf[i] < 0.0) > 0, "dense sand never in tension");
         assert!(count(8, &|i| pf[i] == -5.0e4) > 0, "Tait floor never active");
+        assert!(count(9, &|i| pf[i] == 5.0e-2) > 0 && count(9, &|i| pf[i] > 5.0e-2) > 0, "Morris floor");
         for m in [3, 5, 6, 7, 8] {
             assert!(count(m, &|i| mu(i) > 0.0) > 0 && count(m, &|i| mu(i) <= 0.0) > 0);
         }

@@ -107,6 +107,12 @@ pub fn point_hist(itype: i32, par: &[f64], rho: f64, e: f64, lam: f64, rmax: f64
         p = b * ((rho / rho0).powf(gam) - 1.0);
         c2 = cref * cref;
     }
+    Some(EosKind::Morris) => {
+        // Morris et al. (1997)'s artificial compressibility, the book's p_art_water: p = c² ρ
+        cref = par[E1];
+        c2 = cref * cref;
+        p = c2 * rho;
+    }
     Some(EosKind::Compaction) => {
         // Laine–Sandvik: the plastic compaction curve p_c at ρ_max, the elastic line of slope c_u²
         let nk = par[CMP_N] as usize;
