@@ -366,8 +366,8 @@ const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_
           dvxdt(d,i) = 0.
     5   continue
    10 continue
-      rr0 = 2.5d-3
-      dd = 1.d-2
+      rr0 = 2.5e-3
+      dd = 1.e-2
       p1 = 12
       p2 = 4
       do 40 k = 1, niac
@@ -393,7 +393,8 @@ const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_
 ";
 
 /// The fixture's program calling virt_part and the repulsion `ext_force` at every step, in host
-/// mode with the case's `[boundary] repulsion` at the routine's r0 and D. The program's particles
+/// mode with the case's `[boundary] repulsion` at the routine's r0 and D (single-precision
+/// literals, as the book writes them; the item `literals` rounds the case's). The program's particles
 /// of negative itype are boundary particles for the twin, so its push is compared: 0 ULP at
 /// each of the 40 calls.
 #[test]
