@@ -285,3 +285,19 @@ fn files_written_beside_the_program_and_in_data_are_found_from_its_working_folde
     assert_eq!(code, Some(2), "{so}{se}");
     assert!(se.contains("no state.dat") && se.lines().count() == 1, "{se}");
 }
+
+/// A binary dump beside a text file (output_dump.f): the dump has no text columns, so it is
+/// listed as not compared, in the text and in compare.json, and the verdict is the text file's.
+#[test]
+fn an_unformatted_dump_is_named_as_not_compared() {
+    let (build, prog, run) = output_variant("compare_dump_fixture", "output_dump.f");
+    let out = scratch("compare_dump");
+    let (code, so, se) = compare(&run, &build, &prog.join("work"), &out);
+    assert_eq!(code, Some(0), "{so}{se}");
+    assert!(so.contains("equal at the 8 digits written"), "{so}");
+    let line = so.lines().find(|l| l.starts_with("dump.dat")).unwrap_or_else(|| panic!("no dump.dat line: {so}"));
+    assert!(line.contains("not compared") && line.contains("no text columns"), "{line}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
+    let dump = r["files"].as_array().unwrap().iter().find(|f| f["file"] == "dump.dat").expect("dump.dat listed");
+    assert_eq!(dump["status"], "not compared: no text columns", "{dump}");
+}

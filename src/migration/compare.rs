@@ -311,6 +311,7 @@ fn report(
     let mut files = Vec::new();
     let mut first: Option<(usize, usize, String)> = None;
     let mut digits: Option<usize> = None;
+    let mut compared_any = false;
     for (rel, run_t) in base {
         let name = Path::new(rel).file_name().map_or(rel.clone(), |f| f.to_string_lossy().into_owned());
         // its path from the program's working folder (unless it leaves that folder), its name
@@ -338,6 +339,16 @@ fn report(
         let width = run_t.lines.iter().map(|(_, t)| t.len()).max().unwrap_or(0);
         let missing: Vec<usize> = (0..width).filter(|&c| names(c).iter().any(|(_, v)| !in_particles_h5(v))).collect();
         let cols = table::compare(&name, run_t, &prog, n, &missing)?;
+        if cols.is_empty() {
+            // nothing read as numbers in rows: an unformatted (binary) file
+            text.push_str(&format!("{name:<22} not compared: no text columns (an unformatted file?)\n"));
+            let status = "not compared: no text columns";
+            files.push(
+                json!({ "file": rel, "program_file": path.display().to_string(), "columns": [], "status": status }),
+            );
+            continue;
+        }
+        compared_any = true;
         let mut jcols = Vec::new();
         for (c, col) in cols.iter().enumerate() {
             let field = names(c).iter().map(|(l, _)| *l).collect::<Vec<_>>().join("+");
@@ -378,11 +389,12 @@ fn report(
         }
         files.push(json!({ "file": rel, "program_file": path.display().to_string(), "lines": run_t.lines.len(), "columns": jcols }));
     }
-    let equal = first.is_none();
+    let equal = first.is_none() && compared_any;
     let verdict = match (&first, digits) {
         (Some((_, _, w)), _) => format!("they part: first at {w}"),
         (None, Some(d)) if d >= 17 => "equal at the 17 digits written: bit for bit".to_string(),
         (None, Some(d)) => format!("equal at the {d} digits written"),
+        (None, None) if !compared_any => "nothing compared: no file has text columns".to_string(),
         (None, None) => "equal (every value written is an integer or zero)".to_string(),
     };
     text.push_str(&verdict);
