@@ -23,19 +23,7 @@ fn host(build: &Path, out: &Path, rust: bool) -> (Option<i32>, String, String) {
     if rust {
         args.push("--rust-outputs");
     }
-    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
-        .args(&args)
-        .current_dir(root())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("blastsph starts");
-    {
-        use std::io::Write;
-        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
-    }
-    let o = child.wait_with_output().unwrap();
+    let o = blastsph_40_steps(&args);
     (o.status.code(), String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
 }
 

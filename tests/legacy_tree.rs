@@ -104,21 +104,7 @@ fn host(build: &Path, out: &Path, rust: bool) -> (Option<i32>, String, String, V
     if rust {
         args.push("--rust-outputs");
     }
-    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
-        .args(&args)
-        .arg("--out")
-        .arg(out)
-        .current_dir(root())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("blastsph starts");
-    {
-        use std::io::Write;
-        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
-    }
-    let o = child.wait_with_output().unwrap();
+    let o = blastsph_40_steps(&[&args[..], &["--out", out.to_str().unwrap()]].concat());
     let text = std::fs::read_to_string(out.join("work/final_state.dat")).unwrap_or_default();
     let rows =
         text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect();

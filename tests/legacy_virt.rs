@@ -292,19 +292,7 @@ fn integrated_virtual_particles_end_as_a_program_that_integrates_them() {
 /// `40` then `0` on stdin: (status, stdout, stderr) and the report.
 fn host_run(case: &Path, b: &Path, out: &Path) -> (Option<i32>, String, serde_json::Value) {
     let (c, b, o) = (case.to_str().unwrap(), b.to_str().unwrap(), out.to_str().unwrap());
-    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
-        .args(["legacy", "host", c, "--legacy", b, "--compat", "liu-book", "--out", o])
-        .current_dir(root())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("blastsph starts");
-    {
-        use std::io::Write;
-        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
-    }
-    let o = child.wait_with_output().unwrap();
+    let o = blastsph_40_steps(&["legacy", "host", c, "--legacy", b, "--compat", "liu-book", "--out", o]);
     let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     let r = std::fs::read_to_string(out.join("host_report.json"))
         .map_or(serde_json::Value::Null, |t| serde_json::from_str(&t).unwrap());

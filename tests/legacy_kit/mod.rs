@@ -40,6 +40,24 @@ pub fn blastsph<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_blastsph")).args(args).current_dir(root()).output().expect("blastsph runs")
 }
 
+/// `blastsph ARGS` in the repository root with the fixture program's input on stdin: `40` steps,
+/// then `0` (no more), as host mode runs the program.
+pub fn blastsph_40_steps<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blastsph"))
+        .args(args)
+        .current_dir(root())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("blastsph starts");
+    {
+        use std::io::Write;
+        child.stdin.take().unwrap().write_all(b"40\n0\n").unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
 /// The arguments of `blastsph dual shock_tube --legacy LG --compat liu-book [--steps N] --out OUT`
 /// (the dual run of the fixture's builds with the book's profile).
 pub fn dual_book_args(lg: &Path, steps: Option<usize>, out: &Path) -> Vec<String> {
