@@ -102,7 +102,7 @@ pub const ITEMS: &[(Item, &str, &str, &str)] = &[
     (
         Item::Literals,
         "literals",
-        "force,conductivity,eos,viscosity,xsph,integrator,setup",
+        "force,conductivity,eos,viscosity,xsph,integrator,boundary",
         "the routines' single-precision literals but the kernel's: the 2./3. of the viscous strain rate, 0.01 in the artificial heat; the case's gamma, a morris EOS's c_ms, dynamic_viscosity_pa_s, gravity_ms2, the boundary repulsion's r0_m and d_m2s2, phi_over_h, alpha, beta, g1, g2 and xsph_eps rounded to single precision as the book's literals are (§0, §13)",
     ),
     (
