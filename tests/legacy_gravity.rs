@@ -5,55 +5,6 @@
 mod legacy_kit;
 use legacy_kit::*;
 
-/// The book's `ext_force` in the fixture's dialect: gravity on the last component, then the
-/// repulsion of virtual particles (none in the fixture).
-const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_i, pair_j,
-     &                     itype, hsml, dvxdt)
-c-----------------------------------------------------------------------
-c     External forces: gravity and the boundary repulsion.
-c-----------------------------------------------------------------------
-      implicit none
-      include 'param.inc'
-      integer ntotal, niac, pair_i(max_interaction),
-     &        pair_j(max_interaction), itype(maxn)
-      double precision mass(maxn), x(dim,maxn), hsml(maxn),
-     &        dvxdt(dim,maxn)
-      integer i, j, k, d
-      double precision dx(dim), rr, f, rr0, dd, p1, p2
-
-      do 10 i = 1, ntotal
-        do 5 d = 1, dim
-          dvxdt(d,i) = 0.
-    5   continue
-        dvxdt(dim,i) = -9.8d0
-   10 continue
-
-      rr0 = 1.25d-5
-      dd = 1.d-2
-      p1 = 12
-      p2 = 4
-      do 40 k = 1, niac
-        i = pair_i(k)
-        j = pair_j(k)
-        if (itype(i) .gt. 0 .and. itype(j) .lt. 0) then
-          rr = 0.
-          do 30 d = 1, dim
-            dx(d) = x(d,i) - x(d,j)
-            rr = rr + dx(d)*dx(d)
-   30     continue
-          rr = sqrt(rr)
-          if (rr .lt. rr0) then
-            f = ((rr0/rr)**p1 - (rr0/rr)**p2)/rr**2
-            do 35 d = 1, dim
-              dvxdt(d,i) = dvxdt(d,i) + dd*dx(d)*f
-   35       continue
-          endif
-        endif
-   40 continue
-
-      end
-";
-
 const CALL: &str = "      call ext_force(ntotal + nvirt, mass, x, niac, pair_i, pair_j,
      &               itype, hsml, exdvxdt)
 
@@ -70,7 +21,8 @@ fn entry(module: &str, extra: &str) -> String {
 /// to `module` with `extra`, built into DIR/build; returns DIR.
 fn gravity_variant(name: &str, module: &str, extra: &str) -> PathBuf {
     let d = variant(name, |m| format!("{m}{}", entry(module, extra)));
-    std::fs::write(d.join("ext_force.f"), EXT_FORCE).unwrap();
+    // the book's ext_force: gravity, then the repulsion with r0 = 1.25e-5 m
+    std::fs::write(d.join("ext_force.f"), ext_force_f(true, "1.25d-5", "1.d-2")).unwrap();
     let f = d.join("single_step.f");
     let text = std::fs::read_to_string(&f).unwrap();
     let at = "      if (sle .ne. 0) call h_upgrade";

@@ -336,50 +336,6 @@ fn host_mode_compares_av_vel_over_the_particles_it_is_given() {
     assert_eq!((av["max_ulp"].as_u64(), av["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{av}");
 }
 
-/// The book's boundary repulsion in the fixture's dialect, with r0 = 2.5e-3 m: the first of
-/// VIRT_FIXED's particles beyond the left end, 1.875e-3 m from it, pushes it.
-const EXT_FORCE: &str = "      subroutine ext_force(ntotal, mass, x, niac, pair_i, pair_j,
-     &                     itype, hsml, dvxdt)
-      implicit none
-      include 'param.inc'
-      integer ntotal, niac, pair_i(max_interaction),
-     &        pair_j(max_interaction), itype(maxn)
-      double precision mass(maxn), x(dim,maxn), hsml(maxn),
-     &        dvxdt(dim,maxn)
-      integer i, j, k, d
-      double precision dx(dim), rr, f, rr0, dd, p1, p2
-
-      do 10 i = 1, ntotal
-        do 5 d = 1, dim
-          dvxdt(d,i) = 0.
-    5   continue
-   10 continue
-      rr0 = 2.5e-3
-      dd = 1.e-2
-      p1 = 12
-      p2 = 4
-      do 40 k = 1, niac
-        i = pair_i(k)
-        j = pair_j(k)
-        if (itype(i) .gt. 0 .and. itype(j) .lt. 0) then
-          rr = 0.
-          do 30 d = 1, dim
-            dx(d) = x(d,i) - x(d,j)
-            rr = rr + dx(d)*dx(d)
-   30     continue
-          rr = sqrt(rr)
-          if (rr .lt. rr0) then
-            f = ((rr0/rr)**p1 - (rr0/rr)**p2)/rr**2
-            do 35 d = 1, dim
-              dvxdt(d,i) = dvxdt(d,i) + dd*dx(d)*f
-   35       continue
-          endif
-        endif
-   40 continue
-
-      end
-";
-
 /// The fixture's program calling virt_part and the repulsion `ext_force` at every step, in host
 /// mode with the case's `[boundary] repulsion` at the routine's r0 and D (single-precision
 /// literals, as the book writes them; the item `literals` rounds the case's). The program's particles
@@ -392,7 +348,9 @@ fn host_mode_takes_a_negative_itype_for_a_boundary_particle() {
         "[\"ntotal\", \"mass\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"itype\", \"hsml\", \"dvxdt\"]",
     ));
     std::fs::write(d.join("virt_part.f"), VIRT_FIXED).unwrap();
-    std::fs::write(d.join("ext_force.f"), EXT_FORCE).unwrap();
+    // the repulsion with r0 = 2.5e-3 m: the first of VIRT_FIXED's particles beyond the left end,
+    // 1.875e-3 m from it, pushes it
+    std::fs::write(d.join("ext_force.f"), ext_force_f(false, "2.5e-3", "1.e-2")).unwrap();
     let call = "      call ext_force(ntotal + nvirt, mass, x, niac, pair_i, pair_j,\n     &               itype, hsml, exdvxdt)\n";
     let p = d.join("single_step.f");
     let text = std::fs::read_to_string(&p).unwrap();

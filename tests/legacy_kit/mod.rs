@@ -393,3 +393,58 @@ pub fn av_without_arguments(text: &str, decl: &str) -> String {
     assert!(head.starts_with("      subroutine art_visc\n"), "{head}");
     format!("{head}{decl}{body}")
 }
+
+/// The book's `ext_force` in the fixture's dialect: gravity on the last component when `gravity`
+/// (its `-9.8d0`), then the repulsion D (x_i − x_j) [(r0/r)^12 − (r0/r)^4]/r² of each ordinary
+/// particle i by a boundary particle j (negative itype) within r0, r0 and D written as the
+/// literals `rr0` and `dd`.
+pub fn ext_force_f(gravity: bool, rr0: &str, dd: &str) -> String {
+    let g = if gravity { "        dvxdt(dim,i) = -9.8d0\n" } else { "" };
+    format!(
+        "      subroutine ext_force(ntotal, mass, x, niac, pair_i, pair_j,
+     &                     itype, hsml, dvxdt)
+c-----------------------------------------------------------------------
+c     External forces: gravity and the boundary repulsion.
+c-----------------------------------------------------------------------
+      implicit none
+      include 'param.inc'
+      integer ntotal, niac, pair_i(max_interaction),
+     &        pair_j(max_interaction), itype(maxn)
+      double precision mass(maxn), x(dim,maxn), hsml(maxn),
+     &        dvxdt(dim,maxn)
+      integer i, j, k, d
+      double precision dx(dim), rr, f, rr0, dd, p1, p2
+
+      do 10 i = 1, ntotal
+        do 5 d = 1, dim
+          dvxdt(d,i) = 0.
+    5   continue
+{g}   10 continue
+
+      rr0 = {rr0}
+      dd = {dd}
+      p1 = 12
+      p2 = 4
+      do 40 k = 1, niac
+        i = pair_i(k)
+        j = pair_j(k)
+        if (itype(i) .gt. 0 .and. itype(j) .lt. 0) then
+          rr = 0.
+          do 30 d = 1, dim
+            dx(d) = x(d,i) - x(d,j)
+            rr = rr + dx(d)*dx(d)
+   30     continue
+          rr = sqrt(rr)
+          if (rr .lt. rr0) then
+            f = ((rr0/rr)**p1 - (rr0/rr)**p2)/rr**2
+            do 35 d = 1, dim
+              dvxdt(d,i) = dvxdt(d,i) + dd*dx(d)*f
+   35       continue
+          endif
+        endif
+   40 continue
+
+      end
+"
+    )
+}
