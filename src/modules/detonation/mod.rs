@@ -156,8 +156,14 @@ pub fn plan(ctx: &PlanCtx) -> Contribution {
     });
     let burn = |init| Box::new(BurnStage { mt: ctx.mt.clone(), width, init }) as Box<dyn Stage>;
     let beta = ctx.mt.mpar.chunks(super::param::NPAR).any(|c| c[ETA_CJ] > 1.0);
+    let why = match (beta, nrm.is_some()) {
+        (true, false) => "programmed burn with the beta burn",
+        (false, false) => "programmed burn",
+        (true, true) => "programmed burn lit along a plane, with the beta burn",
+        (false, true) => "programmed burn lit along a plane",
+    };
     Contribution::run(
-        if beta { "programmed burn with the beta burn" } else { "programmed burn" },
+        why,
         vec![
             (Phase::Init, Box::new(LightStage { mt: ctx.mt.clone(), xdet, nrm, sf })),
             (Phase::Init, burn(true)),
