@@ -2,6 +2,7 @@
 //! search of our own (`tests/legacy_extra/tree_search.f`, a binary tree by bisection in 1D) in a
 //! copy of the fixture whose single_step calls it. Its pairs are direct_find's, in the tree's
 //! order: the dual run and host mode compare them as sets, and `run --legacy` sums in that order.
+//! The search is written for any `dim`: built in 2D and 3D it is compared on blastsph's own cases.
 
 mod legacy_kit;
 use legacy_kit::*;
@@ -146,4 +147,60 @@ fn host_mode_compares_the_tree_searchs_pairs_as_a_set() {
     assert_eq!(code, Some(0), "{so}{se}");
     assert_ne!(end, own);
     assert_eq!(end, program_final_state());
+}
+
+/// The tree search alone, built with `dim` = 2 (a quadtree) and 3 (an octree) and larger arrays,
+/// in the dual run of a coarse Noh problem in 2D and of the Sedov octant in 3D (three mirror
+/// planes, whose particles it searches too). Its pairs are the twin's as a set, with w and dW/dx
+/// at 0 ULP, over 5 steps; most pairs come at other places than the twin's.
+#[test]
+fn the_tree_search_finds_the_twins_pairs_in_2d_and_3d() {
+    let cases: [(usize, &str, &[&str]); 2] = [
+        (2, "cases/verify/noh_2d.toml", &["region.gas.spacing_m=0.04"]),
+        (
+            3,
+            "cases/verify/sedov_3d.toml",
+            &["region.ambient.spacing_m=0.05", "region.hot.spacing_m=0.05", "region.hot.hi_m=[0.05, 0.05, 0.05]"],
+        ),
+    ];
+    for (dim, case, sets) in cases {
+        let d = variant(&format!("tree_search_{dim}d"), |m| {
+            let i = m.find("[[routine]]").unwrap();
+            let head = m[..i].replace("dim = 1", &format!("dim = {dim}"));
+            format!(
+                "{head}[[routine]]\nname = \"tree_search\"\nmodule = \"nnps,kernel\"\nargs = [\"itimestep\", \"ntotal\", \"hsml\", \"x\", \"niac\", \"pair_i\", \"pair_j\", \"w\", \"dwdx\", \"countiac\"]\n"
+            )
+        });
+        std::fs::copy(root().join("tests/legacy_extra/tree_search.f"), d.join("tree_search.f")).unwrap();
+        let inc = std::fs::read_to_string(d.join("param.inc")).unwrap();
+        let new = inc
+            .replace("parameter (dim = 1)", &format!("parameter (dim = {dim})"))
+            .replace("maxn = 1000, max_interaction = 20*maxn", "maxn = 4000, max_interaction = 40*maxn");
+        assert_ne!(new, inc);
+        std::fs::write(d.join("param.inc"), new).unwrap();
+        build(&d.join("legacy.toml"), &d.join("build")).expect("the tree_search variant builds");
+        let out = d.join("dual");
+        let mut args = vec!["dual".to_string(), root().join(case).to_str().unwrap().to_string()];
+        for s in sets {
+            args.extend(["--set".to_string(), s.to_string()]);
+        }
+        for a in ["--legacy", d.join("build").to_str().unwrap(), "--compat", "liu-book", "--steps", "5", "--out"] {
+            args.push(a.to_string());
+        }
+        args.push(out.to_str().unwrap().to_string());
+        let so = blastsph_ok(&args, 0);
+        assert!(so.contains("5 steps compared; every compared stage within tolerance"), "{dim}D: {so}");
+        let (_, rows) = report_rows(&out.join("dual_report.json"));
+        for f in ["pair_i", "pair_j", "w", "dwdx"] {
+            let x = row(&rows, "legacy.tree_search", f);
+            assert_eq!(x["counterpart"], "legacy", "{dim}D {f}: {x}");
+            assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{dim}D {f}: {x}");
+        }
+        let pi = row(&rows, "legacy.tree_search", "pair_i");
+        let o = &pi["pair_order"];
+        let compared = pi["compared"].as_u64().unwrap();
+        assert!(compared > 50_000, "{dim}D: {pi}");
+        assert_eq!((o["only_counterpart"].as_u64(), o["only_rust"].as_u64()), (Some(0), Some(0)), "{dim}D: {o}");
+        assert!(o["moved"].as_u64().unwrap() > compared / 4, "{dim}D: the tree's order is not the twin's: {o}");
+    }
 }
