@@ -299,3 +299,21 @@ fn a_charge_cut_out_of_the_soil_off_its_cell_faces_warns_of_the_seam() {
     let w = quarter("0.455", "0.046");
     assert!(w.len() == 1 && w[0].contains("z = 0.455 m"), "{w:?}");
 }
+
+#[test]
+fn integrated_boundary_particles_are_warned_of_and_held_ones_are_not() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/dam_break_held.toml")).unwrap();
+    let with = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        warnings(&crate::case::parse(&text, "dam_break_held", &sets, Some("t")).unwrap())
+    };
+    assert!(!with(&[]).iter().any(|w| w.contains("integrated")), "{:?}", with(&[]));
+    let w =
+        with(&["region.floor.boundary_particles=\"integrated\"", "region.left_wall.boundary_particles=\"integrated\""]);
+    let w: Vec<&String> = w.iter().filter(|w| w.contains("integrated")).collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].starts_with("region floor, left_wall:") && w[0].contains("without sph.density_clamp"), "{w:?}");
+    let w = with(&["region.floor.boundary_particles=\"integrated\"", "sph.density_clamp=[990.0, 1015.0]"]);
+    let w: Vec<&String> = w.iter().filter(|w| w.contains("integrated")).collect();
+    assert!(w.len() == 1 && !w[0].contains("without"), "{w:?}");
+}
