@@ -24,6 +24,7 @@ use std::process::Command;
 
 mod check;
 mod host;
+mod modproc;
 mod probe;
 mod text;
 
@@ -86,8 +87,11 @@ pub struct BindingInfo {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct RoutineInfo {
     pub name: String,
-    /// The routine's linker symbol (gfortran's: `name_`).
+    /// The routine's linker symbol (gfortran's: `name_`; `__module_MOD_name` in a module).
     pub symbol: String,
+    /// The module that holds the routine (the shims `use` it); None: an external procedure.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub module: Option<String>,
     /// The shim's C symbol.
     pub shim: String,
     pub modules: Vec<String>,
@@ -318,10 +322,12 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     }
 
     // compile the sources (module dependencies: retry what needs a module another file makes)
-    let (objects, protos) = match found.compiled {
+    let (objects, mut protos) = match found.compiled {
         Some(c) => c,
         None => compile_sources(&m, &obj, (&fixed, &free), &incs, &mut log, &fail)?,
     };
+    // the mapped routines that are module procedures: their prototypes from gfortran's dump
+    modproc::add(&m, &obj, (&fixed, &free), &incs, &mut protos, &mut log, &fail)?;
 
     // main programs: an object that defines `main`
     let mut is_program = vec![false; m.sources.len()];
@@ -357,7 +363,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             c.fortran = info.args.get(c.pos).and_then(|ai| ai.value.clone());
         }
     }
-    let shim_text = shim::source(&laid, sizes, &m.path.display().to_string());
+    let hosts: Vec<Option<String>> = routines.iter().map(|r| r.module.clone()).collect();
+    let shim_text = shim::source(&laid, &hosts, sizes, &m.path.display().to_string());
     let shim_obj = compile_generated(&mut log, &obj, "blastsph_shims", &shim_text, &shim_flags)?
         .map_err(|e| fail(format!("the generated shims do not compile: {e}")))?;
 
@@ -405,7 +412,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                 path: s.display().to_string(),
                 object: rel(&objects[k], &out),
                 program_unit: is_program[k],
-                procedures: protos[k].iter().map(|p| p.name.clone()).collect(),
+                procedures: protos[k].iter().filter(|p| p.module.is_none()).map(|p| p.name.clone()).collect(),
             })
             .collect(),
         routines,
