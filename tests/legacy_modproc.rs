@@ -179,7 +179,7 @@ fn a_free_form_module_procedure_is_called_through_its_module() {
 }
 
 /// Refused in one line: an assumed-shape dummy of a module procedure (named with its routine),
-/// and a routine that two modules define (both named).
+/// a routine that two modules define (both named), and a private module procedure.
 #[test]
 fn assumed_shape_dummies_and_a_routine_in_two_modules_are_refused() {
     let d = eos90_variant("modproc_assumed", &format!("{SIZES90}{}", eos90_module("eosmod", "dens(:), ene(nmax)")));
@@ -191,4 +191,7 @@ fn assumed_shape_dummies_and_a_routine_in_two_modules_are_refused() {
     );
     let d = eos90_variant("modproc_twice", &two);
     refused(&d, &["routine eos90", "defined twice", "module eosmod", "module eosmod2"]);
+    let private = eos90_module("eosmod", "dens(nmax), ene(nmax)").replace("contains\n", "  private\ncontains\n");
+    let d = eos90_variant("modproc_private", &format!("{SIZES90}{private}"));
+    refused(&d, &["routine eos90", "private procedure of module eosmod", "__eosmod_MOD_eos90"]);
 }

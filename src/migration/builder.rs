@@ -308,7 +308,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let free: Vec<String> = BASE_FLAGS.iter().map(|s| s.to_string()).chain(m.fflags.clone()).collect();
 
     // the sizes (the sources compiled first when they are in a module or need one)
-    let found = probe::sizes(&m, &obj, &probe::Flags { fixed: &fixed, free: &free, incs: &incs }, &mut log, &fail)?;
+    let fl = probe::Flags { fixed: &fixed, free: &free, incs: &incs };
+    let found = probe::sizes(&m, &obj, &fl, &mut log, &fail)?;
     let (sizes, inc) = (found.sizes, found.file);
     if sizes.dim != m.dim {
         return Err(input(format!(
@@ -327,7 +328,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
         None => compile_sources(&m, &obj, (&fixed, &free), &incs, &mut log, &fail)?,
     };
     // the mapped routines that are module procedures: their prototypes from gfortran's dump
-    modproc::add(&m, &obj, (&fixed, &free), &incs, &mut protos, &mut log, &fail)?;
+    modproc::add(&m, &obj, &fl, &objects, &mut protos, &mut log, &fail)?;
 
     // main programs: an object that defines `main`
     let mut is_program = vec![false; m.sources.len()];

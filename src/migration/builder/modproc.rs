@@ -118,14 +118,15 @@ fn modules_of(text: &str, fixed: bool) -> Vec<String> {
 }
 
 /// Adds to `protos` the module procedure of each mapped routine of `m` that no source defines as
-/// an external procedure: the sources whose text defines it, dumped by gfortran (`flags`: fixed
-/// form, free form; `incs`: the `-I` flags), each module of theirs that holds it. A routine in
-/// two modules is then found twice (refused as defined twice); one in none, not at all.
+/// an external procedure: the sources whose text defines it, dumped by gfortran (`fl`: the
+/// build's flags), each module of theirs that holds it. A routine in two modules is then found
+/// twice (refused as defined twice); one in none, not at all. A module procedure whose symbol
+/// the source's object (of `objects`) does not export (a `private` one) is refused.
 pub(super) fn add(
     m: &Manifest,
     obj: &Path,
-    flags: (&[String], &[String]),
-    incs: &[String],
+    fl: &probe::Flags,
+    objects: &[PathBuf],
     protos: &mut [Vec<Proto>],
     log: &mut Log,
     fail: &dyn Fn(String) -> SphError,
@@ -146,18 +147,25 @@ pub(super) fn add(
             continue;
         }
         let mut cmd = Command::new("gfortran");
-        cmd.arg("-fsyntax-only").arg("-fdump-fortran-original").args(if fixed { flags.0 } else { flags.1 });
-        cmd.args(incs).arg(format!("-I{}", obj.join("mod").display()));
+        cmd.arg("-fsyntax-only").arg("-fdump-fortran-original").args(if fixed { fl.fixed } else { fl.free });
+        cmd.args(fl.incs).arg(format!("-I{}", obj.join("mod").display()));
         cmd.arg(format!("-J{}", scratch.display())).arg(src);
         let (ok, dump, se) = log.run(&mut cmd)?;
         if !ok {
             return Err(fail(format!("{}: the parse-tree dump failed: {}", rel(src, &m.dir), first_error(&se))));
         }
+        let (_, syms, _) = log.run(Command::new("nm").arg("--defined-only").arg(&objects[k]))?;
         for n in here {
             for module in &modules {
-                if let Some(p) = from_dump(&dump, module, n) {
-                    protos[k].push(p);
+                let Some(p) = from_dump(&dump, module, n) else { continue };
+                if !syms.lines().any(|l| l.split_whitespace().collect::<Vec<_>>().ends_with(&["T", &p.symbol])) {
+                    return Err(fail(format!(
+                        "routine {n}: a private procedure of module {module} in {} (its object exports no `{}`): only a public one can be called from outside the module",
+                        rel(src, &m.dir),
+                        p.symbol
+                    )));
                 }
+                protos[k].push(p);
             }
         }
     }
