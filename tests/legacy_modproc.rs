@@ -36,7 +36,7 @@ fn module_build() -> &'static Path {
 }
 
 /// The build records each routine's module and gfortran's symbol of a module procedure; the
-/// routines outside the module stay external.
+/// routines outside the module stay external; `check --legacy` maps them.
 #[test]
 fn routines_in_a_module_are_built_with_their_module_and_symbol() {
     let info = blastsph::migration::BuildInfo::read(module_build()).unwrap();
@@ -50,6 +50,10 @@ fn routines_in_a_module_are_built_with_their_module_and_symbol() {
     let shims = std::fs::read_to_string(module_build().join("obj/blastsph_shims.f90")).unwrap();
     assert!(shims.contains("  use sph_mod, only: int_force\n"), "the shim uses the module");
     assert!(!shims.contains("external int_force"), "and declares no external");
+    // check --legacy maps them as it maps external routines
+    let lg = module_build().to_str().unwrap().to_string();
+    let so = blastsph_ok(&["check", "shock_tube", "--legacy", &lg, "--compat", "liu-book"], 0);
+    assert!(so.contains("int_force      run      stands for eos.eval + force.internal"), "{so}");
 }
 
 /// The dual run with the book's profile: every legacy routine of the module at 0 ULP.
