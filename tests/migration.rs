@@ -753,8 +753,8 @@ fn an_argument_given_twice_is_refused_by_the_safe_api() {
 
 /// Fortran 90 declarations in a legacy source: `intent(in)` (gfortran's prototype says `const
 /// double *`) builds; an assumed-shape dummy (`dens(:)`, which the shims' plain address cannot
-/// describe: it crashed at the first call) is refused at build, naming the dummy; a subroutine
-/// inside a module is refused as such (it read "not found").
+/// describe: it crashed at the first call) is refused at build, naming the dummy; an internal
+/// procedure (after CONTAINS of a subroutine) is refused as such (it read "not found").
 #[test]
 fn fortran_90_declarations_are_taken_or_refused_by_name() {
     let eos = |decl: &str| {
@@ -786,8 +786,11 @@ fn fortran_90_declarations_are_taken_or_refused_by_name() {
     )
     .unwrap();
     refused(&d, &["eos90", "argument 1 (dummy `dens`", "assumed-shape", "dens(*)"]);
-    let d = variant("f90_module", map);
-    let m = format!("module eosmod\ncontains\n{}end module eosmod\n", eos("  double precision :: dens, ene, pr, cs"));
+    let d = variant("f90_internal", map);
+    let m = format!(
+        "subroutine eoshost()\ncontains\n{}end subroutine eoshost\n",
+        eos("  double precision :: dens, ene, pr, cs")
+    );
     std::fs::write(d.join("eos90.f90"), m).unwrap();
-    refused(&d, &["eos90", "inside a module"]);
+    refused(&d, &["eos90", "neither an external subroutine nor a module procedure"]);
 }

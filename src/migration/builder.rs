@@ -24,6 +24,7 @@ use std::process::Command;
 
 mod check;
 mod host;
+mod modproc;
 mod probe;
 mod text;
 
@@ -86,8 +87,11 @@ pub struct BindingInfo {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct RoutineInfo {
     pub name: String,
-    /// The routine's linker symbol (gfortran's: `name_`).
+    /// The routine's linker symbol (gfortran's: `name_`; `__module_MOD_name` in a module).
     pub symbol: String,
+    /// The module that holds the routine (the shims `use` it); None: an external procedure.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub module: Option<String>,
     /// The shim's C symbol.
     pub shim: String,
     pub modules: Vec<String>,
@@ -304,7 +308,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     let free: Vec<String> = BASE_FLAGS.iter().map(|s| s.to_string()).chain(m.fflags.clone()).collect();
 
     // the sizes (the sources compiled first when they are in a module or need one)
-    let found = probe::sizes(&m, &obj, &probe::Flags { fixed: &fixed, free: &free, incs: &incs }, &mut log, &fail)?;
+    let fl = probe::Flags { fixed: &fixed, free: &free, incs: &incs };
+    let found = probe::sizes(&m, &obj, &fl, &mut log, &fail)?;
     let (sizes, inc) = (found.sizes, found.file);
     if sizes.dim != m.dim {
         return Err(input(format!(
@@ -318,10 +323,12 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     }
 
     // compile the sources (module dependencies: retry what needs a module another file makes)
-    let (objects, protos) = match found.compiled {
+    let (objects, mut protos) = match found.compiled {
         Some(c) => c,
         None => compile_sources(&m, &obj, (&fixed, &free), &incs, &mut log, &fail)?,
     };
+    // the mapped routines that are module procedures: their prototypes from gfortran's dump
+    modproc::add(&m, &obj, &fl, &objects, &mut protos, &mut log, &fail)?;
 
     // main programs: an object that defines `main`
     let mut is_program = vec![false; m.sources.len()];
@@ -357,7 +364,8 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
             c.fortran = info.args.get(c.pos).and_then(|ai| ai.value.clone());
         }
     }
-    let shim_text = shim::source(&laid, sizes, &m.path.display().to_string());
+    let hosts: Vec<Option<String>> = routines.iter().map(|r| r.module.clone()).collect();
+    let shim_text = shim::source(&laid, &hosts, sizes, &m.path.display().to_string());
     let shim_obj = compile_generated(&mut log, &obj, "blastsph_shims", &shim_text, &shim_flags)?
         .map_err(|e| fail(format!("the generated shims do not compile: {e}")))?;
 
@@ -405,7 +413,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
                 path: s.display().to_string(),
                 object: rel(&objects[k], &out),
                 program_unit: is_program[k],
-                procedures: protos[k].iter().map(|p| p.name.clone()).collect(),
+                procedures: protos[k].iter().filter(|p| p.module.is_none()).map(|p| p.name.clone()).collect(),
             })
             .collect(),
         routines,

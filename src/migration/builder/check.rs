@@ -78,6 +78,7 @@ pub(super) fn routine(
     let info = RoutineInfo {
         name: r.name.clone(),
         symbol: p.symbol.clone(),
+        module: p.module.clone(),
         shim: shim::symbol(&r.name),
         modules: r.modules.clone(),
         call: r.call,
@@ -100,14 +101,14 @@ fn find_proto<'a>(m: &Manifest, r: &manifest::Routine, protos: &'a [Vec<Proto>])
         .collect();
     match found.as_slice() {
         [] => {
-            // defined, but not as an external procedure: inside a module or a CONTAINS
+            // defined, but neither as an external procedure nor as a module procedure
             let inner = m
                 .sources
                 .iter()
                 .find(|f| read_source(f).is_some_and(|t| routine_text(&t, &r.name, fixed_form(f)).is_some()));
             if let Some(f) = inner {
                 return Err(input(format!(
-                    "{}: routine {}: defined in {} inside a module or after CONTAINS: only external subroutines (outside any module) can be mapped",
+                    "{}: routine {}: defined in {} as neither an external subroutine nor a module procedure (an internal procedure after CONTAINS?): only those two can be mapped",
                     m.path.display(),
                     r.name,
                     rel(f, &m.dir)
@@ -132,7 +133,13 @@ fn find_proto<'a>(m: &Manifest, r: &manifest::Routine, protos: &'a [Vec<Proto>])
         }
         [one] => Ok(*one),
         more => {
-            let files: Vec<String> = more.iter().map(|(k, _)| rel(&m.sources[*k], &m.dir)).collect();
+            let files: Vec<String> = more
+                .iter()
+                .map(|(k, p)| {
+                    let f = rel(&m.sources[*k], &m.dir);
+                    p.module.as_ref().map_or(f.clone(), |md| format!("{f} (module {md})"))
+                })
+                .collect();
             Err(input(format!("{}: routine {}: defined twice ({})", m.path.display(), r.name, files.join(", "))))
         }
     }

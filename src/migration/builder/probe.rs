@@ -120,7 +120,7 @@ fn defines_module(st: &str, name: &str) -> bool {
 /// A source's statements: lower case, comments dropped, blank lines skipped, continuation lines
 /// joined (free form: a trailing `&`, with an optional leading `&` on the next line; fixed form:
 /// a character other than blank or zero in column 6), and `;`-separated statements apart.
-fn statements(text: &str, fixed: bool) -> Vec<String> {
+pub(super) fn statements(text: &str, fixed: bool) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut open = false; // the last free-form statement ends with `&`
     for raw in text.lines() {

@@ -11,6 +11,8 @@ pub(super) struct Proto {
     pub(super) returns: String,
     /// (C type, dummy name); a `*` pointer for every Fortran dummy.
     pub(super) params: Vec<(String, String)>,
+    /// The module that holds it (a module procedure, [`super::modproc`]); None: external.
+    pub(super) module: Option<String>,
 }
 
 pub(super) fn parse_protos(text: &str) -> Vec<Proto> {
@@ -38,7 +40,7 @@ pub(super) fn parse_protos(text: &str) -> Vec<Proto> {
         }
         let sym = sym.trim().to_string();
         let name = sym.trim_end_matches('_').to_ascii_lowercase();
-        out.push(Proto { symbol: sym, name, returns: ret.trim().to_string(), params });
+        out.push(Proto { symbol: sym, name, returns: ret.trim().to_string(), params, module: None });
     }
     out
 }
