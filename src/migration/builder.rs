@@ -67,6 +67,10 @@ pub struct ArgInfo {
     /// or pair's `dim` values out `lead` apart.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lead: Option<usize>,
+    /// An integer of the vocabulary (a count, an index, a type code) that the routine declares
+    /// double precision: the shims and host mode convert it, exactly, both ways.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub real: bool,
     /// A dummy bound to a value of the manifest's `values` (a switch, a logical, a constant):
     /// the Fortran type and literal the shim passes at every call.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -359,6 +363,7 @@ pub fn build(manifest_path: &Path, out: &Path) -> Result<BuildInfo> {
     for (r, info) in laid.iter_mut().zip(&routines) {
         for (a, ai) in r.args.iter_mut().zip(info.args.iter().filter(|ai| ai.value.is_none())) {
             a.lead = ai.lead;
+            a.real = ai.real;
         }
         for c in r.values.iter_mut() {
             c.fortran = info.args.get(c.pos).and_then(|ai| ai.value.clone());

@@ -148,9 +148,10 @@ pub struct Constant {
 pub struct Arg {
     pub written: String,
     pub term: &'static Term,
-    /// The declared leading extent of a whole array of vectors when it is not `dim`, found by
-    /// `legacy build` from the routine's declaration (`None` in a manifest as read).
+    /// Found by `legacy build` from the routine's declaration: the leading extent of a whole
+    /// array of vectors when it is not `dim`; an integer of the vocabulary declared double (`real`).
     pub lead: Option<usize>,
+    pub real: bool,
 }
 
 /// A variable a routine reads or writes that is not one of its arguments: a member of a COMMON
@@ -697,7 +698,7 @@ fn args_of(r: &RawRoutine, key: &str, call: CallMode, err: &dyn Fn(&str, String)
         if args.iter().any(|o| o.term.name == term.name) {
             return Err(err(&format!("{key}.args"), format!("\"{a}\" given twice")));
         }
-        args.push(Arg { written, term, lead: None });
+        args.push(Arg { written, term, lead: None, real: false });
     }
     Ok(args)
 }

@@ -141,7 +141,7 @@ fn one(ri: usize, r: &Routine, host: Option<String>) -> String {
         }
     }
     // copy out
-    copy_out(&mut f, &b, niac, &leads);
+    copy_out(&mut f, r, &b, niac, &leads);
     let _ = writeln!(f, "end function {sym}");
     f
 }
@@ -168,12 +168,14 @@ fn head(f: &mut String, r: &Routine, b: &[&'static Term], sym: &str, host: Optio
         let _ = writeln!(f, "  double precision :: pair_r, pair_r2, pair_h, pair_dx(bs_dim)");
     }
     for (k, t) in b.iter().enumerate() {
+        // an integer the routine declares double precision: the copy is a double
+        let fty = if real_int(r, t) { ftype(Kind::Real) } else { ftype(t.kind) };
         let k = k + 1;
         if t.shape == Shape::Scalar {
-            let _ = writeln!(f, "  {} :: v{k}  ! {}", ftype(t.kind), t.name);
+            let _ = writeln!(f, "  {fty} :: v{k}  ! {}", t.name);
             let _ = writeln!(f, "  {}, pointer :: p{k}", ctype(t.kind));
         } else {
-            let _ = writeln!(f, "  {}, allocatable, save :: v{k}(:)  ! {}", ftype(t.kind), t.name);
+            let _ = writeln!(f, "  {fty}, allocatable, save :: v{k}(:)  ! {}", t.name);
             let _ = writeln!(f, "  {}, pointer :: p{k}(:)", ctype(t.kind));
         }
     }
@@ -350,12 +352,20 @@ fn call(f: &mut String, r: &Routine, ix: &dyn Fn(&str) -> Option<usize>) {
     }
 }
 
-/// The copy out: each buffer from the shim's copy (as many per-pair values as pairs in use).
-fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>, leads: &[Option<usize>]) {
+/// Whether binding `t` of `r` is an integer of the vocabulary that the routine declares double
+/// precision (found by `legacy build`).
+fn real_int(r: &Routine, t: &Term) -> bool {
+    t.kind == Kind::Int && r.args.iter().any(|a| a.term.name == t.name && a.real)
+}
+
+/// The copy out: each buffer from the shim's copy (as many per-pair values as pairs in use); an
+/// integer held as a double is rounded back (`nint`), exact for the whole numbers it holds.
+fn copy_out(f: &mut String, r: &Routine, b: &[&'static Term], niac: Option<usize>, leads: &[Option<usize>]) {
     for (k, t) in b.iter().enumerate() {
         let k = k + 1;
+        let v = if real_int(r, t) { format!("nint(v{k}") } else { format!("(v{k}") };
         if t.shape == Shape::Scalar {
-            let _ = writeln!(f, "  p{k} = v{k}");
+            let _ = writeln!(f, "  p{k} = {v})");
             continue;
         }
         let _ = writeln!(f, "  ncopy = sizes({k})");
@@ -376,9 +386,9 @@ fn copy_out(f: &mut String, b: &[&'static Term], niac: Option<usize>, leads: &[O
                 writeln!(f, "      p{k}(1 + bs_dim*lloop:bs_dim*(lloop + 1)) = v{k}(1 + {l}*lloop:bs_dim + {l}*lloop)");
             let _ = writeln!(f, "    end do");
         } else if t.base == Base::One {
-            let _ = writeln!(f, "    p{k}(1:ncopy) = v{k}(1:ncopy) - 1");
+            let _ = writeln!(f, "    p{k}(1:ncopy) = {v}(1:ncopy)) - 1");
         } else {
-            let _ = writeln!(f, "    p{k}(1:ncopy) = v{k}(1:ncopy)");
+            let _ = writeln!(f, "    p{k}(1:ncopy) = {v}(1:ncopy))");
         }
         let _ = writeln!(f, "  end if");
     }

@@ -679,6 +679,7 @@ mod tests {
             unit: String::new(),
             lead: None,
             value: None,
+            real: false,
         };
         // p_gas(u, rho, p, c) mapped as ["rho", "u", "p", "c"]
         let swapped = [arg("rho", "rho", "u"), arg("u", "u", "rho"), arg("p", "p", "p"), arg("c", "c", "c")];

@@ -1,0 +1,80 @@
+//! Codes that declare their counts, indices and pair lists double precision (`real(8) ntotal,
+//! niac, pair_i(...)`), as some rewrites of the book's code do: the shims hold such an argument
+//! as a double and convert it both ways, exactly (a whole number below 2^53). A count declared
+//! single precision is still refused.
+
+mod legacy_kit;
+use legacy_kit::*;
+
+/// The fixture with direct_find's and sum_density's counts, pair lists, neighbour counts and
+/// types declared double precision (the rest of the program is not run).
+fn real_counts(name: &str) -> PathBuf {
+    let d = variant(name, |m| m.to_string());
+    for (file, old, new) in [
+        (
+            "direct_find.f",
+            "      integer itimestep, ntotal, niac, pair_i(max_interaction),\n     &        pair_j(max_interaction), countiac(maxn)\n",
+            "      integer itimestep\n      double precision ntotal, niac, pair_i(max_interaction),\n     &        pair_j(max_interaction), countiac(maxn)\n",
+        ),
+        (
+            "density.f",
+            "      integer ntotal, niac, pair_i(max_interaction),\n     &        pair_j(max_interaction), itype(maxn)\n      double precision hsml(maxn), mass(maxn), w(max_interaction),\n     &        rho(maxn)\n      integer i, j, k, d\n      double precision w0, zero(dim), r, wsum(maxn)\n",
+            "      double precision ntotal, niac, pair_i(max_interaction),\n     &        pair_j(max_interaction), itype(maxn)\n      double precision hsml(maxn), mass(maxn), w(max_interaction),\n     &        rho(maxn)\n      integer i, j, k, d\n      double precision w0, zero(dim), r, wsum(maxn)\n",
+        ),
+    ] {
+        let p = d.join(file);
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains(old), "{file}: {old}");
+        std::fs::write(&p, text.replacen(old, new, 1)).unwrap();
+    }
+    d
+}
+
+/// Built, the two routines are at 0 ULP in the dual run with the book's profile, and `run
+/// --legacy` ends in the fixture's own program's state bit for bit.
+#[test]
+fn counts_declared_double_are_converted_exactly() {
+    let d = real_counts("real_counts");
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let info = std::fs::read_to_string(b.join("build.json")).unwrap();
+    let info: serde_json::Value = serde_json::from_str(&info).unwrap();
+    let routine = |n: &str| {
+        info["routines"].as_array().unwrap().iter().find(|r| r["name"] == n).cloned().unwrap_or_else(|| panic!("{n}"))
+    };
+    let real: Vec<String> = routine("direct_find")["args"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|a| a["real"] == true)
+        .map(|a| a["name"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(real, ["ntotal", "niac", "pair_i", "pair_j", "countiac"]);
+    let out = d.join("dual");
+    let so = blastsph_ok(&dual_book_args(&b, None, &out), 0);
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    for (stage, f) in [
+        ("legacy.direct_find", "pair_i"),
+        ("legacy.direct_find", "pair_j"),
+        ("legacy.direct_find", "w"),
+        ("legacy.sum_density", "rho"),
+    ] {
+        let x = row(&rows, stage, f);
+        assert_eq!(x["counterpart"], "legacy", "{x}");
+        assert!(x["compared"].as_u64().unwrap() >= 400 * 40, "{stage} {f}: {x}");
+        assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{stage} {f}: {x}");
+    }
+    assert_run_ends_as_the_program(&b, "real_counts_run");
+}
+
+/// A count declared `real` (4 bytes) would round a count past 2^24: refused, one line naming the
+/// routine, the dummy and the type.
+#[test]
+fn a_count_declared_single_precision_is_refused() {
+    let d = real_counts("real_counts_single");
+    let p = d.join("density.f");
+    let text = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&p, text.replacen("      double precision ntotal, niac,", "      real ntotal, niac,", 1)).unwrap();
+    refused(&d, &["sum_density", "ntotal", "float"]);
+}
