@@ -1,6 +1,6 @@
-//! Legacy routines that add into their outputs without zeroing them (`dvxdt(d,i) = dvxdt(d,i)
-//! + ...`): the manifest key `adds` makes the shim zero those arrays before each call
-//! (docs/reference/legacy.md, the manifest table).
+//! Legacy routines that add into their outputs without zeroing them first
+//! (`dvxdt(d,i) = dvxdt(d,i) + ...`): the manifest key `adds` makes the shim zero those arrays
+//! before each call (docs/reference/legacy.md, the manifest table).
 
 mod legacy_kit;
 use legacy_kit::*;
