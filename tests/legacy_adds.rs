@@ -117,6 +117,25 @@ fn a_routine_that_adds_into_its_term_is_zeroed_before_each_call_by_the_key_adds(
         assert_eq!((row["max_ulp"].as_u64(), row["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{row}");
     }
 
+    // on the twins' outputs: the program's array (0) plus the twin's term, its own end
+    let host_rust = keyed.join("host_rust");
+    let o = blastsph_40_steps(&[
+        "legacy",
+        "host",
+        "shock_tube",
+        "--legacy",
+        kb.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--rust-outputs",
+        "--out",
+        host_rust.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(bits(&state_of(&host_rust.join("work"))), bits(program_final_state()));
+    // the fixture's program zeroes in art_visc what this one zeroes in the shim: the same end
+    assert_run_ends_as_the_program(&kb, "adds_keyed_run");
+
     // the wrapper of a user who zeroes the term in a routine of their own
     let wrapped = adding_variant("adds_wrapper", |m| m.replacen("name = \"art_visc\"", "name = \"art_visc_term\"", 1));
     std::fs::write(wrapped.join("art_visc_term.f"), WRAPPER).unwrap();
@@ -178,4 +197,52 @@ fn adds_names_only_arrays_the_routine_writes() {
         m.replacen(old, &format!("{old}\nadds = [\"x\"]"), 1)
     });
     refused(&d, &["routine[9] (input).adds", "module \"setup\""]);
+}
+
+fn bits(rows: &[Vec<f64>]) -> Vec<Vec<u64>> {
+    rows.iter().map(|r| r.iter().map(|v| v.to_bits()).collect()).collect()
+}
+
+/// The final state a program wrote into `work` (17 digits), as numbers.
+fn state_of(work: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(work.join("final_state.dat")).expect("final_state.dat");
+    text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect()
+}
+
+/// The adding art_visc with every vector declared `(mxd, ...)`, mxd = 3 in the 1D param.inc:
+/// the shim zeroes each particle's 3 declared values, and the dual run stays at 0 ULP; `run
+/// --legacy` ends in the fixture program's state bit for bit.
+#[test]
+fn adds_zeroes_whole_rows_of_an_array_declared_with_a_leading_extent_above_dim() {
+    let d = adding_variant("adds_mxd", |m| with_key(m, "adds = [\"dvxdt\", \"dedt\"]"));
+    for e in std::fs::read_dir(&d).unwrap() {
+        let p = e.unwrap().path();
+        let text = std::fs::read_to_string(&p).unwrap();
+        let new = if p.file_name().is_some_and(|f| f == "param.inc") {
+            text.replacen(
+                "      parameter (dim = 1)\n",
+                "      parameter (dim = 1)\n      integer mxd\n      parameter (mxd = 3)\n",
+                1,
+            )
+        } else if p.extension().is_some_and(|x| x == "f") {
+            text.replace("(dim,", "(mxd,")
+        } else {
+            continue;
+        };
+        std::fs::write(&p, new).unwrap();
+    }
+    let lg = d.join("build");
+    let info = build(&d.join("legacy.toml"), &lg).expect("the layout builds");
+    let av = info.routines.iter().find(|r| r.name == "art_visc").unwrap();
+    let dv = av.args.iter().find(|a| a.name == "dvxdt").unwrap();
+    assert_eq!(dv.lead, Some(3), "{dv:?}");
+    let shims = std::fs::read_to_string(lg.join("obj/blastsph_shims.f90")).unwrap();
+    assert!(shims.contains("v13(1:(ncopy/bs_dim)*3) = 0.0d0"), "the rows zeroed whole");
+    let (code, rows) = art_visc_rows(&lg, &d.join("dual"), "legacy.art_visc");
+    assert_eq!(code, Some(0), "{rows:?}");
+    for f in ["acc", "dde"] {
+        let r = rows.iter().find(|r| r["field"] == f).unwrap_or_else(|| panic!("no {f} row: {rows:?}"));
+        assert_eq!((r["max_ulp"].as_u64(), r["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{f}: {r}");
+    }
+    assert_run_ends_as_the_program(&lg, "adds_mxd_run");
 }
