@@ -246,3 +246,46 @@ fn adds_zeroes_whole_rows_of_an_array_declared_with_a_leading_extent_above_dim()
     }
     assert_run_ends_as_the_program(&lg, "adds_mxd_run");
 }
+
+/// A program that has art_visc add into the acceleration int_force filled (its `indvxdt`):
+/// host mode compares what the routine added, after less before, with the twin's term from 0.
+/// That is not bit for bit (the program's sum rounds otherwise): the table says so, its last
+/// line marks the routine, and the values compared are the viscosity's, not the total's.
+#[test]
+fn host_mode_compares_what_a_routine_added_onto_values_the_array_held() {
+    let d = adding_variant("adds_onto", |m| with_key(m, "adds = [\"dvxdt\", \"dedt\"]"));
+    let f = d.join("single_step.f");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let new = text.replacen("     &               ardvxdt, avdudt)", "     &               indvxdt, avdudt)", 1);
+    assert_ne!(new, text, "single_step's call of art_visc");
+    std::fs::write(&f, new).unwrap();
+    let lg = d.join("build");
+    build(&d.join("legacy.toml"), &lg).expect("the variant builds");
+    let host = d.join("host");
+    let o = blastsph_40_steps(&[
+        "legacy",
+        "host",
+        "shock_tube",
+        "--legacy",
+        lg.to_str().unwrap(),
+        "--compat",
+        "liu-book",
+        "--out",
+        host.to_str().unwrap(),
+    ]);
+    let so = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(4), "{so}{}", String::from_utf8_lossy(&o.stderr));
+    assert!(so.contains("DIVERGING: art_visc (adds: after less before)"), "{so}");
+    assert!(so.contains("adds into dvxdt, dedt: compared as the array after the call less before it"), "{so}");
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(host.join("host_report.json")).unwrap()).unwrap();
+    let rows = r["routines"]["art_visc"]["rows"].as_array().unwrap().clone();
+    let dde = rows.iter().find(|x| x["field"] == "dde").unwrap();
+    assert_eq!(dde["max_ulp"].as_u64(), Some(0), "avdudt is zeroed by the program: {dde}");
+    let acc = rows.iter().find(|x| x["field"] == "acc").unwrap();
+    assert!(acc["out_of_tolerance"].as_u64().unwrap() > 0, "{acc}");
+    // the first value that differs is the viscosity's own (not int_force's term plus it), in its
+    // last bits
+    let (l, rs) =
+        (acc["first_divergence"]["fortran"].as_f64().unwrap(), acc["first_divergence"]["rust"].as_f64().unwrap());
+    assert!(l != rs && (l - rs).abs() < 1e-12 * rs.abs(), "{acc}");
+}

@@ -456,6 +456,14 @@ impl Run {
         Ok(())
     }
 
+    /// `names`, each routine with `adds` marked: its rows are not bit for bit where its arrays
+    /// held values before the call.
+    fn named(&self, names: &[String]) -> String {
+        let adds = |n: &String| self.mapped.iter().any(|m| &m.info.name == n && !m.info.adds.is_empty());
+        let one = |n: &String| if adds(n) { format!("{n} (adds: after less before)") } else { n.clone() };
+        names.iter().map(one).collect::<Vec<_>>().join(", ")
+    }
+
     /// The table, the report and whether every compared value is at 0 ULP.
     fn report(&self) -> (String, serde_json::Value, bool) {
         let rows = self.cmp.rows();
@@ -522,7 +530,7 @@ impl Run {
             "host mode ({} outputs): {} routines at 0 ULP at every compared call{}{}{}; report {}",
             if self.rust { "the Rust twins'" } else { "the program's own" },
             zero.len(),
-            if diverged.is_empty() { String::new() } else { format!("; DIVERGING: {}", diverged.join(", ")) },
+            if diverged.is_empty() { String::new() } else { format!("; DIVERGING: {}", self.named(&diverged)) },
             if uncompared.is_empty() {
                 String::new()
             } else {
