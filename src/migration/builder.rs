@@ -111,6 +111,9 @@ pub struct RoutineInfo {
     /// `virt_part` only: "held" or "integrated", the kind of the boundary particles it makes.
     #[serde(default)]
     pub virtual_kind: Option<String>,
+    /// The arrays it adds into (the manifest's `adds`): zeroed by the shim before each call.
+    #[serde(default)]
+    pub adds: Vec<String>,
 }
 
 /// A routine's global variable, as built.

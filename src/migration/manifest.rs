@@ -22,16 +22,9 @@
 //! # globals = { dens = "rho" }   # variables in COMMON blocks or modules: legacy name → vocabulary
 //! ```
 //!
-//! A code that clamps its density after each update (the dam-break `time_integration` of Liu
-//! and Liu) says so at the top, `density_clamp = [lo, hi]` (kg/m³): `run`, `dual` and `check`
-//! with `--legacy` then set the case's `sph.density_clamp` to these bounds.
-//!
-//! A routine whose acceleration includes gravity (the book's `ext_force`, mapped to `boundary`)
-//! says so in its entry, `includes_gravity = true`: with `--legacy`, the case's
-//! `physics.gravity_in_forces` is then set, and the rate sum leaves gravity to that routine.
-//!
-//! with, at the top, `global_includes = ["common.inc"]` (the include files that declare the
-//! globals' COMMON blocks) or `global_modules = ["particles"]` (modules of the sources).
+//! `density_clamp`, `includes_gravity` and `adds` ([`super::adds`]) are told at their fields.
+//! `globals` need, at the top, `global_includes = ["common.inc"]` (the include files that
+//! declare their COMMON blocks) or `global_modules = ["particles"]` (modules of the sources).
 //!
 //! Every problem is one line naming the file and the key, an input error (exit status 2).
 
@@ -110,6 +103,9 @@ struct RawRoutine {
     /// "integrated".
     #[serde(default, rename = "virtual")]
     virtual_kind: Option<String>,
+    /// The arrays it adds into without zeroing them (vocabulary names): zeroed before each call.
+    #[serde(default)]
+    adds: Vec<String>,
 }
 
 /// The names of the three compile-time parameters in the user's include file, or integer
@@ -180,6 +176,8 @@ pub struct Routine {
     pub values: Vec<Constant>,
     /// `virt_part` only: "held" or "integrated", the kind of the boundary particles it makes.
     pub virtual_kind: Option<String>,
+    /// The arrays it adds into (`adds`, canonical names): the shim zeroes them before each call.
+    pub adds: Vec<&'static str>,
 }
 
 /// What blastsph passes to a routine's shim, in order: a vocabulary name with its whole-array shape.
@@ -632,7 +630,8 @@ fn routine_of(
         ));
     }
     let virtual_kind = virtual_of(r, &name, &modules, &key, err)?;
-    Ok(Routine { name, modules, call, args, globals, values, virtual_kind })
+    let adds = super::adds::of(&r.adds, (call, &modules), (&args, &globals), &key, err)?;
+    Ok(Routine { name, modules, call, args, globals, values, virtual_kind, adds })
 }
 
 /// The `virtual` key: only on `virt_part` (module `boundary`), "held" or "integrated"; "held"

@@ -5,6 +5,7 @@
 //!
 //! The book's semantics that blastsph's Rust twins differ from are in `docs/compat-liu-book.md`.
 
+pub mod adds;
 pub mod attach;
 pub mod bind;
 pub mod builder;

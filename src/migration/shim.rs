@@ -119,6 +119,7 @@ fn one(ri: usize, r: &Routine, host: Option<String>) -> String {
         })
         .collect();
     copy_in(&mut f, &b, niac, &leads);
+    super::adds::zero(&mut f, &r.adds, &b, niac, &leads);
     // the globals: blastsph's values into the COMMON or module variables
     let global = |t: &Term| r.globals.iter().any(|g| g.term.name == t.name);
     for (k, t) in b.iter().enumerate() {

@@ -91,7 +91,8 @@ pub enum Base {
     One,
 }
 
-/// What a routine usually does with it (documentation; the shim copies every array both ways).
+/// What a routine usually does with it: `adds` takes `out` names only ([`super::adds`]); the
+/// shim copies every array both ways.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Role {

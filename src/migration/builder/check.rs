@@ -87,6 +87,7 @@ pub(super) fn routine(
         bindings,
         globals,
         virtual_kind: r.virtual_kind.clone(),
+        adds: r.adds.iter().map(|s| s.to_string()).collect(),
     };
     Ok((info, copies, warnings))
 }

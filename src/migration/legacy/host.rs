@@ -283,6 +283,9 @@ impl Run {
         let counts = self.counts(&r, ptrs);
         let np_out = if r.call == CallMode::Whole { counts.2 } else { 1 };
         let outputs = self.read(&r, ptrs, (pend.nt, np_out));
+        // an array the routine adds into (`adds`): what it added is compared with the twin's term
+        let names: Vec<&str> = r.args.iter().map(|a| a.name.as_str()).collect();
+        let outputs = crate::migration::adds::added(&r.adds, &names, outputs, &pend.inputs);
         let stage = &self.sim.plan.entries[e].stage;
         let slots = self.lg.host_slots.lock().unwrap_or_else(|e| e.into_inner()).get(stage.name()).copied();
         let slots = slots.unwrap_or_default();
@@ -308,7 +311,7 @@ impl Run {
         self.mapped[k].compared += 1;
         if let Some((mut p, mut w)) = kept {
             stage.run(Backend::Rust, &mut p, &mut w, &clock);
-            if let Err(msg) = self.give_back(&r, ptrs, slots, &p, &w)
+            if let Err(msg) = self.give_back(&r, (ptrs, &pend.inputs), slots, &p, &w)
                 && self.failed.len() < 10
             {
                 self.failed.push(format!("routine {} call {call}: {msg}", r.name));
@@ -402,7 +405,7 @@ impl Run {
     fn give_back(
         &self,
         r: &RoutineInfo,
-        ptrs: &[ArgPtr],
+        (ptrs, before): (&[ArgPtr], &[Option<Buf>]),
         slots: Slots,
         p: &Particles,
         w: &Work,
@@ -417,7 +420,7 @@ impl Run {
         let (nbuf, pbuf) = if whole { (p.ntotal, np) } else { (1, 1) };
         let mut scratch = HashMap::new();
         let mut ctx = ctx_of(p.dim, slots, &self.lg.itype, (nbuf, pbuf), &mut scratch);
-        for (a, ptr) in r.args.iter().zip(ptrs) {
+        for ((a, ptr), old) in r.args.iter().zip(ptrs).zip(before) {
             let out = match bind::field_of(&a.name) {
                 Some(Field::PairI) if a.name == "niac" => writes.contains(&Field::PairI),
                 Some(f) => writes.contains(&f),
@@ -427,7 +430,10 @@ impl Run {
                 continue;
             }
             let vec = a.shape.stride(p.dim) > 1;
-            let b = bind::gather(&a.name, vec, a.shape.per_pair() && whole, &mut ctx, p, w);
+            let mut b = bind::gather(&a.name, vec, a.shape.per_pair() && whole, &mut ctx, p, w);
+            if r.adds.contains(&a.name) {
+                b = crate::migration::adds::onto(old.as_ref(), b);
+            }
             let one = vocab::lookup(&a.name).is_some_and(|t| t.base == Base::One);
             let b = match b {
                 Buf::I(v) if one => Buf::I(v.into_iter().map(|i| i + 1).collect()),
@@ -448,6 +454,14 @@ impl Run {
             hffi::write(*ptr, &b);
         }
         Ok(())
+    }
+
+    /// `names`, each routine with `adds` marked: its rows are not bit for bit where its arrays
+    /// held values before the call.
+    fn named(&self, names: &[String]) -> String {
+        let adds = |n: &String| self.mapped.iter().any(|m| &m.info.name == n && !m.info.adds.is_empty());
+        let one = |n: &String| if adds(n) { format!("{n} (adds: after less before)") } else { n.clone() };
+        names.iter().map(one).collect::<Vec<_>>().join(", ")
     }
 
     /// The table, the report and whether every compared value is at 0 ULP.
@@ -489,6 +503,14 @@ impl Run {
                     s.out_of_tolerance
                 );
             }
+            if !m.info.adds.is_empty() && !mine.is_empty() {
+                let _ = writeln!(
+                    text,
+                    "{:<14} {}",
+                    "",
+                    crate::migration::adds::HOST_NOTE.replace("{}", &m.info.adds.join(", "))
+                );
+            }
             if m.entry.is_some() && !mine.is_empty() {
                 if mine.iter().all(|s| s.out_of_tolerance == 0) {
                     zero.push(m.info.name.clone());
@@ -508,7 +530,7 @@ impl Run {
             "host mode ({} outputs): {} routines at 0 ULP at every compared call{}{}{}; report {}",
             if self.rust { "the Rust twins'" } else { "the program's own" },
             zero.len(),
-            if diverged.is_empty() { String::new() } else { format!("; DIVERGING: {}", diverged.join(", ")) },
+            if diverged.is_empty() { String::new() } else { format!("; DIVERGING: {}", self.named(&diverged)) },
             if uncompared.is_empty() {
                 String::new()
             } else {
