@@ -78,3 +78,37 @@ fn a_count_declared_single_precision_is_refused() {
     std::fs::write(&p, text.replacen("      double precision ntotal, niac,", "      real ntotal, niac,", 1)).unwrap();
     refused(&d, &["sum_density", "ntotal", "float"]);
 }
+
+/// A search that counts on from the `niac` its caller zeroed (no `niac = 0` of its own, as the
+/// real(8) rewrite above writes its direct_find): blastsph hands every search niac = 0, so the
+/// pairs are the step's own. Before, it counted on from the last step's pairs and ran out of
+/// max_interaction within a few steps. The dual run is at 0 ULP, and `run --legacy` ends in the
+/// variant's own program's state bit for bit.
+#[test]
+fn a_search_that_counts_on_from_its_callers_zero_gets_zero() {
+    let d = variant("search_from_callers_zero", |m| m.to_string());
+    for (file, old, new) in [
+        ("direct_find.f", "      niac = 0\n", ""),
+        (
+            "single_step.f",
+            "      call direct_find(itimestep, ntotal + nvirt, hsml, x, niac,\n",
+            "      niac = 0\n      call direct_find(itimestep, ntotal + nvirt, hsml, x, niac,\n",
+        ),
+    ] {
+        let p = d.join(file);
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains(old), "{file}: {old}");
+        std::fs::write(&p, text.replacen(old, new, 1)).unwrap();
+    }
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    let out = d.join("dual");
+    let so = blastsph_ok(&dual_book_args(&b, None, &out), 0);
+    assert!(so.contains("40 steps compared; every compared stage within tolerance"), "{so}");
+    let (_, rows) = report_rows(&out.join("dual_report.json"));
+    let x = row(&rows, "legacy.direct_find", "pair_i");
+    assert_eq!((x["max_ulp"].as_u64(), x["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{x}");
+    assert_eq!(x["pair_order"]["only_counterpart"].as_u64().unwrap_or(0), 0, "{x}");
+    let prog = program_rows_of(&b, "search_from_callers_zero_program", 40);
+    assert_run_ends_as(&b, "shock_tube", "liu-book", &prog, "search_from_callers_zero_run");
+}

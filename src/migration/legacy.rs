@@ -266,10 +266,9 @@ impl Legacy {
         Ok(l)
     }
 
-    /// Calls the manifest's init routines (module `init`: the code's own initialiser, which fills
-    /// its COMMON blocks), once each, in the manifest's order, before the set-up routine and the
-    /// first step. Their arguments are given as at the set-up (no particles yet); what they
-    /// return is not read.
+    /// Calls the manifest's init routines (module `init`: the code's own initialiser of its COMMON
+    /// blocks), once each, in order, before the set-up routine and the first step. Their arguments
+    /// are given as at the set-up (no particles yet); what they return is not read.
     fn init(&self, dim: usize) -> Result<()> {
         let info = self.lib.info();
         for r in info.routines.iter().filter(|r| r.modules.iter().any(|m| m == "init")) {
@@ -390,8 +389,7 @@ impl Legacy {
         let mut counts = vec![0usize; case.regions.len().max(1)];
         region.iter().for_each(|&r| counts[r as usize] += 1);
         // the case must still describe these particles (docs/howto/migrate.md): a count that
-        // differs is said once (the run takes the routine's particles, while the case's gauges,
-        // charge and walls were written for its own)
+        // differs is said once (the case's gauges, charge and walls were written for its own)
         let described = base.x.len() / dim.max(1);
         if described != n {
             self.warn(format!(
@@ -611,10 +609,14 @@ impl LegacyStage {
             pbuf: if search { info.max_interaction } else { np },
             scratch: &mut sh.scratch,
         };
+        // a search makes its pairs from none: niac = 0 in (some count on from the caller's 0)
         let mut bufs: Vec<Buf> = r
             .bindings
             .iter()
-            .map(|b| bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, w))
+            .map(|b| match b.name.as_str() {
+                "niac" if search => Buf::I(vec![0]),
+                _ => bind::gather(&b.name, is_vec(b.shape), b.shape.per_pair(), &mut ctx, p, w),
+            })
             .collect();
         // the state the stage only reads, as it was: a routine that changes it is reported
         let watched: Vec<(usize, Field, Buf)> = r
@@ -700,7 +702,7 @@ impl LegacyStage {
 
 impl LegacyStage {
     /// For an EOS routine that gives p only: the state's c becomes the legacy code's c, an array
-    /// of the program that no routine writes, kept from call to call (0 for every particle).
+    /// that no routine writes, kept from call to call (0 for every particle).
     fn unwritten_c(&self, p: &mut Particles) {
         if !self.zero_c {
             return;

@@ -12,7 +12,7 @@
 
 use super::*;
 use crate::dual::Comparator;
-use crate::migration::builder::{BuildInfo, RoutineInfo};
+use crate::migration::builder::{ArgInfo, BuildInfo, RoutineInfo};
 use crate::migration::host_ffi as hffi;
 use crate::migration::host_ffi::ArgPtr;
 use crate::migration::vocab::{self, Base, CallMode, Kind};
@@ -219,7 +219,7 @@ impl Run {
     /// the real particles' `ntotal` and pairs that reach the virtual ones after them.
     fn counts(&self, r: &RoutineInfo, ptrs: &[ArgPtr]) -> (usize, usize, usize) {
         let scalar = |n: &str, max: usize| -> usize {
-            r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(_, p)| match hffi::read(*p, Kind::Int, 1) {
+            r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(a, p)| match read_arg(a, *p, 1) {
                 Some(Buf::I(v)) => (v[0].max(0) as usize).min(max),
                 _ => 0,
             })
@@ -228,11 +228,9 @@ impl Run {
             CallMode::Whole => {
                 let (nt, np) = (scalar("ntotal", self.maxn), scalar("niac", self.maxia));
                 let named = |n: &str| -> usize {
-                    r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(_, p)| {
-                        match hffi::read(*p, Kind::Int, np) {
-                            Some(Buf::I(v)) => v.iter().map(|&k| k.max(0) as usize).max().unwrap_or(0),
-                            _ => 0,
-                        }
+                    r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(a, p)| match read_arg(a, *p, np) {
+                        Some(Buf::I(v)) => v.iter().map(|&k| k.max(0) as usize).max().unwrap_or(0),
+                        _ => 0,
                     })
                 };
                 (nt, nt.max(named("pair_i")).max(named("pair_j")).min(self.maxn), np)
@@ -260,7 +258,7 @@ impl Run {
                     (_, s) => s.stride(dim),
                 };
                 let one = vocab::lookup(&a.name).is_some_and(|t| t.base == Base::One);
-                hffi::read(*p, a.kind, n).map(|b| match b {
+                read_arg(a, *p, n).map(|b| match b {
                     Buf::I(v) if one => Buf::I(v.into_iter().map(|i| i - 1).collect()),
                     Buf::R(v) if a.lead.is_some() => Buf::R(packed(&v, dim, a.lead.unwrap_or(dim))),
                     b => b,
@@ -451,7 +449,7 @@ impl Run {
                 }
                 b => b,
             };
-            hffi::write(*ptr, &b);
+            write_arg(a, *ptr, &b);
         }
         Ok(())
     }
@@ -567,4 +565,24 @@ fn ctx_of<'a>(
     scratch: &'a mut HashMap<String, Buf>,
 ) -> Ctx<'a> {
     Ctx { dim, itimestep: 0, dt: 0.0, time: 0.0, slots, itype, nbuf, pbuf, scratch }
+}
+
+/// The `n` values of argument `a` at `p`: an integer the routine declares double precision is
+/// read as doubles and rounded (the whole numbers it holds, exactly).
+fn read_arg(a: &ArgInfo, p: ArgPtr, n: usize) -> Option<Buf> {
+    if a.real {
+        return match hffi::read(p, Kind::Real, n)? {
+            Buf::R(v) => Some(Buf::I(v.into_iter().map(|x| x.round() as i32).collect())),
+            b => Some(b),
+        };
+    }
+    hffi::read(p, a.kind, n)
+}
+
+/// Writes `b` into argument `a` at `p`, as doubles where the routine declares the integer so.
+fn write_arg(a: &ArgInfo, p: ArgPtr, b: &Buf) {
+    match b {
+        Buf::I(v) if a.real => hffi::write(p, &Buf::R(v.iter().map(|&i| f64::from(i)).collect())),
+        b => hffi::write(p, b),
+    }
 }
