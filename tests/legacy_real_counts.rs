@@ -79,6 +79,16 @@ fn a_count_declared_single_precision_is_refused() {
     refused(&d, &["sum_density", "ntotal", "float"]);
 }
 
+/// An integer of the vocabulary bound to a double dummy of another name (`itype` where p_gas
+/// declares `u`) is a misplaced argument, not a count declared double: refused, with the reason.
+#[test]
+fn an_integer_bound_to_a_double_of_another_name_is_refused() {
+    let d = variant("real_counts_misplaced", |t| {
+        t.replace("\"rho\", \"u\", \"p\", \"c\"]", "\"rho\", \"itype\", \"p\", \"c\"]")
+    });
+    refused(&d, &["p_gas", "dummy `u`", "under the vocabulary's name only"]);
+}
+
 /// A search that counts on from the `niac` its caller zeroed (no `niac = 0` of its own, as the
 /// real(8) rewrite above writes its direct_find): blastsph hands every search niac = 0, so the
 /// pairs are the step's own. Before, it counted on from the last step's pairs and ran out of

@@ -252,12 +252,17 @@ fn check_args(
                     a.written,
                 ))
             })?;
-        // an integer (a count, an index, a type code) that the code declares double precision:
-        // the shim converts it both ways, exactly for |n| < 2^53
-        let real = a.term.kind == Kind::Int && cty == "double *";
+        // an integer (a count, an index, a type code) that the code declares double precision
+        // under the vocabulary's name: the shim converts it both ways, exactly for |n| < 2^53
+        // (under another name it is more likely a misplaced argument, and refused)
+        let own = [a.term.name, a.written.as_str()].into_iter().chain(a.term.aliases.iter().copied());
+        let real =
+            a.term.kind == Kind::Int && cty == "double *" && own.into_iter().any(|n| dummy.eq_ignore_ascii_case(n));
         if cty != want && !real {
             let hint = if cty.contains("float128") || cty.contains("long double") {
                 " (-fdefault-real-8 alone makes double precision 16 bytes: add -fdefault-double-8)"
+            } else if a.term.kind == Kind::Int && cty == "double *" {
+                " (a count declared double precision is taken under the vocabulary's name only)"
             } else {
                 ""
             };
