@@ -94,17 +94,7 @@ fn a_routine_that_adds_into_its_term_is_zeroed_before_each_call_by_the_key_adds(
     // what the routine added, after less before, is its sum from 0: 0 ULP at every call
     let host = keyed.join("host");
     let kb = keyed.join("build");
-    let o = blastsph_40_steps(&[
-        "legacy",
-        "host",
-        "shock_tube",
-        "--legacy",
-        kb.to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--out",
-        host.to_str().unwrap(),
-    ]);
+    let o = host_run(&kb, &host, &[]);
     let so = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{so}{}", String::from_utf8_lossy(&o.stderr));
     assert!(so.contains("adds into dvxdt, dedt: compared as the array after the call less before it"), "{so}");
@@ -119,18 +109,7 @@ fn a_routine_that_adds_into_its_term_is_zeroed_before_each_call_by_the_key_adds(
 
     // on the twins' outputs: the program's array (0) plus the twin's term, its own end
     let host_rust = keyed.join("host_rust");
-    let o = blastsph_40_steps(&[
-        "legacy",
-        "host",
-        "shock_tube",
-        "--legacy",
-        kb.to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--rust-outputs",
-        "--out",
-        host_rust.to_str().unwrap(),
-    ]);
+    let o = host_run(&kb, &host_rust, &["--rust-outputs"]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(bits(&state_of(&host_rust.join("work"))), bits(program_final_state()));
     // the fixture's program zeroes in art_visc what this one zeroes in the shim: the same end
@@ -215,22 +194,7 @@ fn state_of(work: &Path) -> Vec<Vec<f64>> {
 #[test]
 fn adds_zeroes_whole_rows_of_an_array_declared_with_a_leading_extent_above_dim() {
     let d = adding_variant("adds_mxd", |m| with_key(m, "adds = [\"dvxdt\", \"dedt\"]"));
-    for e in std::fs::read_dir(&d).unwrap() {
-        let p = e.unwrap().path();
-        let text = std::fs::read_to_string(&p).unwrap();
-        let new = if p.file_name().is_some_and(|f| f == "param.inc") {
-            text.replacen(
-                "      parameter (dim = 1)\n",
-                "      parameter (dim = 1)\n      integer mxd\n      parameter (mxd = 3)\n",
-                1,
-            )
-        } else if p.extension().is_some_and(|x| x == "f") {
-            text.replace("(dim,", "(mxd,")
-        } else {
-            continue;
-        };
-        std::fs::write(&p, new).unwrap();
-    }
+    assert!(with_mxd_layout(&d) >= 8);
     let lg = d.join("build");
     let info = build(&d.join("legacy.toml"), &lg).expect("the layout builds");
     let av = info.routines.iter().find(|r| r.name == "art_visc").unwrap();
@@ -262,17 +226,7 @@ fn host_mode_compares_what_a_routine_added_onto_values_the_array_held() {
     let lg = d.join("build");
     build(&d.join("legacy.toml"), &lg).expect("the variant builds");
     let host = d.join("host");
-    let o = blastsph_40_steps(&[
-        "legacy",
-        "host",
-        "shock_tube",
-        "--legacy",
-        lg.to_str().unwrap(),
-        "--compat",
-        "liu-book",
-        "--out",
-        host.to_str().unwrap(),
-    ]);
+    let o = host_run(&lg, &host, &[]);
     let so = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(4), "{so}{}", String::from_utf8_lossy(&o.stderr));
     assert!(so.contains("DIVERGING: art_visc (adds: after less before)"), "{so}");
@@ -288,4 +242,13 @@ fn host_mode_compares_what_a_routine_added_onto_values_the_array_held() {
     let (l, rs) =
         (acc["first_divergence"]["fortran"].as_f64().unwrap(), acc["first_divergence"]["rust"].as_f64().unwrap());
     assert!(l != rs && (l - rs).abs() < 1e-12 * rs.abs(), "{acc}");
+}
+
+/// `blastsph legacy host shock_tube --legacy BUILD --compat liu-book [EXTRA] --out OUT`, the
+/// program's input `40` then `0`.
+fn host_run(build: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["legacy", "host", "shock_tube", "--legacy", build.to_str().unwrap(), "--compat", "liu-book"];
+    args.extend_from_slice(extra);
+    args.extend(["--out", out.to_str().unwrap()]);
+    blastsph_40_steps(&args)
 }

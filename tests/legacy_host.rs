@@ -184,24 +184,7 @@ fn a_routine_host_mode_cannot_compare_is_refused_with_one_line() {
 #[test]
 fn arrays_declared_with_a_leading_extent_above_dim_are_laid_out_as_declared() {
     let d = variant("maxdim_layout", |m| m.to_string());
-    let mut changed = 0;
-    for e in std::fs::read_dir(&d).unwrap() {
-        let p = e.unwrap().path();
-        let text = std::fs::read_to_string(&p).unwrap();
-        let new = if p.file_name().is_some_and(|f| f == "param.inc") {
-            text.replacen(
-                "      parameter (dim = 1)\n",
-                "      parameter (dim = 1)\n      integer mxd\n      parameter (mxd = 3)\n",
-                1,
-            )
-        } else if p.extension().is_some_and(|x| x == "f") {
-            text.replace("(dim,", "(mxd,")
-        } else {
-            continue;
-        };
-        changed += (new != text) as usize;
-        std::fs::write(&p, new).unwrap();
-    }
+    let changed = with_mxd_layout(&d);
     assert!(changed >= 8, "{changed} files changed");
     let build = d.join("build");
     blastsph::migration::build(&d.join("legacy.toml"), &build).expect("the layout builds");

@@ -448,3 +448,28 @@ c-----------------------------------------------------------------------
 "
     )
 }
+
+/// Declares every vector of the fixture copy in `dir` with a leading extent `mxd` = 3 in place
+/// of `dim` (`x(mxd,maxn)`, as 2D codes write `x(maxdim,maxn)`): param.inc gains `mxd`, each
+/// source's `(dim,` becomes `(mxd,`. Returns the number of files changed.
+pub fn with_mxd_layout(dir: &Path) -> usize {
+    let mut changed = 0;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        let text = std::fs::read_to_string(&p).unwrap();
+        let new = if p.file_name().is_some_and(|f| f == "param.inc") {
+            text.replacen(
+                "      parameter (dim = 1)\n",
+                "      parameter (dim = 1)\n      integer mxd\n      parameter (mxd = 3)\n",
+                1,
+            )
+        } else if p.extension().is_some_and(|x| x == "f") {
+            text.replace("(dim,", "(mxd,")
+        } else {
+            continue;
+        };
+        changed += (new != text) as usize;
+        std::fs::write(&p, new).unwrap();
+    }
+    changed
+}
