@@ -122,3 +122,72 @@ fn a_search_that_counts_on_from_its_callers_zero_gets_zero() {
     let prog = program_rows_of(&b, "search_from_callers_zero_program", 40);
     assert_run_ends_as(&b, "shock_tube", "liu-book", &prog, "search_from_callers_zero_run");
 }
+
+/// Host mode on a program whose direct_find (alone) declares its counts double precision and whose
+/// single_step calls it on doubles, then copies them back into its integers: the search is
+/// read and written as doubles at each of its 40 calls, at 0 ULP, and the program ends in the
+/// fixture's own state bit for bit, with the program's and with the twins' outputs.
+#[test]
+fn host_mode_reads_and_writes_counts_declared_double() {
+    let d = real_counts("real_counts_host");
+    // sum_density as the fixture has it: the program calls it on its integers
+    std::fs::copy(fixture().join("density.f"), d.join("density.f")).unwrap();
+    let p = d.join("single_step.f");
+    let text = std::fs::read_to_string(&p).unwrap();
+    let (decl, call) = (
+        "     &        avdudt(maxn), ahdudt(maxn), c(maxn), eta(maxn)\n",
+        "      call direct_find(itimestep, ntotal + nvirt, hsml, x, niac,\n     &                 pair_i, pair_j, w, dwdx, ns)\n",
+    );
+    assert!(text.contains(decl) && text.contains(call));
+    let text = text.replacen(
+        decl,
+        &format!("{decl}      double precision rnt, rniac, rpi(max_interaction),\n     &        rpj(max_interaction), rns(maxn)\n      integer k\n"),
+        1,
+    );
+    let text = text.replacen(
+        call,
+        "      rnt = ntotal + nvirt
+      call direct_find(itimestep, rnt, hsml, x, rniac,
+     &                 rpi, rpj, w, dwdx, rns)
+      niac = nint(rniac)
+      do 12 k = 1, niac
+        pair_i(k) = nint(rpi(k))
+        pair_j(k) = nint(rpj(k))
+   12 continue
+      do 13 i = 1, ntotal + nvirt
+        ns(i) = nint(rns(i))
+   13 continue
+",
+        1,
+    );
+    std::fs::write(&p, text).unwrap();
+    let b = d.join("build");
+    build(&d.join("legacy.toml"), &b).expect("the variant builds");
+    assert_eq!(bits(&program_rows_of(&b, "real_counts_host_program", 40)), bits(program_final_state()));
+    for rust in [false, true] {
+        let out = d.join(if rust { "host_rust" } else { "host" });
+        let mut args = vec!["legacy", "host", "shock_tube", "--legacy", b.to_str().unwrap(), "--compat", "liu-book"];
+        if rust {
+            args.push("--rust-outputs");
+        }
+        args.extend(["--out", out.to_str().unwrap()]);
+        let o = blastsph_40_steps(&args);
+        let so = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{so}{}", String::from_utf8_lossy(&o.stderr));
+        let r: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("host_report.json")).unwrap()).unwrap();
+        let m = &r["routines"]["direct_find"];
+        assert_eq!(m["compared_calls"].as_u64(), Some(40), "{m}");
+        for row in m["rows"].as_array().unwrap() {
+            assert_eq!((row["max_ulp"].as_u64(), row["out_of_tolerance"].as_u64()), (Some(0), Some(0)), "{row}");
+        }
+        let text = std::fs::read_to_string(out.join("work/final_state.dat")).unwrap();
+        let rows: Vec<Vec<f64>> =
+            text.lines().skip(1).map(|l| l.split_whitespace().map(|v| v.parse::<f64>().unwrap()).collect()).collect();
+        assert_eq!(bits(&rows), bits(program_final_state()), "rust outputs: {rust}");
+    }
+}
+
+fn bits(rows: &[Vec<f64>]) -> Vec<Vec<u64>> {
+    rows.iter().map(|r| r.iter().map(|v| v.to_bits()).collect()).collect()
+}
