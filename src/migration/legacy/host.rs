@@ -218,8 +218,9 @@ impl Run {
     /// and `niac`. The particles are at least those its pairs name: the book calls `av_vel` with
     /// the real particles' `ntotal` and pairs that reach the virtual ones after them.
     fn counts(&self, r: &RoutineInfo, ptrs: &[ArgPtr]) -> (usize, usize, usize) {
+        let at = |n: &str| r.args.iter().zip(ptrs).find(|(a, _)| a.name == n);
         let scalar = |n: &str, max: usize| -> usize {
-            r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(a, p)| match read_arg(a, *p, 1) {
+            at(n).map_or(0, |(a, p)| match read_arg(a, *p, 1) {
                 Some(Buf::I(v)) => (v[0].max(0) as usize).min(max),
                 _ => 0,
             })
@@ -228,7 +229,7 @@ impl Run {
             CallMode::Whole => {
                 let (nt, np) = (scalar("ntotal", self.maxn), scalar("niac", self.maxia));
                 let named = |n: &str| -> usize {
-                    r.args.iter().zip(ptrs).find(|(a, _)| a.name == n).map_or(0, |(a, p)| match read_arg(a, *p, np) {
+                    at(n).map_or(0, |(a, p)| match read_arg(a, *p, np) {
                         Some(Buf::I(v)) => v.iter().map(|&k| k.max(0) as usize).max().unwrap_or(0),
                         _ => 0,
                     })
